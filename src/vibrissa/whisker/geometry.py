@@ -1,0 +1,255 @@
+"""Whisker geometry, material and follicle parameters, with the thesis' presets.
+
+Coordinate frame used throughout :mod:`vibrissa.whisker`: the whisker's rest
+axis is ``+z``; its base (where the shaft leaves the follicle case) is at the
+origin; the follicle pivot lies ``follicle_depth_mm`` below it on ``-z``. The
+two bending planes are ``x-z`` and ``y-z``; the Hall sensor's ``x`` and ``y``
+outputs measure the magnet's tilt toward ``+x`` and ``+y``. Radial distance is
+measured along the undeformed shaft from the base (``z``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+from vibrissa._validate import finite, in_range, positive
+
+__all__ = ["PRESETS", "WhiskerGeometry", "preset", "preset_names"]
+
+
+@dataclass(frozen=True)
+class WhiskerGeometry:
+    """A tapered (truncated-cone) elastic whisker in a rubber follicle.
+
+    Parameters
+    ----------
+    length_mm
+        Free length from the base (follicle mouth) to the tip, mm.
+    base_radius_mm, tip_radius_mm
+        Radii at the base and at the tip, mm (linear taper; ``tip <= base``).
+    youngs_modulus_gpa
+        Young's modulus of the shaft material, GPa.
+    density_kg_m3
+        Density of the shaft material, kg/m^3.
+    damping_ratio
+        Damping ratio of the first two bending modes of the mounted whisker
+        (Rayleigh damping, see ``docs/physics.md``); dimensionless, in [0, 1).
+    follicle_stiffness_nm_per_rad
+        Rotational stiffness of the rubber-filled follicle case about the pivot,
+        N m/rad, isotropic in the two bending axes.
+    follicle_depth_mm
+        Distance from the pivot (centre of the polyurethane bearing) to the base
+        of the free shaft, mm.
+    follicle_inertia_kg_m2
+        Rotational inertia of magnet, embedded shaft and follicle about the pivot.
+    name
+        Label of the whisker (the preset name, or ``"custom"``).
+    source
+        Where the values come from.
+    """
+
+    length_mm: float = 185.0
+    base_radius_mm: float = 1.0
+    tip_radius_mm: float = 0.25
+    youngs_modulus_gpa: float = 2.35
+    density_kg_m3: float = 1050.0
+    damping_ratio: float = 0.10
+    follicle_stiffness_nm_per_rad: float = 0.10
+    follicle_depth_mm: float = 10.0
+    follicle_inertia_kg_m2: float = 5.0e-9
+    name: str = "custom"
+    source: str = field(default="", compare=False)
+
+    def __post_init__(self) -> None:
+        positive("length_mm", self.length_mm)
+        positive("base_radius_mm", self.base_radius_mm)
+        positive("tip_radius_mm", self.tip_radius_mm)
+        if self.tip_radius_mm > self.base_radius_mm:
+            raise ValueError(
+                f"tip_radius_mm ({self.tip_radius_mm}) must not exceed base_radius_mm "
+                f"({self.base_radius_mm}): a whisker tapers toward its tip"
+            )
+        if self.base_radius_mm * 4 > self.length_mm:
+            raise ValueError(
+                f"base_radius_mm ({self.base_radius_mm}) is too large for length_mm "
+                f"({self.length_mm}): the rod model needs a slender whisker (length > 4 x radius)"
+            )
+        positive("youngs_modulus_gpa", self.youngs_modulus_gpa)
+        positive("density_kg_m3", self.density_kg_m3)
+        in_range("damping_ratio", self.damping_ratio, 0.0, 0.99)
+        positive("follicle_stiffness_nm_per_rad", self.follicle_stiffness_nm_per_rad)
+        positive("follicle_depth_mm", self.follicle_depth_mm)
+        positive("follicle_inertia_kg_m2", self.follicle_inertia_kg_m2)
+        finite("length_mm", self.length_mm)
+
+    # --- derived quantities (SI) ---------------------------------------------
+    @property
+    def length_m(self) -> float:
+        """Free length in metres."""
+        return self.length_mm * 1e-3
+
+    def radius_m(self, s_m: Any) -> Any:
+        """Radius (m) at arc length ``s_m`` (m) from the base (linear taper)."""
+        rb, rt = self.base_radius_mm * 1e-3, self.tip_radius_mm * 1e-3
+        return rb + (rt - rb) * (s_m / self.length_m)
+
+    @property
+    def bending_stiffness_base_nm2(self) -> float:
+        """E I at the base, N m^2, with I = pi r^4 / 4."""
+        return self.youngs_modulus_gpa * 1e9 * math.pi * (self.base_radius_mm * 1e-3) ** 4 / 4
+
+    @property
+    def mass_kg(self) -> float:
+        """Mass of the free shaft (truncated cone), kg."""
+        rb, rt = self.base_radius_mm * 1e-3, self.tip_radius_mm * 1e-3
+        return self.density_kg_m3 * math.pi * self.length_m / 3 * (rb * rb + rb * rt + rt * rt)
+
+    def replace(self, **changes: Any) -> WhiskerGeometry:
+        """Return a copy with some fields changed (validated again)."""
+        return dataclasses.replace(self, **changes)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain dict of every field (JSON-serialisable)."""
+        return dataclasses.asdict(self)
+
+    def to_json(self) -> str:
+        """The geometry as a JSON string."""
+        return json.dumps(self.to_dict(), sort_keys=True)
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> WhiskerGeometry:
+        """Build from a dict as produced by :meth:`to_dict` (unknown keys rejected)."""
+        names = {f.name for f in dataclasses.fields(cls)}
+        unknown = set(d) - names
+        if unknown:
+            raise ValueError(f"unknown whisker parameter(s): {sorted(unknown)}")
+        return cls(**d)
+
+
+# Densities: ABS 1.04-1.06 g/cm^3 (typical datasheet values; 1.05 used).
+# Nanocure RC25 is an acrylate photopolymer resin for DLP printers; the thesis gives
+# neither its modulus nor its density. Cured acrylate resins of this class have
+# E ~ 1.5-2.5 GPa and density ~1.1-1.2 g/cm^3; we use E = 2.0 GPa and 1150 kg/m^3.
+# Damping: the thesis quotes zeta ~ 0.15 for rat whiskers (3.2.2, Hartmann et al. 2003)
+# and notes ringing after contact in the artificial whisker (5.5), i.e. it is less damped.
+# ABS and cured acrylates have loss factors ~0.02-0.05 (zeta = eta / 2 ~ 0.01-0.03); the
+# polyurethane-filled follicle adds most of the damping of the mounted whisker. We use
+# zeta = 0.10 for the mounted whiskers.
+# Follicle stiffness: not given in the thesis. Chosen so that the Hall calibration
+# deflection (60 mm at r = 150 mm, 3.2.3) rotates the magnet by roughly 10 degrees, a
+# comfortable part of a Hall-angle sensor's range, for the XY-robot whisker; scaled
+# with the base bending stiffness E I_base for the other whiskers.
+_EI_XY = 2.35e9 * math.pi * (1e-3) ** 4 / 4
+
+
+def _follicle_k(youngs_gpa: float, base_radius_mm: float) -> float:
+    ei = youngs_gpa * 1e9 * math.pi * (base_radius_mm * 1e-3) ** 4 / 4
+    return round(0.10 * ei / _EI_XY, 6)
+
+
+PRESETS: dict[str, WhiskerGeometry] = {
+    "xy-robot": WhiskerGeometry(
+        length_mm=185.0,
+        base_radius_mm=1.0,
+        tip_radius_mm=0.25,
+        youngs_modulus_gpa=2.35,
+        density_kg_m3=1050.0,
+        damping_ratio=0.10,
+        follicle_stiffness_nm_per_rad=0.10,
+        name="xy-robot",
+        source=(
+            "Thesis ch. 4-5: ABS whisker on the XY positioning robot, 185 mm long (4.2), "
+            "base radius 1 mm and tip diameter 0.5 mm (table 4.1, end of 4.5); "
+            "E ~ 2.3-2.4 GPa (3.2.3, table 4.1)."
+        ),
+    ),
+    "scratchbot": WhiskerGeometry(
+        length_mm=200.0,
+        base_radius_mm=1.0,
+        tip_radius_mm=1.0,
+        youngs_modulus_gpa=2.3,
+        density_kg_m3=1050.0,
+        damping_ratio=0.10,
+        follicle_stiffness_nm_per_rad=_follicle_k(2.3, 1.0),
+        name="scratchbot",
+        source="Thesis 3.2.3: SCRATCHbot ABS whisker shaft, 200 mm long, 2 mm diameter, E ~ 2.3 GPa.",
+    ),
+    "biotact-g1-80": WhiskerGeometry(
+        length_mm=80.0,
+        base_radius_mm=0.75,
+        tip_radius_mm=0.15,
+        youngs_modulus_gpa=2.0,
+        density_kg_m3=1150.0,
+        damping_ratio=0.10,
+        follicle_stiffness_nm_per_rad=_follicle_k(2.0, 0.75),
+        name="biotact-g1-80",
+        source=(
+            "Thesis 3.4.1: BIOTACT G1 Nanocure RC25 whiskers of 80, 112 and 158 mm. Radii are "
+            "not given for G1; we use CrunchBot's RC25 taper (1.45 -> 0.3 mm diameter, 3.5.2), "
+            "rounded to 1.5 -> 0.3 mm."
+        ),
+    ),
+    "biotact-g1-112": WhiskerGeometry(
+        length_mm=112.0,
+        base_radius_mm=0.75,
+        tip_radius_mm=0.15,
+        youngs_modulus_gpa=2.0,
+        density_kg_m3=1150.0,
+        damping_ratio=0.10,
+        follicle_stiffness_nm_per_rad=_follicle_k(2.0, 0.75),
+        name="biotact-g1-112",
+        source="Thesis 3.4.1: BIOTACT G1 Nanocure RC25 whisker, 112 mm (radii as biotact-g1-80).",
+    ),
+    "biotact-g1-158": WhiskerGeometry(
+        length_mm=158.0,
+        base_radius_mm=0.75,
+        tip_radius_mm=0.15,
+        youngs_modulus_gpa=2.0,
+        density_kg_m3=1150.0,
+        damping_ratio=0.10,
+        follicle_stiffness_nm_per_rad=_follicle_k(2.0, 0.75),
+        name="biotact-g1-158",
+        source="Thesis 3.4.1: BIOTACT G1 Nanocure RC25 whisker, 158 mm (radii as biotact-g1-80).",
+    ),
+    "crunchbot": WhiskerGeometry(
+        length_mm=140.0,
+        base_radius_mm=0.725 - (0.725 - 0.15) * 20.0 / 160.0,
+        tip_radius_mm=0.15,
+        youngs_modulus_gpa=2.0,
+        density_kg_m3=1150.0,
+        damping_ratio=0.10,
+        follicle_stiffness_nm_per_rad=_follicle_k(2.0, 0.725 - (0.725 - 0.15) * 20.0 / 160.0),
+        follicle_depth_mm=20.0,
+        name="crunchbot",
+        source=(
+            "Thesis 3.5.2 and 6.5.4: CrunchBot Nanocure RC25 whisker, 160 mm long, 1.45 mm "
+            "diameter at the base tapering linearly to 0.3 mm at the tip, 140 mm outside the "
+            "follicle; the free part modelled here starts 20 mm up the taper."
+        ),
+    ),
+}
+
+
+def preset_names() -> list[str]:
+    """Names of the built-in whisker presets."""
+    return list(PRESETS)
+
+
+def preset(name: str) -> WhiskerGeometry:
+    """Return the preset called ``name``.
+
+    Raises
+    ------
+    ValueError
+        If there is no such preset (the message lists the valid names).
+    """
+    try:
+        return PRESETS[name]
+    except KeyError:
+        raise ValueError(
+            f"unknown whisker preset {name!r}; choose one of {', '.join(PRESETS)}"
+        ) from None

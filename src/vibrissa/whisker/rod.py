@@ -1,0 +1,436 @@
+"""The discrete elastic rod model of a whisker in its follicle, and its statics.
+
+:class:`RodModel` turns a :class:`~vibrissa.whisker.geometry.WhiskerGeometry` into
+the arrays the numba kernels work on (node positions, masses, bending and axial
+stiffnesses, Rayleigh damping coefficients), computes natural frequencies from
+the linearisation about rest, and solves static equilibria: a fixed-direction
+point force (:meth:`RodModel.static_force`) and a pole pushed sideways through a
+point (:meth:`RodModel.push`). Dynamics live in :mod:`vibrissa.whisker.simulate`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import scipy.linalg
+
+from vibrissa._validate import finite, in_range, non_negative, positive
+from vibrissa.whisker import _integrate as _it
+from vibrissa.whisker import _kernels as _k
+from vibrissa.whisker.geometry import WhiskerGeometry
+
+__all__ = ["PushResult", "RodModel", "StaticResult", "DEFAULT_N_ELEMENTS"]
+
+#: Elements along the free shaft. Chosen by the convergence study in docs/physics.md:
+#: the first three natural frequencies are within 2 % of the converged values.
+DEFAULT_N_ELEMENTS = 24
+
+_AXIAL_FOLLICLE_FACTOR = 10.0  # the in-follicle shaft is 10x stiffer axially than the base
+
+
+class SimulationError(RuntimeError):
+    """Raised when a solver fails to converge or produces non-finite values."""
+
+
+@dataclass(frozen=True)
+class StaticResult:
+    """Static equilibrium under a fixed-direction point force.
+
+    Attributes
+    ----------
+    base_moment_nm
+        Magnitude of the bending moment at the whisker base (N m).
+    deflection_mm
+        Sideways (x) displacement of the loaded material point (mm).
+    axial_shortening_mm
+        Displacement of the loaded point toward the base along the rest axis (mm).
+    base_angle_deg
+        Rotation of the follicle (magnet) about the pivot (deg); 0 for a rigid follicle.
+    tan_x, tan_y
+        Tangents of the magnet's two tilt angles (what the Hall sensor reads).
+    positions_m
+        Node positions at equilibrium, shape (n_nodes, 3).
+    """
+
+    base_moment_nm: float
+    deflection_mm: float
+    axial_shortening_mm: float
+    base_angle_deg: float
+    tan_x: float
+    tan_y: float
+    positions_m: np.ndarray
+
+
+@dataclass(frozen=True)
+class PushResult:
+    """Quasi-static equilibrium of a whisker pushed sideways by a thin pole.
+
+    Attributes
+    ----------
+    base_moment_nm
+        Magnitude of the bending moment at the whisker base (N m).
+    base_force_n
+        Magnitude of the contact force, equal to the force at the base (N).
+    contact_arc_length_mm
+        Arc length from the base at which the pole touches the whisker (mm).
+    slipped_off
+        True if the whisker slid off the pole's end (past the tip).
+    tan_x, tan_y
+        Tangents of the magnet's tilt angles.
+    normal_force_n, friction_force_n
+        Components of the contact force normal and tangential to the whisker (N).
+    positions_m
+        Node positions at equilibrium, shape (n_nodes, 3).
+    """
+
+    base_moment_nm: float
+    base_force_n: float
+    contact_arc_length_mm: float
+    slipped_off: bool
+    tan_x: float
+    tan_y: float
+    normal_force_n: float
+    friction_force_n: float
+    positions_m: np.ndarray
+
+
+class RodModel:
+    """A whisker discretised as a chain of nodes with bending and stretching springs.
+
+    Parameters
+    ----------
+    geometry
+        Whisker geometry and material.
+    n_elements
+        Number of elements along the free shaft (>= 4).
+    rigid_follicle
+        If True the base is clamped (the follicle does not rotate).
+
+    Notes
+    -----
+    Node 0 is the follicle pivot, node 1 the base of the free shaft (the origin),
+    node ``n_elements + 1`` the tip. See :mod:`vibrissa.whisker._kernels` for the
+    energies and ``docs/physics.md`` for the validation against beam theory.
+    """
+
+    def __init__(
+        self,
+        geometry: WhiskerGeometry | None = None,
+        n_elements: int = DEFAULT_N_ELEMENTS,
+        rigid_follicle: bool = False,
+    ) -> None:
+        self.geometry = geometry if geometry is not None else WhiskerGeometry(name="xy-robot")
+        if isinstance(n_elements, bool) or not isinstance(n_elements, int | np.integer):
+            raise TypeError(f"n_elements must be an integer, got {n_elements!r}")
+        if n_elements < 4 or n_elements > 400:
+            raise ValueError(f"n_elements must lie in [4, 400], got {n_elements}")
+        self.n_elements = int(n_elements)
+        self.rigid_follicle = bool(rigid_follicle)
+        self._build()
+
+    # ------------------------------------------------------------------ building
+    def _build(self) -> None:
+        g = self.geometry
+        ne = self.n_elements
+        n = ne + 2
+        L = g.length_m
+        h = L / ne
+        d = g.follicle_depth_mm * 1e-3
+        E = g.youngs_modulus_gpa * 1e9
+        s = np.empty(n)
+        s[0] = -d
+        s[1:] = np.arange(ne + 1) * h
+        x = np.zeros((n, 3))
+        x[:, 2] = s
+        radius = g.radius_m(np.clip(s, 0.0, L))
+        L0 = np.diff(s)
+        r_mid = g.radius_m(0.5 * (np.clip(s[:-1], 0, L) + s[1:]))
+        EA = E * math.pi * r_mid**2
+        EA[0] = _AXIAL_FOLLICLE_FACTOR * E * math.pi * radius[1] ** 2
+        EI = E * math.pi * radius**4 / 4.0
+        kb = np.zeros(n)
+        kb[1] = EI[1] / (2.0 * (0.5 * h))  # clamped end: half Voronoi length
+        kb[2 : n - 1] = EI[2 : n - 1] / (2.0 * h)
+        # lumped masses of truncated-cone segments
+        rb = radius[1:-1]
+        rt = radius[2:]
+        seg_mass = g.density_kg_m3 * math.pi * h / 3.0 * (rb * rb + rb * rt + rt * rt)
+        mass = np.zeros(n)
+        mass[1:-1] += 0.5 * seg_mass
+        mass[2:] += 0.5 * seg_mass
+        m_fol = g.follicle_inertia_kg_m2 / d**2
+        mass[0] = m_fol
+        mass[1] += m_fol
+        free = np.ones(n, dtype=np.bool_)
+        free[0] = False
+        if self.rigid_follicle:
+            free[1] = False
+        self.n_nodes = n
+        self.element_length_m = h
+        self.s_rest = s
+        self.x_rest = x
+        self.radius = radius
+        self.L0 = L0
+        self.EA = EA
+        self.EI = EI
+        self.kb = kb
+        self.kf = g.follicle_stiffness_nm_per_rad
+        self.axis = np.array([0.0, 0.0, 1.0])
+        self.mass = mass
+        self.free = free
+
+    # ------------------------------------------------------------------ linearisation
+    def stiffness_matrix(self, x: np.ndarray | None = None) -> np.ndarray:
+        """Dense tangent stiffness matrix (3n x 3n) at positions ``x`` (default: rest)."""
+        xx = self.x_rest.copy() if x is None else np.ascontiguousarray(x, dtype=float)
+        n = self.n_nodes
+        F = np.zeros((n, 3))
+        S = np.zeros((3 * n, 2 * _k.BW + 1))
+        _k.add_internal(xx, np.zeros_like(xx), self.kb, self.kf, self.axis, self.L0, self.EA,
+                        self.mass, 0.0, 0.0, F, S, 0.0, 1.0, True)
+        K = np.zeros((3 * n, 3 * n))
+        for r in range(3 * n):
+            for off in range(-_k.BW, _k.BW + 1):
+                c = r + off
+                if 0 <= c < 3 * n:
+                    K[r, c] = S[r, _k.BW + off]
+        return K
+
+    def _plane_modes(self) -> tuple[np.ndarray, np.ndarray]:
+        K = self.stiffness_matrix()
+        idx = np.array([3 * i for i in range(self.n_nodes) if self.free[i]])
+        Kx = K[np.ix_(idx, idx)]
+        Mx = np.diag(self.mass[idx // 3])
+        w2, vecs = scipy.linalg.eigh(0.5 * (Kx + Kx.T), Mx)
+        return np.sqrt(np.clip(w2, 0.0, None)), vecs
+
+    @cached_property
+    def natural_frequencies_hz(self) -> np.ndarray:
+        """Bending natural frequencies (Hz) in one plane, from the linearisation at rest."""
+        w, _ = self._plane_modes()
+        return w / (2 * math.pi)
+
+    @cached_property
+    def rayleigh(self) -> tuple[float, float]:
+        """Rayleigh coefficients (alpha 1/s, beta s) giving ``damping_ratio`` on modes 1 and 2."""
+        z = self.geometry.damping_ratio
+        w1, w2 = 2 * math.pi * self.natural_frequencies_hz[:2]
+        return 2 * z * w1 * w2 / (w1 + w2), 2 * z / (w1 + w2)
+
+    # ------------------------------------------------------------------ helpers
+    def locate(self, at_mm: float) -> tuple[int, float]:
+        """Segment index ``j`` and fraction ``u`` of the material point ``at_mm`` from the base."""
+        a = finite("at_mm", at_mm)
+        if not 0.0 < a <= self.geometry.length_mm:
+            raise ValueError(
+                f"at_mm must lie in (0, {self.geometry.length_mm}] mm (the whisker's length), "
+                f"got {at_mm}"
+            )
+        pos = a * 1e-3 / self.element_length_m
+        j = min(int(pos), self.n_elements - 1)
+        u = pos - j
+        return j + 1, u
+
+    def base_moment(self, x: np.ndarray, forces: np.ndarray) -> np.ndarray:
+        """Moment vector (N m) about the base of external ``forces`` (n, 3) at positions ``x``."""
+        r = x - x[1]
+        return np.cross(r[2:], forces[2:]).sum(axis=0) + np.cross(r[1], forces[1])
+
+    def tan_angles(self, x: np.ndarray) -> tuple[float, float]:
+        """Tangents of the magnet's tilt toward x and y at positions ``x``."""
+        e0 = x[1] - x[0]
+        return float(e0[0] / e0[2]), float(e0[1] / e0[2])
+
+    def _static(self, x, f_app, kind=_k.NO_CONTACT, cpar=None, tr=None, anchor=None,
+                tol=1e-11, max_iter=60):
+        info = np.zeros(9)
+        cpar = np.zeros(5) if cpar is None else cpar
+        tr = np.zeros(6) if tr is None else tr
+        anchor = np.zeros(3) if anchor is None else anchor
+        it = _it.solve_static(x, self.free, self.kb, self.kf, self.axis, self.L0, self.EA,
+                              self.mass, self.radius, self.s_rest, kind, cpar, tr,
+                              np.eye(3), np.zeros((1, 1)), 1.0, 1.0, 2, anchor,
+                              np.zeros((self.n_nodes, 6)), f_app, tol, max_iter, info)
+        return it, info
+
+    # ------------------------------------------------------------------ statics
+    def static_force(self, force_n: float, at_mm: float, direction: tuple[float, float] = (1, 0),
+                     ) -> StaticResult:
+        """Equilibrium under a fixed-direction point force perpendicular to the rest axis.
+
+        Parameters
+        ----------
+        force_n
+            Force magnitude (N); may be large (geometrically nonlinear solution).
+        at_mm
+            Material point where it acts, arc length from the base (mm).
+        direction
+            Direction of the force in the x-y plane (normalised).
+        """
+        F = finite("force_n", force_n)
+        j, u = self.locate(at_mm)
+        dvec = np.array([direction[0], direction[1], 0.0], dtype=float)
+        if not np.all(np.isfinite(dvec)) or np.linalg.norm(dvec) == 0:
+            raise ValueError(f"direction must be a non-zero finite 2-vector, got {direction}")
+        dvec /= np.linalg.norm(dvec)
+        x = self.x_rest.copy()
+        # load stepping with adaptive increments
+        done = 0.0
+        step = 1.0
+        while done < 1.0:
+            frac = min(1.0, done + step)
+            f_app = np.zeros((self.n_nodes, 3))
+            f_app[j] = (1 - u) * F * frac * dvec
+            f_app[j + 1] = u * F * frac * dvec
+            trial = x.copy()
+            it, _ = self._static(trial, f_app)
+            if it < 0:
+                step *= 0.5
+                if step < 1e-4:
+                    raise SimulationError(
+                        f"static solve did not converge for force_n={force_n} at_mm={at_mm}"
+                    )
+                continue
+            x = trial
+            done = frac
+            step = min(1.0, step * 1.5)
+        _check_finite(x)
+        f_app = np.zeros((self.n_nodes, 3))
+        f_app[j] = (1 - u) * F * dvec
+        f_app[j + 1] = u * F * dvec
+        M = self.base_moment(x, f_app)
+        p = (1 - u) * x[j] + u * x[j + 1]
+        p0 = (1 - u) * self.x_rest[j] + u * self.x_rest[j + 1]
+        tx, ty = self.tan_angles(x)
+        return StaticResult(
+            base_moment_nm=float(np.linalg.norm(M)),
+            deflection_mm=float(np.dot(p - p0, dvec) * 1e3),
+            axial_shortening_mm=float((p0[2] - p[2]) * 1e3),
+            base_angle_deg=float(np.degrees(np.arctan(math.hypot(tx, ty)))),
+            tan_x=tx,
+            tan_y=ty,
+            positions_m=x,
+        )
+
+    def push(self, at_mm: float, displacement_mm: float, friction: float = 0.0,
+             pole_radius_mm: float = 0.5, n_increments: int | None = None,
+             contact_stiffness_n_m: float = 2e4) -> PushResult:
+        """Quasi-static push of a thin pole (parallel to y) through the whisker.
+
+        The pole first touches the undeformed whisker at ``at_mm`` from the base on
+        its -x side and is moved ``displacement_mm`` along +x in small increments;
+        friction anchors are carried from one increment to the next, so the result
+        follows the loading path (stick until the friction cone is exceeded, then slip).
+
+        Parameters
+        ----------
+        at_mm
+            Radial distance of first contact (mm), in (0, length].
+        displacement_mm
+            Sideways displacement of the pole (mm), >= 0.
+        friction
+            Coulomb friction coefficient, >= 0.
+        pole_radius_mm
+            Radius of the pole (mm).
+        n_increments
+            Load increments (default: one per 0.25 mm, at least 20).
+        contact_stiffness_n_m
+            Penalty stiffness of the contact (N/m).
+        """
+        j, u = self.locate(at_mm)
+        D = non_negative("displacement_mm", displacement_mm) * 1e-3
+        mu = non_negative("friction", friction)
+        rp = positive("pole_radius_mm", pole_radius_mm) * 1e-3
+        kn = positive("contact_stiffness_n_m", contact_stiffness_n_m)
+        if n_increments is None:
+            n_increments = max(20, int(math.ceil(D / 0.25e-3)))
+        a = at_mm * 1e-3
+        r_here = float(self.geometry.radius_m(a))
+        px0 = -(rp + r_here)
+        cpar = np.array([rp, kn, 0.0, mu, 0.5 * kn])
+        anchor = np.zeros(3)
+        x = self.x_rest.copy()
+        info = np.zeros(9)
+        for k in range(1, n_increments + 1):
+            tr = np.array([px0 + D * k / n_increments, a, 0.0, 0.0, 0.0, 0.0])
+            trial = x.copy()
+            sub = 1
+            while True:
+                ok = True
+                xs = x.copy()
+                anc = anchor.copy()
+                prev = px0 + D * (k - 1) / n_increments
+                for m in range(1, sub + 1):
+                    tr[0] = prev + (D / n_increments) * m / sub
+                    it, info = self._static(xs, np.zeros((self.n_nodes, 3)), _k.POLE, cpar,
+                                            tr.copy(), anc)
+                    if it < 0:
+                        ok = False
+                        break
+                    _it._commit_anchors(_k.POLE, info, anc, np.zeros((1, 6)))
+                if ok:
+                    trial, anchor = xs, anc
+                    break
+                sub *= 2
+                if sub > 256:
+                    raise SimulationError(
+                        f"push did not converge at displacement {D * k / n_increments * 1e3:.2f} mm"
+                    )
+            x = trial
+        _check_finite(x)
+        fx, fz = info[7], info[8]
+        s_c = info[1]
+        jj, uu = self._segment_of(s_c)
+        q = (1 - uu) * x[jj] + uu * x[jj + 1]
+        r = q - x[1]
+        M = r[2] * fx - r[0] * fz
+        fn = info[0]
+        force = math.hypot(fx, fz)
+        in_contact = info[3] < 0.0
+        slipped = (not in_contact) and s_c >= self.geometry.length_m * (1 - 1e-9)
+        tx, ty = self.tan_angles(x)
+        return PushResult(
+            base_moment_nm=float(abs(M)),
+            base_force_n=float(force),
+            contact_arc_length_mm=float(s_c * 1e3),
+            slipped_off=bool(slipped),
+            tan_x=tx,
+            tan_y=ty,
+            normal_force_n=float(fn),
+            friction_force_n=float(math.sqrt(max(force**2 - fn**2, 0.0))),
+            positions_m=x,
+        )
+
+    def _segment_of(self, s_m: float) -> tuple[int, float]:
+        pos = min(max(s_m / self.element_length_m, 0.0), self.n_elements)
+        j = min(int(pos), self.n_elements - 1)
+        return j + 1, pos - j
+
+    # ------------------------------------------------------------------ energy
+    def elastic_energy(self, x: np.ndarray) -> float:
+        """Elastic energy (J) of positions ``x`` (stretching, bending and follicle)."""
+        e = np.diff(x, axis=0)
+        ln = np.linalg.norm(e, axis=1)
+        E = float(np.sum(self.EA / (2 * self.L0) * (ln - self.L0) ** 2))
+        t = e / ln[:, None]
+        E += 0.5 * self.kf * float(np.sum((t[0] - self.axis) ** 2))
+        d = t[1:] - t[:-1]
+        E += float(np.sum(self.kb[1:-1] * np.sum(d * d, axis=1)))
+        return E
+
+    def kinetic_energy(self, v: np.ndarray) -> float:
+        """Kinetic energy (J) of node velocities ``v``."""
+        return float(0.5 * np.sum(self.mass[self.free, None] * v[self.free] ** 2))
+
+
+def _check_finite(x: np.ndarray) -> None:
+    if not np.all(np.isfinite(x)):
+        raise SimulationError("the solver produced non-finite positions (diverged)")
+
+
+def validate_fraction(name: str, value: float) -> float:
+    """Check that ``value`` lies in [0, 1]."""
+    return in_range(name, value, 0.0, 1.0)
