@@ -1,1 +1,38 @@
-"""vibrissa.signal."""
+"""Preprocessing building blocks for whisker signals, vectorised along the last axis.
+
+Arrays follow the package layout ``(n_trials, n_channels, n_timepoints)`` (any
+leading shape works; time is always the last axis). Units are in argument
+names: ``sample_rate_hz``, ``cutoff_hz``, ``threshold_v``, ``sigma_s``.
+
+- filters: :func:`lowpass`, :func:`highpass`, :func:`bandpass` (Butterworth,
+  second-order sections, zero phase) and :func:`notch` (``iirnotch``);
+- derivatives: :func:`smooth`, :func:`velocity`, :func:`acceleration`
+  (Gaussian-derivative kernels, thesis 4.3.5);
+- :func:`remove_baseline` (2.5 V Hall rest level or pre-contact mean);
+- spectra: :func:`magnitude_spectrum`, :func:`spectrum_frequencies` (eq. 4.3);
+- chapter-4 features: :func:`peak_magnitude` (f1, eq. 4.5) and
+  :func:`contact_duration` (f2, eqs. 4.6-4.8).
+"""
+
+from vibrissa.signal._baseline import HALL_REST_V, remove_baseline
+from vibrissa.signal._derivatives import DEFAULT_SIGMA_SAMPLES, acceleration, smooth, velocity
+from vibrissa.signal._features import contact_duration, peak_magnitude
+from vibrissa.signal._filters import bandpass, highpass, lowpass, notch
+from vibrissa.signal._spectra import magnitude_spectrum, spectrum_frequencies
+
+__all__ = [
+    "DEFAULT_SIGMA_SAMPLES",
+    "HALL_REST_V",
+    "acceleration",
+    "bandpass",
+    "contact_duration",
+    "highpass",
+    "lowpass",
+    "magnitude_spectrum",
+    "notch",
+    "peak_magnitude",
+    "remove_baseline",
+    "smooth",
+    "spectrum_frequencies",
+    "velocity",
+]
