@@ -1,1 +1,52 @@
-"""vibrissa.classify."""
+"""The thesis' classifiers as scikit-learn estimators (Evans 2011, chapter 4).
+
+Inputs are trials ``X`` of shape ``(n_trials, n_channels, n_timepoints)`` (or
+2-D, one channel); labels ``y`` are 1-D or ``(n_trials, n_targets)``, each
+distinct row a joint class (e.g. radial distance and speed), see
+:mod:`vibrissa.classify._base`.
+
+========================================  ==================================
+:class:`StaticBeamClassifier`             static beam equation, 4.3.1
+:class:`FrequencyTemplateClassifier`      |FFT| templates, 4.3.2
+:class:`TimeTemplateClassifier`           low-passed signal templates, 4.3.3
+:class:`FeatureRegressionClassifier`      f1/f2 + polynomial regression, 4.3.4
+:class:`StationaryNaiveBayes`             stationary naive Bayes, 4.3.5
+:func:`chapter4_classifiers`              the chapter-4 line-up
+========================================  ==================================
+"""
+
+from vibrissa.classify._base import TrialClassifier
+from vibrissa.classify._chapter4 import CHAPTER4_KEYS, chapter4_classifiers
+from vibrissa.classify._feature import (
+    FeatureRegressionClassifier,
+    contact_features,
+    polynomial_powers,
+)
+from vibrissa.classify._naive_bayes import StationaryNaiveBayes
+from vibrissa.classify._spectral import FrequencyTemplateClassifier
+from vibrissa.classify._static_beam import (
+    DEFAULT_SPEED_MM_S,
+    StaticBeamClassifier,
+    base_moment_nm,
+    static_beam_radius_mm,
+    thesis_parameter_grid,
+)
+from vibrissa.classify._template import TimeTemplateClassifier, nearest_template_scores
+
+__all__ = [
+    "CHAPTER4_KEYS",
+    "DEFAULT_SPEED_MM_S",
+    "FeatureRegressionClassifier",
+    "FrequencyTemplateClassifier",
+    "StaticBeamClassifier",
+    "StationaryNaiveBayes",
+    "TimeTemplateClassifier",
+    "TrialClassifier",
+    "base_moment_nm",
+    "chapter4_classifiers",
+    "contact_features",
+    "nearest_template_scores",
+    "polynomial_powers",
+    "static_beam_radius_mm",
+    "thesis_parameter_grid",
+]
