@@ -112,7 +112,9 @@ class TrialClassifier(ClassifierMixin, BaseEstimator):
     def _encode_y(self, y: Any, n_trials: int) -> np.ndarray:
         """Set ``classes_`` from ``y`` and return each trial's class index."""
         if y is None:
-            raise ValueError(f"{type(self).__name__} requires y to be passed, but y is None")
+            raise ValueError(
+                f"{type(self).__name__} requires y to be passed, but the target y is None"
+            )
         y_arr = np.asarray(y)
         if y_arr.ndim not in (1, 2) or (y_arr.ndim == 2 and y_arr.shape[1] == 0):
             raise ValueError(

@@ -136,6 +136,12 @@ class FeatureRegressionClassifier(TrialClassifier):
         self.rest_v = rest_v
         self.duration_mode = duration_mode
 
+    def __sklearn_tags__(self):  # noqa: D105
+        tags = super().__sklearn_tags__()
+        # Built for whisker time series: no accuracy promise on generic tabular data.
+        tags.classifier_tags.poor_score = True
+        return tags
+
     def _features(self, X: np.ndarray) -> np.ndarray:
         if isinstance(self.channel, bool) or not 0 <= int(self.channel) < X.shape[1]:
             raise ValueError(f"channel must lie in [0, {X.shape[1] - 1}], got {self.channel!r}")

@@ -239,6 +239,12 @@ class StaticBeamClassifier(TrialClassifier):
         self.speed_mm_s = speed_mm_s
         self.latency_s = latency_s
 
+    def __sklearn_tags__(self):  # noqa: D105
+        tags = super().__sklearn_tags__()
+        # Built for whisker time series: no accuracy promise on generic tabular data.
+        tags.classifier_tags.poor_score = True
+        return tags
+
     # -- labels: radial distance only ---------------------------------------------------
     def _encode_y(self, y: Any, n_trials: int) -> np.ndarray:
         super()._encode_y(y, n_trials)  # shape, length and finiteness checks
