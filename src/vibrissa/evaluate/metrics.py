@@ -1,0 +1,290 @@
+"""Classification metrics of chapter 4: signed errors in physical units and kappa.
+
+The thesis reports, per contact parameter, the mean and spread of the signed
+classification error ``predicted - true`` in physical units (mm, mm/s;
+tables 4.2-4.5 and 4.7). We add the exact-hit rate and Cohen's kappa (plain
+for one parameter or for the joint class, weighted over ordered classes), as
+fixed by the project's design.
+
+All functions take 1-D arrays of true and predicted values of one parameter
+(or 2-D ``(n_trials, n_targets)`` arrays for the joint class) and return
+plain Python numbers, so their output serialises to JSON directly; an
+undefined value (e.g. the spread of an empty sample) is ``None``, never NaN.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Literal
+
+import numpy as np
+from sklearn.metrics import cohen_kappa_score
+from sklearn.metrics import confusion_matrix as _sk_confusion_matrix
+
+__all__ = [
+    "LABEL_DECIMALS",
+    "confusion_matrix",
+    "error_summary",
+    "exact_hit_rate",
+    "joint_kappa",
+    "joint_labels",
+    "kappa",
+    "signed_errors",
+]
+
+#: Class values are rounded to this many decimals before they are compared, so
+#: that floating-point noise (``80.00000000001`` vs ``80.0``) never splits a class.
+LABEL_DECIMALS = 6
+
+
+def _as_1d(name: str, values: Any) -> np.ndarray:
+    arr = np.asarray(values, dtype=float)
+    if arr.ndim != 1:
+        raise ValueError(f"{name} must be 1-D (one value per trial), got shape {arr.shape}")
+    return arr
+
+
+def _pair(y_true: Any, y_pred: Any) -> tuple[np.ndarray, np.ndarray]:
+    t = _as_1d("y_true", y_true)
+    p = _as_1d("y_pred", y_pred)
+    if t.shape != p.shape:
+        raise ValueError(
+            f"y_true and y_pred must have the same length, got {t.shape[0]} and {p.shape[0]}"
+        )
+    if not np.all(np.isfinite(t)):
+        raise ValueError("y_true contains NaN or infinite values")
+    return t, p
+
+
+def _clean(x: float) -> float | None:
+    """A finite float, or ``None`` for NaN/inf (JSON has no NaN)."""
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+def signed_errors(y_true: Any, y_pred: Any) -> np.ndarray:
+    """Signed classification error ``y_pred - y_true`` per trial, in the parameter's units.
+
+    Parameters
+    ----------
+    y_true, y_pred : array-like of shape (n_trials,)
+        True and predicted values of one parameter (e.g. radial distance, mm).
+
+    Returns
+    -------
+    numpy.ndarray of shape (n_trials,)
+        The signed errors (positive: over-estimate).
+    """
+    t, p = _pair(y_true, y_pred)
+    return p - t
+
+
+def exact_hit_rate(y_true: Any, y_pred: Any, decimals: int = LABEL_DECIMALS) -> float | None:
+    """Fraction of trials whose prediction equals the true class exactly.
+
+    Parameters
+    ----------
+    y_true, y_pred : array-like of shape (n_trials,) or (n_trials, n_targets)
+        True and predicted classes; for 2-D input a hit needs every column right
+        (the joint class).
+    decimals : int, default=LABEL_DECIMALS
+        Values are compared after rounding to this many decimals.
+
+    Returns
+    -------
+    float or None
+        Hit rate in [0, 1]; ``None`` for no trials.
+    """
+    t = np.round(np.asarray(y_true, dtype=float), decimals)
+    p = np.round(np.asarray(y_pred, dtype=float), decimals)
+    if t.shape != p.shape:
+        raise ValueError(f"y_true and y_pred must have the same shape, got {t.shape} and {p.shape}")
+    if t.shape[0] == 0:
+        return None
+    hit = t == p
+    if hit.ndim == 2:
+        hit = hit.all(axis=1)
+    return float(np.mean(hit))
+
+
+def error_summary(y_true: Any, y_pred: Any, ddof: int = 1) -> dict[str, Any]:
+    """Mean, standard deviation and exact-hit rate of the signed error of one parameter.
+
+    The thesis' tables 4.2-4.5 and 4.7 label the spread "Std Err"; the values
+    (e.g. 53.99 mm/s for the frequency classifier's speed) are the standard
+    deviation of the per-trial errors, which is what ``std`` holds. ``sem`` is
+    the standard error of the mean (``std / sqrt(n)``), for error bars.
+
+    Parameters
+    ----------
+    y_true, y_pred : array-like of shape (n_trials,)
+        True and predicted values of one parameter, in physical units.
+    ddof : int, default=1
+        Delta degrees of freedom of the standard deviation (1, as MATLAB's ``std``).
+
+    Returns
+    -------
+    dict
+        ``mean``, ``std``, ``sem``, ``mean_abs``, ``rmse`` (units of the
+        parameter), ``exact_hit`` (fraction), ``n`` (trials). Undefined values
+        (no trials, one trial for ``std``) are ``None``.
+    """
+    t, p = _pair(y_true, y_pred)
+    n = int(t.shape[0])
+    if n == 0:
+        return {"mean": None, "std": None, "sem": None, "mean_abs": None, "rmse": None,
+                "exact_hit": None, "n": 0}
+    if not np.all(np.isfinite(p)):
+        raise ValueError("y_pred contains NaN or infinite values")
+    err = p - t
+    std = float(np.std(err, ddof=ddof)) if n > ddof else None
+    return {
+        "mean": _clean(np.mean(err)),
+        "std": None if std is None else _clean(std),
+        "sem": None if std is None else _clean(std / math.sqrt(n)),
+        "mean_abs": _clean(np.mean(np.abs(err))),
+        "rmse": _clean(np.sqrt(np.mean(err**2))),
+        "exact_hit": exact_hit_rate(t, p),
+        "n": n,
+    }
+
+
+def _kappa_from_labels(
+    t: np.ndarray, p: np.ndarray, weights: Literal["linear", "quadratic"] | None
+) -> float | None:
+    if t.shape[0] == 0:
+        return None
+    labels = np.union1d(t, p)
+    if labels.shape[0] == 1:
+        # one class seen at all: agreement is perfect, chance agreement too; sklearn
+        # returns NaN (0/0). Perfect agreement is what a user means here.
+        return 1.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        k = cohen_kappa_score(t, p, labels=labels, weights=weights)
+    return _clean(k)
+
+
+def kappa(
+    y_true: Any,
+    y_pred: Any,
+    weights: Literal["linear", "quadratic"] | None = None,
+    decimals: int = LABEL_DECIMALS,
+) -> float | None:
+    """Cohen's kappa of one parameter's classes, optionally weighted over ordered classes.
+
+    Parameters
+    ----------
+    y_true, y_pred : array-like of shape (n_trials,)
+        True and predicted values; each distinct value is one class.
+    weights : {None, "linear", "quadratic"}, default=None
+        ``None``: plain kappa (every disagreement counts the same). ``"linear"`` /
+        ``"quadratic"``: weighted kappa, disagreement weighted by the (squared)
+        distance between the *ranks* of the two classes in the sorted union of
+        true and predicted values (on the thesis' evenly spaced grids this is
+        proportional to the distance in mm or mm/s).
+    decimals : int, default=LABEL_DECIMALS
+        Values are rounded to this many decimals before they become classes.
+
+    Returns
+    -------
+    float or None
+        Kappa in [-1, 1]; 1.0 when a single class is seen and always predicted;
+        ``None`` for no trials or when undefined.
+    """
+    if weights not in (None, "linear", "quadratic"):
+        raise ValueError(f"weights must be None, 'linear' or 'quadratic', got {weights!r}")
+    t, p = _pair(y_true, y_pred)
+    if not np.all(np.isfinite(p)):
+        raise ValueError("y_pred contains NaN or infinite values")
+    return _kappa_from_labels(np.round(t, decimals), np.round(p, decimals), weights)
+
+
+def joint_labels(
+    y_true: Any, y_pred: Any, decimals: int = LABEL_DECIMALS
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Encode rows of several parameters as integer joint-class labels.
+
+    Parameters
+    ----------
+    y_true, y_pred : array-like of shape (n_trials, n_targets)
+        True and predicted parameter rows.
+    decimals : int, default=LABEL_DECIMALS
+        Rounding applied before rows are compared.
+
+    Returns
+    -------
+    true_codes, pred_codes : numpy.ndarray of shape (n_trials,)
+        Index of each row in ``classes``.
+    classes : numpy.ndarray of shape (n_classes, n_targets)
+        Distinct rows of true and predicted values, sorted lexicographically.
+    """
+    t = np.round(np.asarray(y_true, dtype=float), decimals)
+    p = np.round(np.asarray(y_pred, dtype=float), decimals)
+    if t.ndim != 2 or p.shape != t.shape:
+        raise ValueError(
+            "y_true and y_pred must both be 2-D (n_trials, n_targets) of the same shape, got "
+            f"{t.shape} and {p.shape}"
+        )
+    if not (np.all(np.isfinite(t)) and np.all(np.isfinite(p))):
+        raise ValueError("joint labels need finite values in every column of y_true and y_pred")
+    classes, codes = np.unique(np.vstack([t, p]), axis=0, return_inverse=True)
+    codes = np.asarray(codes).reshape(-1)
+    return codes[: t.shape[0]], codes[t.shape[0] :], classes
+
+
+def joint_kappa(y_true: Any, y_pred: Any, decimals: int = LABEL_DECIMALS) -> float | None:
+    """Cohen's kappa of the joint class (each distinct parameter row is one class).
+
+    Parameters
+    ----------
+    y_true, y_pred : array-like of shape (n_trials, n_targets)
+        True and predicted rows, e.g. ``[radial_distance_mm, speed_mm_s]``.
+    decimals : int, default=LABEL_DECIMALS
+        Rounding applied before rows are compared.
+
+    Returns
+    -------
+    float or None
+        Unweighted kappa over joint classes (they have no natural order).
+    """
+    tc, pc, _ = joint_labels(y_true, y_pred, decimals)
+    return _kappa_from_labels(tc, pc, None)
+
+
+def confusion_matrix(
+    y_true: Any,
+    y_pred: Any,
+    labels: Any | None = None,
+    decimals: int = LABEL_DECIMALS,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Confusion matrix of one parameter (or of joint rows).
+
+    Parameters
+    ----------
+    y_true, y_pred : array-like of shape (n_trials,) or (n_trials, n_targets)
+        True and predicted classes. 2-D input is encoded as joint classes.
+    labels : array-like, optional
+        Classes in the order of the rows/columns (1-D input only); defaults to
+        the sorted union of true and predicted values.
+    decimals : int, default=LABEL_DECIMALS
+        Rounding applied before values are compared.
+
+    Returns
+    -------
+    matrix : numpy.ndarray of shape (n_classes, n_classes)
+        ``matrix[i, j]`` counts trials of true class ``i`` predicted as ``j``.
+    labels : numpy.ndarray
+        The classes, shape ``(n_classes,)`` or ``(n_classes, n_targets)``.
+    """
+    t = np.asarray(y_true, dtype=float)
+    if t.ndim == 2:
+        if labels is not None:
+            raise ValueError("labels is only supported for 1-D y_true/y_pred")
+        tc, pc, classes = joint_labels(y_true, y_pred, decimals)
+        m = _sk_confusion_matrix(tc, pc, labels=np.arange(classes.shape[0]))
+        return m, classes
+    t, p = _pair(y_true, y_pred)
+    t = np.round(t, decimals)
+    p = np.round(p, decimals)
+    lab = np.union1d(t, p) if labels is None else np.round(_as_1d("labels", labels), decimals)
+    return _sk_confusion_matrix(t, p, labels=lab), lab

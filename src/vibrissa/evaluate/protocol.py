@@ -1,0 +1,691 @@
+"""The chapter-4 evaluation protocol (thesis 4.2-4.4).
+
+The thesis recorded four complete grids of contacts (2 runs x 2 directions,
+4.2). Training and test sets "were each complete data sets of 26 speeds and 101
+radial distances" placed "at random from the original data" (4.3); reduced
+training sets are the first ``fraction x N`` trials of a random permutation of
+the training set, for 80, 60, 40, 20, 10 and 5 %, repeated with five random
+seeds (4.3). Every classifier reports the mean and spread of the signed error
+of radial distance and speed (tables 4.2-4.5, 4.7), the static beam its radial
+error per speed (figures 4.2b, 4.3b), and each its computing time (table 4.6).
+
+:func:`run_chapter4` runs all of it and returns a plain dict that serialises to
+JSON (the contract is in its docstring); the building blocks
+(:func:`check_dataset`, :func:`split_sets`, :func:`subsample_indices`,
+:func:`score_predictions`, :func:`fit_and_score`) are public for other protocols.
+
+Seeds: the train/test split draws from ``numpy.random.default_rng(seed)``; the
+reduced subsets of repeat ``k`` (0-based) from ``numpy.random.default_rng([seed, k])``,
+one permutation per repeat shared by all fractions (so, as in the thesis, the
+5 % subset is the head of the 10 % subset, and so on).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Collection, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import xarray as xr
+from sklearn.base import clone
+
+from vibrissa.evaluate import metrics
+
+__all__ = [
+    "PARAMETERS",
+    "THESIS_FRACTIONS",
+    "Split",
+    "check_dataset",
+    "dataset_arrays",
+    "fit_and_score",
+    "fraction_key",
+    "is_radius_only",
+    "run_chapter4",
+    "score_predictions",
+    "split_sets",
+    "subsample_indices",
+]
+
+#: Dataset coordinate -> result key, in the column order of ``y``.
+PARAMETERS: dict[str, str] = {"radial_distance_mm": "radius_mm", "speed_mm_s": "speed_mm_s"}
+
+#: Reduced training-set sizes of the thesis (4.3), as fractions of the training set.
+THESIS_FRACTIONS: tuple[float, ...] = (0.8, 0.6, 0.4, 0.2, 0.1, 0.05)
+
+ProgressLike = Any  # a callable (done, total, description) or a rich.progress.Progress
+
+_REQUIRED_COORDS = ("radial_distance_mm", "speed_mm_s", "set")
+
+
+# --------------------------------------------------------------------------- dataset
+def check_dataset(ds: xr.Dataset, *, require_complete: bool = True) -> dict[Any, np.ndarray]:
+    """Validate a chapter-4 dataset and return the trial indices of each recorded set.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Needs the variable ``signal`` with dims ``trial``, ``channel``, ``time`` and
+        the per-trial coordinates ``radial_distance_mm``, ``speed_mm_s`` and ``set``.
+    require_complete : bool, default=True
+        Require every set to hold every (radial distance, speed) combination of the
+        dataset's grid at least once ("complete data sets", thesis 4.3).
+
+    Returns
+    -------
+    dict
+        Set value -> sorted trial indices (positions along ``trial``), in sorted
+        order of the set values.
+
+    Raises
+    ------
+    ValueError
+        Naming what is missing: the variable, a dimension, a coordinate, a second
+        set, or the combinations a set lacks.
+    """
+    if not isinstance(ds, xr.Dataset):
+        raise TypeError(f"ds must be an xarray.Dataset, got {type(ds).__name__}")
+    if "signal" not in ds.data_vars:
+        raise ValueError("dataset has no 'signal' variable (dims trial, channel, time)")
+    dims = set(ds["signal"].dims)
+    missing_dims = [d for d in ("trial", "channel", "time") if d not in dims]
+    if missing_dims or len(dims) != 3:
+        raise ValueError(
+            "dataset 'signal' must have dims (trial, channel, time), got "
+            f"{tuple(ds['signal'].dims)}"
+        )
+    missing = [c for c in _REQUIRED_COORDS if c not in ds.coords and c not in ds.data_vars]
+    if missing:
+        raise ValueError(
+            "dataset lacks the per-trial coordinate(s) " + ", ".join(repr(m) for m in missing)
+            + " needed by the chapter-4 protocol"
+        )
+    for c in _REQUIRED_COORDS:
+        if ds[c].dims != ("trial",):
+            raise ValueError(f"coordinate {c!r} must have dims ('trial',), got {ds[c].dims}")
+    n = ds.sizes["trial"]
+    if n == 0:
+        raise ValueError("dataset has no trials")
+    for c in ("radial_distance_mm", "speed_mm_s"):
+        vals = np.asarray(ds[c].values, dtype=float)
+        if not np.all(np.isfinite(vals)):
+            raise ValueError(f"coordinate {c!r} contains NaN or infinite values")
+    set_vals = np.asarray(ds["set"].values)
+    sets = np.unique(set_vals)
+    if sets.shape[0] < 2:
+        raise ValueError(
+            f"the chapter-4 protocol needs at least 2 recorded sets (one to train, one to test); "
+            f"dataset has {sets.shape[0]}"
+        )
+    groups = {_py(s): np.flatnonzero(set_vals == s) for s in sets}
+    if require_complete:
+        r = np.round(np.asarray(ds["radial_distance_mm"].values, dtype=float), 6)
+        v = np.round(np.asarray(ds["speed_mm_s"].values, dtype=float), 6)
+        grid = {(a, b) for a in np.unique(r) for b in np.unique(v)}
+        for s, idx in groups.items():
+            have = set(zip(r[idx].tolist(), v[idx].tolist(), strict=True))
+            lack = grid - have
+            if lack:
+                ex = sorted(lack)[:3]
+                raise ValueError(
+                    f"set {s!r} is not a complete grid: it lacks {len(lack)} of {len(grid)} "
+                    f"(radial_distance_mm, speed_mm_s) combinations, e.g. {ex}"
+                )
+    return groups
+
+
+def dataset_arrays(ds: xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
+    """Trials and labels of a dataset in the package layout.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Dataset with ``signal`` and the coordinates ``radial_distance_mm`` and
+        ``speed_mm_s``.
+
+    Returns
+    -------
+    X : numpy.ndarray of shape (n_trials, n_channels, n_timepoints)
+        The signal, V.
+    y : numpy.ndarray of shape (n_trials, 2)
+        Columns ``[radial_distance_mm, speed_mm_s]``.
+    """
+    X = np.asarray(ds["signal"].transpose("trial", "channel", "time").values, dtype=float)
+    y = np.column_stack([np.asarray(ds[c].values, dtype=float) for c in PARAMETERS])
+    return X, y
+
+
+def _py(v: Any) -> Any:
+    """A numpy scalar as the plain Python value (for dict keys and JSON)."""
+    return v.item() if isinstance(v, np.generic) else v
+
+
+# --------------------------------------------------------------------------- splits
+@dataclass(frozen=True)
+class Split:
+    """Which recorded sets train and test, and their trial indices.
+
+    Attributes
+    ----------
+    train_set, test_set
+        Values of the ``set`` coordinate.
+    train_index, test_index : numpy.ndarray
+        Sorted trial positions of each set.
+    seed : int or None
+        Seed that drew the assignment (``None`` when given explicitly).
+    """
+
+    train_set: Any
+    test_set: Any
+    train_index: np.ndarray
+    test_index: np.ndarray
+    seed: int | None
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary (set values, trial counts, seed; no indices)."""
+        return {
+            "train_set": self.train_set,
+            "test_set": self.test_set,
+            "n_train": int(self.train_index.shape[0]),
+            "n_test": int(self.test_index.shape[0]),
+            "seed": self.seed,
+        }
+
+
+def split_sets(
+    ds: xr.Dataset,
+    seed: int | None = 0,
+    *,
+    train_set: Any = None,
+    test_set: Any = None,
+    require_complete: bool = True,
+) -> Split:
+    """Assign one recorded set to training and another to testing (thesis 4.3).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Chapter-4 dataset (see :func:`check_dataset`).
+    seed : int, default=0
+        Seed of the random draw (two distinct sets, without replacement).
+    train_set, test_set : optional
+        Explicit set values; both or neither.
+    require_complete : bool, default=True
+        Passed to :func:`check_dataset`.
+
+    Returns
+    -------
+    Split
+        The assignment; the two sets never share a trial.
+    """
+    groups = check_dataset(ds, require_complete=require_complete)
+    names = list(groups)
+    if (train_set is None) != (test_set is None):
+        raise ValueError("give both train_set and test_set, or neither")
+    if train_set is not None:
+        for label, s in (("train_set", train_set), ("test_set", test_set)):
+            if s not in groups:
+                raise ValueError(f"{label}={s!r} is not a set of the dataset (sets: {names})")
+        if train_set == test_set:
+            raise ValueError(f"train_set and test_set must differ, both are {train_set!r}")
+        used_seed = None
+    else:
+        rng = np.random.default_rng(seed)
+        i, j = rng.choice(len(names), size=2, replace=False)
+        train_set, test_set = names[int(i)], names[int(j)]
+        used_seed = None if seed is None else int(seed)
+    return Split(train_set, test_set, groups[train_set], groups[test_set], used_seed)
+
+
+def _check_fraction(fraction: float) -> float:
+    try:
+        f = float(fraction)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"training fraction must be a number in (0, 1], got {fraction!r}"
+        ) from None
+    if not math.isfinite(f) or not 0 < f <= 1:
+        raise ValueError(f"training fraction must lie in (0, 1], got {fraction!r}")
+    return f
+
+
+def subsample_indices(
+    n: int, fraction: float, seed: int | Sequence[int] | np.random.Generator
+) -> np.ndarray:
+    """Positions of a reduced training set: the first ``round(fraction x n)`` of a permutation.
+
+    Parameters
+    ----------
+    n : int
+        Size of the full training set.
+    fraction : float
+        Share kept, in (0, 1] (at least one trial is kept).
+    seed : int, sequence of int or numpy.random.Generator
+        Seed of the permutation; the same seed gives the same permutation for
+        every ``fraction``, so smaller subsets are heads of larger ones.
+
+    Returns
+    -------
+    numpy.ndarray
+        Sorted positions in ``range(n)``, without repeats.
+    """
+    f = _check_fraction(fraction)
+    if n < 1:
+        raise ValueError(f"cannot subsample an empty training set (n={n})")
+    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+    perm = rng.permutation(n)
+    k = min(n, max(1, int(round(f * n))))
+    return np.sort(perm[:k])
+
+
+def fraction_key(fraction: float) -> str:
+    """The JSON key of a training fraction: ``0.8 -> "0.8"``, ``0.05 -> "0.05"``, ``1 -> "1.0"``."""
+    return repr(float(_check_fraction(fraction)))
+
+
+# --------------------------------------------------------------------------- scoring
+def is_radius_only(name: str, y_pred: np.ndarray | None = None) -> bool:
+    """Whether a classifier estimates radial distance only (the static beam, thesis 4.3.6).
+
+    True for names starting with ``static_beam``, or when every predicted speed is NaN.
+    """
+    if name.startswith("static_beam"):
+        return True
+    if y_pred is not None:
+        col = np.asarray(y_pred, dtype=float)[:, 1]
+        return bool(col.size) and bool(np.all(np.isnan(col)))
+    return False
+
+
+def _parameter_scores(t: np.ndarray, p: np.ndarray) -> dict[str, Any]:
+    out = metrics.error_summary(t, p)
+    out["kappa"] = metrics.kappa(t, p)
+    out["kappa_linear"] = metrics.kappa(t, p, weights="linear")
+    out["kappa_quadratic"] = metrics.kappa(t, p, weights="quadratic")
+    return out
+
+
+def score_predictions(
+    y_true: np.ndarray, y_pred: np.ndarray, *, radius_only: bool = False
+) -> dict[str, Any]:
+    """Per-parameter and joint scores of one classifier on one test set.
+
+    Parameters
+    ----------
+    y_true, y_pred : numpy.ndarray of shape (n_trials, 2)
+        Columns ``[radial_distance_mm, speed_mm_s]``.
+    radius_only : bool, default=False
+        The classifier estimates radial distance only: speed and joint scores
+        are ``None``.
+
+    Returns
+    -------
+    dict
+        ``radius_mm`` and ``speed_mm_s``: :func:`metrics.error_summary` plus
+        ``kappa``, ``kappa_linear``, ``kappa_quadratic``; ``joint``:
+        ``exact_hit`` and ``kappa`` of the joint class (or ``None``);
+        ``radius_error_by_speed``: list of ``{"speed_mm_s", "mean", "std",
+        "sem", "exact_hit", "n"}`` of the radial error at each true speed.
+    """
+    t = np.asarray(y_true, dtype=float)
+    p = np.asarray(y_pred, dtype=float)
+    if t.ndim != 2 or t.shape[1] != 2 or p.shape != t.shape:
+        raise ValueError(
+            f"y_true and y_pred must both have shape (n_trials, 2), got {t.shape} and {p.shape}"
+        )
+    out: dict[str, Any] = {"radius_mm": _parameter_scores(t[:, 0], p[:, 0])}
+    if radius_only:
+        out["speed_mm_s"] = None
+        out["joint"] = None
+    else:
+        if not np.all(np.isfinite(p[:, 1])):
+            raise ValueError("predicted speeds contain NaN or infinite values")
+        out["speed_mm_s"] = _parameter_scores(t[:, 1], p[:, 1])
+        out["joint"] = {
+            "exact_hit": metrics.exact_hit_rate(t, p),
+            "kappa": metrics.joint_kappa(t, p),
+        }
+    by_speed = []
+    for s in np.unique(t[:, 1]):
+        m = t[:, 1] == s
+        summ = metrics.error_summary(t[m, 0], p[m, 0])
+        keep = ("mean", "std", "sem", "exact_hit", "n")
+        by_speed.append({"speed_mm_s": float(s), **{k: summ[k] for k in keep}})
+    out["radius_error_by_speed"] = by_speed
+    return out
+
+
+def _fitted_parameters(est: Any) -> dict[str, float]:
+    """Scalar fitted physical parameters an estimator exposes (e.g. the static beam's)."""
+    names = (
+        "youngs_modulus_gpa_", "base_radius_mm_", "length_mm_", "moment_scale_",
+        "protraction_mm_", "training_error_mm_",
+    )
+    out = {}
+    for n in names:
+        v = getattr(est, n, None)
+        if isinstance(v, int | float | np.integer | np.floating) and math.isfinite(float(v)):
+            out[n.rstrip("_")] = float(v)
+    return out
+
+
+def fit_and_score(
+    name: str,
+    estimator: Any,
+    X_train: np.ndarray,
+    y_train: np.ndarray,
+    X_test: np.ndarray,
+    y_test: np.ndarray,
+    *,
+    radius_only: bool | None = None,
+    keep_predictions: bool = False,
+) -> dict[str, Any]:
+    """Fit a clone of ``estimator``, classify the test set, time both and score.
+
+    Parameters
+    ----------
+    name : str
+        Classifier name (used in error messages and for :func:`is_radius_only`).
+    estimator : sklearn estimator
+        Takes ``X (n, n_channels, n_timepoints)`` and ``y (n, 2)``; it is cloned,
+        never modified.
+    X_train, y_train, X_test, y_test : numpy.ndarray
+        Trials and ``[radial_distance_mm, speed_mm_s]`` labels.
+    radius_only : bool or None
+        ``None``: decided by :func:`is_radius_only` from the name and predictions.
+    keep_predictions : bool, default=False
+        Also return the predictions (``"y_pred"``, an array; not JSON).
+
+    Returns
+    -------
+    dict
+        :func:`score_predictions` plus ``fit_seconds``, ``classify_seconds``
+        (wall time to classify the whole test set), ``n_train``, ``n_test``,
+        ``n_classes_train``, ``radius_only`` and ``fitted_parameters``.
+    """
+    est = clone(estimator)
+    t0 = time.perf_counter()
+    try:
+        est.fit(X_train, y_train)
+    except Exception as exc:  # name the classifier, keep the original type
+        raise type(exc)(f"classifier {name!r} failed to fit: {exc}") from exc
+    t1 = time.perf_counter()
+    y_pred = np.asarray(est.predict(X_test), dtype=float)
+    t2 = time.perf_counter()
+    if y_pred.shape != y_test.shape:
+        raise ValueError(
+            f"classifier {name!r} predicted shape {y_pred.shape}, expected {y_test.shape} "
+            "(rows of [radial_distance_mm, speed_mm_s])"
+        )
+    ro = is_radius_only(name, y_pred) if radius_only is None else bool(radius_only)
+    out = score_predictions(y_test, y_pred, radius_only=ro)
+    out.update(
+        {
+            "fit_seconds": t1 - t0,
+            "classify_seconds": t2 - t1,
+            "n_train": int(X_train.shape[0]),
+            "n_test": int(X_test.shape[0]),
+            "n_classes_train": int(np.unique(np.round(y_train, 6), axis=0).shape[0]),
+            "radius_only": ro,
+            "fitted_parameters": _fitted_parameters(est),
+        }
+    )
+    if keep_predictions:
+        out["y_pred"] = y_pred
+    return out
+
+
+# --------------------------------------------------------------------------- averaging
+_PARAM_KEYS = ("mean", "std", "sem", "mean_abs", "rmse", "exact_hit", "kappa",
+               "kappa_linear", "kappa_quadratic")
+
+
+def _avg(values: list[Any]) -> float | None:
+    vals = [float(v) for v in values if v is not None]
+    return float(np.mean(vals)) if vals else None
+
+
+def _sd(values: list[Any]) -> float | None:
+    vals = [float(v) for v in values if v is not None]
+    return float(np.std(vals, ddof=1)) if len(vals) > 1 else None
+
+
+def _average_runs(runs: list[dict[str, Any]]) -> dict[str, Any]:
+    """Average per-seed scores of one classifier at one fraction."""
+    out: dict[str, Any] = {}
+    for par in ("radius_mm", "speed_mm_s"):
+        entries = [r[par] for r in runs]
+        if any(e is None for e in entries):
+            out[par] = None
+            continue
+        d = {k: _avg([e[k] for e in entries]) for k in _PARAM_KEYS}
+        d["mean_sd_over_seeds"] = _sd([e["mean"] for e in entries])
+        d["n"] = entries[0]["n"]
+        out[par] = d
+    joints = [r["joint"] for r in runs]
+    out["joint"] = (
+        None if any(j is None for j in joints)
+        else {k: _avg([j[k] for j in joints]) for k in ("exact_hit", "kappa")}
+    )
+    for k in ("fit_seconds", "classify_seconds"):
+        out[k] = _avg([r[k] for r in runs])
+    out["n_train"] = runs[0]["n_train"]
+    out["n_test"] = runs[0]["n_test"]
+    out["radius_only"] = runs[0]["radius_only"]
+    out["per_seed"] = runs
+    return out
+
+
+# --------------------------------------------------------------------------- progress
+class _Progress:
+    """Adapter: a callable ``(done, total, description)`` or a rich ``Progress``."""
+
+    def __init__(self, progress: ProgressLike, total: int) -> None:
+        self.done = 0
+        self.total = total
+        self._cb: Callable[[int, int, str], Any] | None = None
+        self._rich = None
+        self._task = None
+        if progress is None:
+            return
+        if hasattr(progress, "add_task") and hasattr(progress, "update"):
+            self._rich = progress
+            self._task = progress.add_task("chapter 4", total=total)
+        elif callable(progress):
+            self._cb = progress
+        else:
+            raise TypeError(
+                "progress must be None, a callable (done, total, description) or a "
+                f"rich.progress.Progress, got {type(progress).__name__}"
+            )
+
+    def step(self, description: str) -> None:
+        self.done += 1
+        if self._cb is not None:
+            self._cb(self.done, self.total, description)
+        elif self._rich is not None:
+            self._rich.update(self._task, completed=self.done, description=description)
+
+
+# --------------------------------------------------------------------------- protocol
+def run_chapter4(
+    ds: xr.Dataset,
+    classifiers: Mapping[str, Any],
+    *,
+    fractions: Sequence[float] = THESIS_FRACTIONS,
+    n_seeds: int = 5,
+    seed: int = 0,
+    progress: ProgressLike = None,
+    train_set: Any = None,
+    test_set: Any = None,
+    radius_only: Collection[str] | None = None,
+    require_complete: bool = True,
+    keep_predictions: bool = True,
+) -> dict[str, Any]:
+    """Run the thesis' chapter-4 evaluation (4.2-4.4) and return JSON-ready results.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Dataset with ``signal (trial, channel, time)`` and per-trial coordinates
+        ``radial_distance_mm``, ``speed_mm_s`` and ``set`` (at least two complete grids).
+    classifiers : mapping of str to sklearn estimator
+        E.g. :func:`vibrissa.classify.chapter4_classifiers`. Estimators take
+        ``X (n, n_channels, n_timepoints)`` and ``y (n, 2)`` and predict ``(n, 2)``;
+        they are cloned for every fit.
+    fractions : sequence of float, default=(0.8, 0.6, 0.4, 0.2, 0.1, 0.05)
+        Reduced training-set sizes, each in (0, 1]. May be empty.
+    n_seeds : int, default=5
+        Random subsets per fraction.
+    seed : int, default=0
+        Seeds the train/test assignment and (as ``[seed, k]``) the subsets.
+    progress : callable or rich.progress.Progress, optional
+        Called as ``progress(done, total, description)`` after every fit, or a
+        rich ``Progress`` on which one task is added and advanced.
+    train_set, test_set : optional
+        Explicit set values instead of the random assignment.
+    radius_only : collection of str, optional
+        Names of classifiers that estimate radial distance only; default: names
+        starting with ``static_beam`` and any whose predicted speeds are all NaN.
+    require_complete : bool, default=True
+        Require every set to be a complete grid (see :func:`check_dataset`).
+    keep_predictions : bool, default=True
+        Include the full-training-set predictions (key ``predictions``).
+
+    Returns
+    -------
+    dict
+        JSON-ready (no NaN; ``None`` where undefined)::
+
+            {
+              "protocol": "evans2011_chapter4",
+              "meta": {n_trials, n_channels, n_timepoints, sample_rate_hz, sets,
+                       split: {train_set, test_set, n_train, n_test, seed},
+                       radii_mm, speeds_mm_s, fractions, n_seeds, seed},
+              "classifiers": {
+                name: {
+                  "radius_mm": {"mean", "std", "sem", "mean_abs", "rmse", "exact_hit",
+                                "n", "kappa", "kappa_linear", "kappa_quadratic"},
+                  "speed_mm_s": {same keys} or None (radius-only classifiers),
+                  "joint": {"exact_hit", "kappa"} or None,
+                  "classify_seconds", "fit_seconds", "n_train", "n_test",
+                  "n_classes_train", "radius_only", "fitted_parameters",
+                  "radius_error_by_speed": [{"speed_mm_s", "mean", "std", "sem",
+                                             "exact_hit", "n"}, ...],
+                }
+              },
+              "training_fractions": {
+                "0.8": {
+                  name: {"radius_mm": {same keys averaged over seeds,
+                                       + "mean_sd_over_seeds"},
+                         "speed_mm_s": {...} or None, "joint": {...} or None,
+                         "classify_seconds", "fit_seconds" (means over seeds),
+                         "n_train", "n_test", "radius_only",
+                         "per_seed": [{"seed": [seed, k], ...per-seed scores...}]}
+                }, ...
+              },
+              "predictions": {"radius_mm_true": [...], "speed_mm_s_true": [...],
+                              "classifiers": {name: {"radius_mm": [...],
+                                                     "speed_mm_s": [...] or None}}}
+            }
+
+        "std" is the standard deviation of the signed per-trial errors (the
+        thesis' "Std Err"); "mean" the mean signed error ``predicted - true``.
+    """
+    if not isinstance(classifiers, Mapping) or not classifiers:
+        raise ValueError("classifiers must be a non-empty mapping of name -> estimator")
+    fr = [_check_fraction(f) for f in fractions]
+    if len(set(fr)) != len(fr):
+        raise ValueError(f"fractions contain duplicates: {list(fractions)}")
+    if isinstance(n_seeds, bool) or not isinstance(n_seeds, int | np.integer) or n_seeds < 1:
+        raise ValueError(f"n_seeds must be a positive integer, got {n_seeds!r}")
+    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
+        raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
+    split = split_sets(
+        ds, seed, train_set=train_set, test_set=test_set, require_complete=require_complete
+    )
+    X, y = dataset_arrays(ds)
+    if not np.all(np.isfinite(X)):
+        raise ValueError("dataset 'signal' contains NaN or infinite values")
+    X_tr, y_tr = X[split.train_index], y[split.train_index]
+    X_te, y_te = X[split.test_index], y[split.test_index]
+
+    ro_names = None if radius_only is None else set(radius_only)
+
+    def ro(name: str) -> bool | None:
+        if ro_names is None:
+            return True if name.startswith("static_beam") else None
+        return name in ro_names
+
+    total = len(classifiers) * (1 + len(fr) * int(n_seeds))
+    prog = _Progress(progress, total)
+
+    results: dict[str, Any] = {}
+    preds: dict[str, Any] = {}
+    for name, est in classifiers.items():
+        r = fit_and_score(name, est, X_tr, y_tr, X_te, y_te, radius_only=ro(name),
+                          keep_predictions=True)
+        y_pred = r.pop("y_pred")
+        results[name] = r
+        preds[name] = {
+            "radius_mm": y_pred[:, 0].tolist(),
+            "speed_mm_s": None if r["radius_only"] else y_pred[:, 1].tolist(),
+        }
+        prog.step(f"{name}: full training set")
+
+    fractions_out: dict[str, Any] = {}
+    n_tr = X_tr.shape[0]
+    subsets = [
+        [subsample_indices(n_tr, f, np.random.default_rng([int(seed), k])) for f in fr]
+        for k in range(int(n_seeds))
+    ]
+    for i, f in enumerate(fr):
+        key = fraction_key(f)
+        fractions_out[key] = {}
+        for name, est in classifiers.items():
+            runs = []
+            for k in range(int(n_seeds)):
+                idx = subsets[k][i]
+                r = fit_and_score(name, est, X_tr[idx], y_tr[idx], X_te, y_te,
+                                  radius_only=ro(name))
+                r.pop("radius_error_by_speed")
+                runs.append({"seed": [int(seed), k], **r})
+                prog.step(f"{name}: {f:g} of training set, seed {k}")
+            fractions_out[key][name] = _average_runs(runs)
+
+    out: dict[str, Any] = {
+        "protocol": "evans2011_chapter4",
+        "meta": {
+            "n_trials": int(X.shape[0]),
+            "n_channels": int(X.shape[1]),
+            "n_timepoints": int(X.shape[2]),
+            "sample_rate_hz": _json_attr(ds.attrs.get("sample_rate_hz")),
+            "sets": [_py(s) for s in np.unique(np.asarray(ds["set"].values))],
+            "split": split.to_dict(),
+            "radii_mm": np.unique(y[:, 0]).tolist(),
+            "speeds_mm_s": np.unique(y[:, 1]).tolist(),
+            "fractions": fr,
+            "n_seeds": int(n_seeds),
+            "seed": int(seed),
+        },
+        "classifiers": results,
+        "training_fractions": fractions_out,
+    }
+    if keep_predictions:
+        out["predictions"] = {
+            "radius_mm_true": y_te[:, 0].tolist(),
+            "speed_mm_s_true": y_te[:, 1].tolist(),
+            "classifiers": preds,
+        }
+    return out
+
+
+def _json_attr(v: Any) -> Any:
+    if v is None:
+        return None
+    v = _py(v)
+    if isinstance(v, float) and not math.isfinite(v):
+        return None
+    return v if isinstance(v, int | float | str | bool) else str(v)
