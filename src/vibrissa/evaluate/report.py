@@ -308,6 +308,9 @@ def _fraction_table(results: Mapping[str, Any], name: str, table: str | None) ->
     thesis = THESIS_CHAPTER4.get(table) if table else None
     rows = []
     for par, plabel in (("speed_mm_s", "speed (mm/s)"), ("radius_mm", "radius (mm)")):
+        if thesis is None and all(_get(_ours(results, name, f), par, "mean") is None
+                                  for f in fracs):
+            continue  # e.g. the speed of a radius-only classifier
         for stat in ("mean", "std"):
             rows.append([plabel, stat, "ours",
                          *[_f(_get(_ours(results, name, f), par, stat)) for f in fracs]])
@@ -435,9 +438,20 @@ def markdown_report(
     for key in ("table_4_1", "static_beam"):
         if key in tn:
             out += [tn[key], ""]
-    for name in ("static_beam_measured", "static_beam_fitted"):
+    for name, entry in cl.items():
+        if not entry.get("radius_only"):
+            continue
         if f"errors/{name}" in figures:
             out += [f"![{name}: errors (cf. figures 4.2/4.3)]({figures[f'errors/{name}']})", ""]
+    radius_only = [n for n, e in cl.items() if e.get("radius_only")]
+    if radius_only and results.get("training_fractions"):
+        out += ["## Radius-only classifiers vs training-set size (not tabled in the thesis: "
+                "\"the size of the training set is irrelevant\", 4.3)", ""]
+        for name in radius_only:
+            out += [f"**{name}**", "", _fraction_table(results, name, None), ""]
+            key = f"training_size/{name}"
+            if key in figures:
+                out += [f"![{name}: mean error vs training-set size]({figures[key]})", ""]
 
     # tables 4.2-4.5 (and our extra classifiers)
     for name, entry in cl.items():
