@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import xarray as xr
 from matplotlib.figure import Figure
-from test_protocol import Centroid, Constant, RadiusOnly, make_grid_dataset
+from test_evaluate_protocol import Centroid, Constant, RadiusOnly, make_grid_dataset
 
 from vibrissa.evaluate import figures, protocol, report
 
