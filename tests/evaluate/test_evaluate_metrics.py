@@ -82,3 +82,20 @@ def test_joint_kappa_and_confusion() -> None:
         metrics.joint_kappa(t, np.where(p == 36, np.nan, p))
     m2, lab2 = metrics.confusion_matrix(t[:, 0], p[:, 0], labels=[90.0, 80.0])
     assert np.array_equal(lab2, [90.0, 80.0]) and np.array_equal(m2, [[2, 0], [0, 2]])
+
+
+def test_non_integer_class_values() -> None:
+    # thesis speeds are ~7.2 mm/s apart (36 ... 216): non-integer floats are classes too
+    speeds = np.linspace(36.0, 216.0, 26)
+    t = np.repeat(speeds, 2)
+    p = t.copy()
+    p[::2] = np.roll(speeds, 1)
+    k = metrics.kappa(t, p)
+    assert k == pytest.approx((0.5 - 1 / 26) / (1 - 1 / 26))
+    assert metrics.kappa(t, p, weights="linear") < 1
+    m, lab = metrics.confusion_matrix(t, p)
+    assert m.shape == (26, 26) and np.trace(m) == 26 and np.allclose(lab, speeds)
+    m2, _ = metrics.confusion_matrix(t, p, labels=speeds[::-1])
+    assert np.array_equal(m2, m[::-1, ::-1])
+    tj = np.column_stack([t, t / 3.0])
+    assert metrics.joint_kappa(tj, np.column_stack([p, p / 3.0])) == pytest.approx(k)

@@ -159,8 +159,10 @@ def _kappa_from_labels(
         # one class seen at all: agreement is perfect, chance agreement too; sklearn
         # returns NaN (0/0). Perfect agreement is what a user means here.
         return 1.0
+    # integer codes in sorted order: sklearn rejects non-integer floats ("continuous")
+    tc, pc = np.searchsorted(labels, t), np.searchsorted(labels, p)
     with np.errstate(divide="ignore", invalid="ignore"):
-        k = cohen_kappa_score(t, p, labels=labels, weights=weights)
+        k = cohen_kappa_score(tc, pc, labels=np.arange(labels.shape[0]), weights=weights)
     return _clean(k)
 
 
@@ -287,4 +289,13 @@ def confusion_matrix(
     t = np.round(t, decimals)
     p = np.round(p, decimals)
     lab = np.union1d(t, p) if labels is None else np.round(_as_1d("labels", labels), decimals)
-    return _sk_confusion_matrix(t, p, labels=lab), lab
+    # integer codes (sklearn rejects non-integer floats); values outside ``labels`` -> -1
+    order = np.argsort(lab, kind="stable")
+    srt = lab[order]
+
+    def codes(v: np.ndarray) -> np.ndarray:
+        i = np.clip(np.searchsorted(srt, v), 0, srt.shape[0] - 1)
+        return np.where(srt[i] == v, order[i], -1)
+
+    m = _sk_confusion_matrix(codes(t), codes(p), labels=np.arange(lab.shape[0]))
+    return m, lab

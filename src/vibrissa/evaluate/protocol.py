@@ -409,8 +409,13 @@ def fit_and_score(
     t0 = time.perf_counter()
     try:
         est.fit(X_train, y_train)
-    except Exception as exc:  # name the classifier, keep the original type
-        raise type(exc)(f"classifier {name!r} failed to fit: {exc}") from exc
+    except Exception as exc:  # name the classifier, keep the original type where possible
+        msg = f"classifier {name!r} failed to fit: {exc}"
+        try:
+            wrapped = type(exc)(msg)
+        except Exception:
+            raise RuntimeError(msg) from exc
+        raise wrapped from exc
     t1 = time.perf_counter()
     y_pred = np.asarray(est.predict(X_test), dtype=float)
     t2 = time.perf_counter()
