@@ -16,9 +16,9 @@ from functools import cached_property
 
 import numpy as np
 import scipy.linalg
+import scipy.optimize
 
 from vibrissa._validate import finite, in_range, non_negative, positive
-from vibrissa.whisker import _integrate as _it
 from vibrissa.whisker import _kernels as _k
 from vibrissa.whisker.geometry import WhiskerGeometry
 
@@ -189,8 +189,24 @@ class RodModel:
         n = self.n_nodes
         F = np.zeros((n, 3))
         S = np.zeros((3 * n, 2 * _k.BW + 1))
-        _k.add_internal(xx, np.zeros_like(xx), self.kb, self.kf, self.axis, self.L0, self.EA,
-                        self.mass, 0.0, 0.0, F, S, 0.0, 1.0, True)
+        _k.add_internal(
+            xx,
+            np.zeros_like(xx),
+            self.kb,
+            self.kf,
+            self.axis,
+            self.L0,
+            self.EA,
+            self.mass,
+            0.0,
+            0.0,
+            0.0,
+            F,
+            S,
+            0.0,
+            1.0,
+            True,
+        )
         K = np.zeros((3 * n, 3 * n))
         for r in range(3 * n):
             for off in range(-_k.BW, _k.BW + 1):
@@ -213,12 +229,78 @@ class RodModel:
         w, _ = self._plane_modes()
         return w / (2 * math.pi)
 
+    def _plane_matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Shaft stiffness, follicle stiffness and mass in one bending plane (free DOFs)."""
+        K = self.stiffness_matrix()
+        kb = self.kb
+        try:
+            self.kb = np.zeros_like(kb)
+            Kf = self.stiffness_matrix()
+        finally:
+            self.kb = kb
+        idx = np.array([3 * i for i in range(self.n_nodes) if self.free[i]])
+        Kx = K[np.ix_(idx, idx)]
+        Kfx = Kf[np.ix_(idx, idx)]
+        return Kx - Kfx, Kfx, np.diag(self.mass[idx // 3])
+
+    def modal_damping(
+        self, alpha: float, beta_shaft: float, beta_follicle: float, n_modes: int = 3
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Damping ratios and damped frequencies (Hz) of the first modes in one plane."""
+        Ks, Kf, M = self._plane_matrices()
+        n = M.shape[0]
+        K = Ks + Kf
+        C = beta_shaft * Ks + beta_follicle * Kf + alpha * M
+        Minv = np.diag(1.0 / np.diag(M))
+        A = np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ K, -Minv @ C]])
+        lam = np.linalg.eigvals(A)
+        lam = lam[np.imag(lam) > 1e-9]
+        lam = lam[np.argsort(np.abs(lam))][:n_modes]
+        return -lam.real / np.abs(lam), np.abs(lam.imag) / (2 * math.pi)
+
     @cached_property
-    def rayleigh(self) -> tuple[float, float]:
-        """Rayleigh coefficients (alpha 1/s, beta s) giving ``damping_ratio`` on modes 1 and 2."""
-        z = self.geometry.damping_ratio
-        w1, w2 = 2 * math.pi * self.natural_frequencies_hz[:2]
-        return 2 * z * w1 * w2 / (w1 + w2), 2 * z / (w1 + w2)
+    def damping(self) -> tuple[float, float, float]:
+        """Damping coefficients (alpha 1/s, beta_shaft s, beta_follicle s).
+
+        The shaft gets stiffness-proportional material damping with damping ratio
+        ``material_damping_ratio`` at 100 Hz. The follicle's rubber damper (damping
+        moment ``k_f beta_follicle dpsi/dt``) is then set, by root finding on the
+        damped eigenvalues of the linearised whisker, so that the first mode has
+        ``damping_ratio``. If the follicle cannot provide that much (a stiff follicle
+        barely moves in the first mode; always the case for a rigid follicle), the
+        follicle damper is set at its most effective value and mass-proportional
+        damping (air drag, alpha) makes up the rest.
+        """
+        g = self.geometry
+        beta_s = 2.0 * g.material_damping_ratio / (2 * math.pi * 100.0)
+        target = g.damping_ratio
+        w1 = 2 * math.pi * self.natural_frequencies_hz[0]
+
+        def z1(bf: float, alpha: float = 0.0) -> float:
+            return float(self.modal_damping(alpha, beta_s, bf, 1)[0][0])
+
+        base = z1(0.0)
+        if target <= base:
+            return 0.0, beta_s, 0.0
+        best_bf = 0.0
+        if not self.rigid_follicle:
+            grid = np.geomspace(1e-5, 1.0, 41)
+            zs = np.array([z1(b) for b in grid])
+            k = int(np.argmax(zs))
+            if zs[k] >= target:
+                lo = grid[k - 1] if k > 0 else 0.0
+                for j in range(k + 1):
+                    if zs[j] >= target:
+                        lo = grid[j - 1] if j > 0 else 0.0
+                        hi = grid[j]
+                        break
+                bf = float(scipy.optimize.brentq(lambda b: z1(b) - target, lo, hi, xtol=1e-12))
+                return 0.0, beta_s, bf
+            best_bf = float(grid[k])
+        # make up the rest with mass-proportional damping
+        hi = 2.0 * target * w1 * 4
+        alpha = float(scipy.optimize.brentq(lambda a: z1(best_bf, a) - target, 0.0, hi, xtol=1e-10))
+        return alpha, beta_s, best_bf
 
     # ------------------------------------------------------------------ helpers
     def locate(self, at_mm: float) -> tuple[int, float]:
@@ -244,21 +326,48 @@ class RodModel:
         e0 = x[1] - x[0]
         return float(e0[0] / e0[2]), float(e0[1] / e0[2])
 
-    def _static(self, x, f_app, kind=_k.NO_CONTACT, cpar=None, tr=None, anchor=None,
-                tol=1e-11, max_iter=60):
+    def _static(
+        self, x, f_app, kind=_k.NO_CONTACT, cpar=None, tr=None, anchor=None, tol=1e-11, max_iter=60
+    ):
         info = np.zeros(9)
         cpar = np.zeros(5) if cpar is None else cpar
         tr = np.zeros(6) if tr is None else tr
         anchor = np.zeros(3) if anchor is None else anchor
-        it = _it.solve_static(x, self.free, self.kb, self.kf, self.axis, self.L0, self.EA,
-                              self.mass, self.radius, self.s_rest, kind, cpar, tr,
-                              np.eye(3), np.zeros((1, 1)), 1.0, 1.0, 2, anchor,
-                              np.zeros((self.n_nodes, 6)), f_app, tol, max_iter, info)
+        it = _k.solve_static(
+            x,
+            self.free,
+            self.kb,
+            self.kf,
+            self.axis,
+            self.L0,
+            self.EA,
+            self.mass,
+            self.radius,
+            self.s_rest,
+            kind,
+            cpar,
+            tr,
+            np.eye(3),
+            np.zeros((1, 1)),
+            1.0,
+            1.0,
+            2,
+            anchor,
+            np.zeros((self.n_nodes, 6)),
+            f_app,
+            tol,
+            max_iter,
+            info,
+        )
         return it, info
 
     # ------------------------------------------------------------------ statics
-    def static_force(self, force_n: float, at_mm: float, direction: tuple[float, float] = (1, 0),
-                     ) -> StaticResult:
+    def static_force(
+        self,
+        force_n: float,
+        at_mm: float,
+        direction: tuple[float, float] = (1, 0),
+    ) -> StaticResult:
         """Equilibrium under a fixed-direction point force perpendicular to the rest axis.
 
         Parameters
@@ -315,9 +424,15 @@ class RodModel:
             positions_m=x,
         )
 
-    def push(self, at_mm: float, displacement_mm: float, friction: float = 0.0,
-             pole_radius_mm: float = 0.5, n_increments: int | None = None,
-             contact_stiffness_n_m: float = 2e4) -> PushResult:
+    def push(
+        self,
+        at_mm: float,
+        displacement_mm: float,
+        friction: float = 0.0,
+        pole_radius_mm: float = 0.5,
+        n_increments: int | None = None,
+        contact_stiffness_n_m: float = 2e4,
+    ) -> PushResult:
         """Quasi-static push of a thin pole (parallel to y) through the whisker.
 
         The pole first touches the undeformed whisker at ``at_mm`` from the base on
@@ -365,12 +480,13 @@ class RodModel:
                 prev = px0 + D * (k - 1) / n_increments
                 for m in range(1, sub + 1):
                     tr[0] = prev + (D / n_increments) * m / sub
-                    it, info = self._static(xs, np.zeros((self.n_nodes, 3)), _k.POLE, cpar,
-                                            tr.copy(), anc)
+                    it, info = self._static(
+                        xs, np.zeros((self.n_nodes, 3)), _k.POLE, cpar, tr.copy(), anc
+                    )
                     if it < 0:
                         ok = False
                         break
-                    _it._commit_anchors(_k.POLE, info, anc, np.zeros((1, 6)))
+                    _k._commit_anchors(_k.POLE, info, anc, np.zeros((1, 6)))
                 if ok:
                     trial, anchor = xs, anc
                     break

@@ -1,0 +1,192 @@
+"""The Hall-effect sensor under the follicle's magnet (thesis 3.2.1, 3.2.3).
+
+The MLX90333 was programmed to output two voltages linear in the tangents of the
+magnet's two tilt angles (``x = tan(alpha)``, ``y = tan(beta)``), 2.5 V (50 % of
+V_DD = 5 V) at rest, and scaled so that +/-60 mm applied at r = 150 mm spans
+5-95 % of V_DD. Outside that range the output clamps: close contacts saturate
+the sensor, as the thesis found (4.2).
+
+Signal chain modelled here, in order: the magnet's tangents at the simulation's
+internal rate -> the sensor's own low-pass response (``bandwidth_hz``, a causal
+2nd-order Butterworth, as the IC's output filter) -> additive white noise
+(``noise_v`` rms) -> sampling at ``sample_rate_hz`` (the data-acquisition card, no
+further anti-alias filter, as on the LabJack UE9) -> ADC quantisation
+(``adc_bits`` over 0-5 V) -> clamping to the calibrated 5-95 % range.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from functools import lru_cache
+
+import numpy as np
+import scipy.signal
+
+from vibrissa._validate import finite, in_range, non_negative, positive
+from vibrissa.whisker.geometry import WhiskerGeometry
+
+__all__ = ["CALIBRATION_DEFLECTION_MM", "CALIBRATION_RADIUS_MM", "HallSensor", "calibrated_gain"]
+
+CALIBRATION_RADIUS_MM = 150.0
+CALIBRATION_DEFLECTION_MM = 60.0
+
+
+@dataclass(frozen=True)
+class HallSensor:
+    """Two-axis Hall sensor with calibration, bandwidth, noise and ADC.
+
+    Parameters
+    ----------
+    gain_v
+        Volts per unit tangent of the magnet angle (from :func:`calibrated_gain`).
+    sample_rate_hz
+        Output sample rate (the thesis used 1, 2 and 4 kHz).
+    bandwidth_hz
+        -3 dB bandwidth of the sensor's output filter; ``None`` means no filter.
+    noise_v
+        RMS white noise added before sampling (V).
+    adc_bits
+        ADC resolution over 0..supply_v; 0 disables quantisation.
+    offset_v
+        Output at rest (V).
+    supply_v
+        Supply voltage V_DD (V).
+    range_fraction
+        Fraction of V_DD spanned by the calibrated deflection, centred on the offset.
+    """
+
+    gain_v: float
+    sample_rate_hz: float = 1000.0
+    bandwidth_hz: float | None = 2000.0
+    noise_v: float = 0.002
+    adc_bits: int = 12
+    offset_v: float = 2.5
+    supply_v: float = 5.0
+    range_fraction: float = 0.9
+
+    def __post_init__(self) -> None:
+        positive("gain_v", self.gain_v)
+        positive("sample_rate_hz", self.sample_rate_hz)
+        if self.bandwidth_hz is not None:
+            positive("bandwidth_hz", self.bandwidth_hz)
+        non_negative("noise_v", self.noise_v)
+        if not isinstance(self.adc_bits, int | np.integer) or not 0 <= self.adc_bits <= 24:
+            raise ValueError(f"adc_bits must be an integer in [0, 24], got {self.adc_bits!r}")
+        positive("supply_v", self.supply_v)
+        finite("offset_v", self.offset_v)
+        in_range("range_fraction", self.range_fraction, 0.0, 1.0)
+
+    @property
+    def v_min(self) -> float:
+        """Lowest output (V): the calibrated range's lower end."""
+        return self.offset_v - 0.5 * self.range_fraction * self.supply_v
+
+    @property
+    def v_max(self) -> float:
+        """Highest output (V): the calibrated range's upper end."""
+        return self.offset_v + 0.5 * self.range_fraction * self.supply_v
+
+    def with_rate(self, sample_rate_hz: float) -> HallSensor:
+        """Copy with another sample rate."""
+        return replace(self, sample_rate_hz=sample_rate_hz)
+
+    def ideal_volts(self, tan_xy: np.ndarray) -> np.ndarray:
+        """Noise-free, unfiltered, clamped output for tangents ``tan_xy`` (..., 2)."""
+        v = self.offset_v + self.gain_v * np.asarray(tan_xy, dtype=float)
+        return np.clip(v, self.v_min, self.v_max)
+
+    def read(
+        self, tan_xy: np.ndarray, internal_rate_hz: float, rng: np.random.Generator | None = None
+    ) -> np.ndarray:
+        """Turn magnet tangents at the simulation rate into sampled sensor volts.
+
+        Parameters
+        ----------
+        tan_xy
+            Tangents of the magnet's tilt angles, shape ``(n_steps, 2)``, sampled at
+            ``internal_rate_hz``.
+        internal_rate_hz
+            Rate of ``tan_xy``; must be an integer multiple of ``sample_rate_hz``.
+        rng
+            Generator for the noise (``None``: no noise).
+
+        Returns
+        -------
+        numpy.ndarray
+            Volts, shape ``(n_samples, 2)`` with ``n_samples = ceil(n_steps / ratio)``.
+        """
+        t = np.asarray(tan_xy, dtype=float)
+        if t.ndim != 2 or t.shape[1] != 2:
+            raise ValueError(f"tan_xy must have shape (n_steps, 2), got {t.shape}")
+        if not np.all(np.isfinite(t)):
+            raise ValueError("tan_xy contains NaN or infinite values")
+        ratio = internal_rate_hz / self.sample_rate_hz
+        step = int(round(ratio))
+        if step < 1 or abs(ratio - step) > 1e-9 * ratio:
+            raise ValueError(
+                f"internal rate {internal_rate_hz} Hz is not an integer multiple of the "
+                f"sample rate {self.sample_rate_hz} Hz"
+            )
+        v = self.offset_v + self.gain_v * t
+        if self.bandwidth_hz is not None and self.bandwidth_hz < 0.45 * internal_rate_hz:
+            sos = scipy.signal.butter(2, self.bandwidth_hz, fs=internal_rate_hz, output="sos")
+            zi = scipy.signal.sosfilt_zi(sos)[:, :, None] * v[0][None, None, :]
+            v, _ = scipy.signal.sosfilt(sos, v, axis=0, zi=zi)
+        v = v[::step]
+        if rng is not None and self.noise_v > 0:
+            v = v + rng.normal(0.0, self.noise_v, v.shape)
+        if self.adc_bits:
+            lsb = self.supply_v / (2**self.adc_bits)
+            v = np.round(v / lsb) * lsb
+        return np.clip(v, self.v_min, self.v_max)
+
+    def to_dict(self) -> dict:
+        """Parameters as a plain dict."""
+        return {
+            "gain_v": self.gain_v,
+            "sample_rate_hz": self.sample_rate_hz,
+            "bandwidth_hz": self.bandwidth_hz,
+            "noise_v": self.noise_v,
+            "adc_bits": self.adc_bits,
+            "offset_v": self.offset_v,
+            "supply_v": self.supply_v,
+            "range_fraction": self.range_fraction,
+        }
+
+
+def calibration_point_mm(geometry: WhiskerGeometry) -> tuple[float, float]:
+    """Radius and deflection (mm) of the calibration push for ``geometry``.
+
+    The thesis' calibration is 60 mm at r = 150 mm (3.2.3). Whiskers shorter than
+    185 mm are calibrated at the same fraction of their length (150/185) with the
+    deflection scaled in proportion (60/150 of the radius).
+    """
+    r = min(CALIBRATION_RADIUS_MM, geometry.length_mm * CALIBRATION_RADIUS_MM / 185.0)
+    return r, CALIBRATION_DEFLECTION_MM * r / CALIBRATION_RADIUS_MM
+
+
+@lru_cache(maxsize=64)
+def _gain_cached(geometry_json: str, n_elements: int) -> float:
+    from vibrissa.whisker.rod import RodModel
+
+    g = WhiskerGeometry.from_dict(__import__("json").loads(geometry_json))
+    model = RodModel(g, n_elements)
+    r, d = calibration_point_mm(g)
+    res = model.push(r, d, friction=0.0)
+    tan = math.hypot(res.tan_x, res.tan_y)
+    if not tan > 0:
+        raise ValueError("calibration push did not rotate the follicle")
+    return 0.5 * 0.9 * 5.0 / tan
+
+
+def calibrated_gain(geometry: WhiskerGeometry, n_elements: int | None = None) -> float:
+    """Hall gain (V per unit tan) that maps the calibration deflection to 5-95 % of 5 V.
+
+    Computed from the simulated whisker itself: a frictionless pole pushes the
+    whisker by the calibration deflection at the calibration radius
+    (:func:`calibration_point_mm`) and the follicle's tilt is read.
+    """
+    from vibrissa.whisker.rod import DEFAULT_N_ELEMENTS
+
+    return _gain_cached(geometry.to_json(), int(n_elements or DEFAULT_N_ELEMENTS))
