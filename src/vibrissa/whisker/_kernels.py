@@ -342,13 +342,20 @@ def add_pole(
 ):
     """Point contact with a thin pole parallel to ``y`` at ``(pole[0], pole[1])`` in x-z.
 
-    Friction is elasto-plastic Coulomb: a tangential spring ``kt`` from a stick anchor
+    ``pole`` is the object state (x, z, vx, vz, y, vy): the pole may also slide along
+    its own axis (``y``), which friction resists. ``pole_v`` is its velocity (x, y, z).
+
+    Friction is elasto-plastic Coulomb: a tangential spring of stiffness
+    ``mu N / kt`` (``kt`` is the presliding distance, m) from a stick anchor
     (``anchor[0]`` whisker arc length, ``anchor[1]`` pole coordinate ``y``,
-    ``anchor[2]`` > 0 when the anchor is valid); when the spring force would exceed
+    ``anchor[2]`` > 0 when the anchor is valid, ``anchor[3]`` the angle of the contact
+    on the pole's circumference, ``anchor[4]`` the side of the pole the shaft was on
+    when last out of contact); when the spring force would exceed
     ``mu * N`` the contact slips. The anchor *proposed* for the end of the step is
     written to ``info[4:7]``; the caller commits it once the step has converged.
     ``info`` receives [normal force N, arc length of contact (m), slipping flag,
-    gap (m), new anchor s, new anchor y, anchor valid, fx, fz].
+    gap (m), new anchor s, new anchor y, anchor valid, fx, fz, new anchor angle, fy,
+    side].
     """
     n = x.shape[0]
     best = 1e300
@@ -385,16 +392,31 @@ def add_pole(
     q = (1.0 - u) * x[j] + u * x[j + 1]
     s_c = (1.0 - u) * s_rest[j] + u * s_rest[j + 1]
     info[1] = s_c
-    pen = -best
-    fpen, kpen, dramp = _penalty(kn, pen)
-    if kpen == 0.0:
-        return
     nx = q[0] - pole[0]
     nz = q[2] - pole[1]
     nd = np.sqrt(nx * nx + nz * nz)
     if nd == 0.0:
         return
     nvec = np.array([nx / nd, 0.0, nz / nd])
+    # which side of the pole the shaft is on (sign of the offset across the segment);
+    # remembered between steps so that a fast whisker cannot tunnel through the pole
+    at_tip = j == n - 2 and u >= 1.0
+    side_now = 0.0
+    if not at_tip:
+        sx = x[j + 1, 2] - x[j, 2]
+        sz = -(x[j + 1, 0] - x[j, 0])
+        side_now = 1.0 if nx * sx + nz * sz >= 0.0 else -1.0
+    info[11] = side_now
+    pen = -best
+    if anchor[4] != 0.0 and side_now != 0.0 and side_now != anchor[4]:
+        # crossed to the wrong side within a step: push back out the way it came
+        nvec[0] = -nvec[0]
+        nvec[2] = -nvec[2]
+        pen = nd + pole_radius + (1.0 - u) * radius[j] + u * radius[j + 1]
+    info[3] = -pen
+    fpen, kpen, dramp = _penalty(kn, pen)
+    if kpen == 0.0:
+        return
     w = np.array([1.0 - u, u])
     vq = (1.0 - u) * v[j] + u * v[j + 1]
     vrel = vq - pole_v
@@ -420,20 +442,35 @@ def add_pole(
     for c in range(3):
         tw[c] -= tn * nvec[c]
     tw, _ = _unit(tw)
+    # angle of the contact normal about +y: the contact point's position on the pole
+    psi = np.arctan2(-nvec[2], nvec[0])
     if anchor[2] <= 0.0:
         # first touch: stick where the contact is first found
         anchor[0] = s_c
-        anchor[1] = q[1]
+        anchor[1] = q[1] - pole[4]
         anchor[2] = 1.0
-    rel_s = -(s_c - anchor[0])
-    rel_y = q[1] - anchor[1]
-    ft_s = -kt * rel_s
-    ft_y = -kt * rel_y
+        anchor[3] = psi
+    # slip = arc travelled by the contact along the whisker minus that along the pole's
+    # surface (rolling on the round pole moves the contact without any slip)
+    sigma = nvec[2] * tw[0] - nvec[0] * tw[2]
+    dpsi = psi - anchor[3]
+    if dpsi > np.pi:
+        dpsi -= 2.0 * np.pi
+    elif dpsi < -np.pi:
+        dpsi += 2.0 * np.pi
+    rel_s = -(s_c - anchor[0]) + sigma * pole_radius * dpsi
+    rel_y = q[1] - pole[4] - anchor[1]  # anchor[1] is in the pole's own frame
+    # elasto-plastic Coulomb friction with a presliding distance: the tangential
+    # stiffness is mu * N / d_slip, so the contact slips once the elastic tangential
+    # displacement exceeds d_slip (``kt`` holds d_slip in metres)
+    kt_eff = mu * fn / kt if kt > 0.0 else 0.0
+    ft_s = -kt_eff * rel_s
+    ft_y = -kt_eff * rel_y
     ftm = np.sqrt(ft_s * ft_s + ft_y * ft_y)
     slipping = False
     lim = mu * fn
     scale = 1.0
-    if ftm > lim:
+    if ftm > lim * (1.0 + 1e-12):
         slipping = True
         scale = lim / ftm
         ft_s *= scale
@@ -449,36 +486,31 @@ def add_pole(
         F[j + 1, c] += w[1] * fvec[c]
     info[0] = fn
     info[2] = 1.0 if slipping else 0.0
-    info[4] = s_c + rel_s
-    info[5] = q[1] - rel_y
+    info[4] = s_c + rel_s  # re-anchored at the current pole angle, same elastic slip
+    info[5] = q[1] - pole[4] - rel_y
     info[6] = 1.0
+    info[9] = psi
+    info[10] = fvec[1]
     info[7] = fvec[0]
     info[8] = fvec[2]
     if jac:
         blk = np.empty((3, 3))
         ey = np.array([0.0, 1.0, 0.0])
-        if slipping:
-            # sliding: friction magnitude follows the normal force (non-symmetric term)
-            fdir = np.empty(3)
-            for c in range(3):
-                fdir[c] = (ft_s * tw[c] + ft_y * ey[c]) / max(lim, 1e-300)
-            for p in range(3):
-                for r in range(3):
-                    # consistent tangent of the slip return map: kt * ratio * (P_t - f f^T)
-                    pt = tw[p] * tw[r] + ey[p] * ey[r] - fdir[p] * fdir[r]
-                    blk[p, r] = cK * (
-                        kpen * nvec[p] * nvec[r] + mu * kpen * fdir[p] * nvec[r] + kt * scale * pt
-                    )
-                    if vn < 0.0:
-                        blk[p, r] += cD * cn * ramp * nvec[p] * nvec[r]
-        else:
-            for p in range(3):
-                for r in range(3):
-                    blk[p, r] = cK * (
-                        kpen * nvec[p] * nvec[r] + kt * (tw[p] * tw[r] + ey[p] * ey[r])
-                    )
-                    if vn < 0.0:
-                        blk[p, r] += cD * cn * ramp * nvec[p] * nvec[r]
+        # friction scales with the normal force (non-symmetric term); when slipping,
+        # the consistent tangent of the return map kt * ratio * (P_t - f f^T)
+        fdir = np.empty(3)
+        for c in range(3):
+            fdir[c] = (ft_s * tw[c] + ft_y * ey[c]) / max(lim, 1e-300)
+        for p in range(3):
+            for r in range(3):
+                pt = tw[p] * tw[r] + ey[p] * ey[r]
+                if slipping:
+                    pt = scale * (pt - fdir[p] * fdir[r])
+                blk[p, r] = cK * (
+                    kpen * nvec[p] * nvec[r] + mu * kpen * fdir[p] * nvec[r] + kt_eff * pt
+                )
+                if vn < 0.0:
+                    blk[p, r] += cD * cn * ramp * nvec[p] * nvec[r]
         _add_weighted(S, j, w, blk, 1.0)
 
 
@@ -616,11 +648,12 @@ def add_plane(
         rw = W - anchors[i, 1]
         # express the surface-coordinate slip in the local tangent frame
         sgn = a2[0] * tw[0] + a2[1] * tw[1] + a2[2] * tw[2]
-        fu = -kt * ru
-        fw = -kt * rw
+        kt_eff = mu * fn / kt if kt > 0.0 else 0.0  # presliding distance kt (m)
+        fu = -kt_eff * ru
+        fw = -kt_eff * rw
         fm = np.sqrt(fu * fu + fw * fw)
         lim = mu * fn
-        slipping = fm > lim
+        slipping = fm > lim * (1.0 + 1e-12)
         sc = 1.0
         if slipping:
             sc = lim / fm
@@ -642,18 +675,15 @@ def add_plane(
         if jac:
             blk = np.empty((3, 3))
             for p in range(3):
+                fdir_p = (fu * a1[p] + fw * sgn * a2[p]) / max(lim, 1e-300)
                 for q in range(3):
+                    fdir_q = (fu * a1[q] + fw * sgn * a2[q]) / max(lim, 1e-300)
+                    pt = a1[p] * a1[q] + a2[p] * a2[q]
                     if slipping:
-                        fdir_p = (fu * a1[p] + fw * sgn * a2[p]) / max(lim, 1e-300)
-                        fdir_q = (fu * a1[q] + fw * sgn * a2[q]) / max(lim, 1e-300)
-                        pt = a1[p] * a1[q] + a2[p] * a2[q] - fdir_p * fdir_q
-                        blk[p, q] = cK * (
-                            kpen * nl[p] * nl[q] + mu * kpen * fdir_p * nl[q] + kt * sc * pt
-                        )
-                    else:
-                        blk[p, q] = cK * (
-                            kpen * nl[p] * nl[q] + kt * (a1[p] * a1[q] + a2[p] * a2[q])
-                        )
+                        pt = sc * (pt - fdir_p * fdir_q)
+                    blk[p, q] = cK * (
+                        kpen * nl[p] * nl[q] + mu * kpen * fdir_p * nl[q] + kt_eff * pt
+                    )
                     if vn < 0.0:
                         blk[p, q] += cD * cn * ramp * nl[p] * nl[q]
             band_add_block(S, i, i, blk, 1.0)
@@ -715,8 +745,8 @@ def _assemble(
             v,
             radius,
             s_rest,
-            tr[0:2],
-            np.array([tr[2], 0.0, tr[3]]),
+            tr,
+            np.array([tr[2], tr[5], tr[3]]),
             cpar[0],
             cpar[1],
             cpar[2],
@@ -777,8 +807,12 @@ def _commit_anchors(kind, info, pole_anchor, plane_anchors):
             pole_anchor[0] = info[4]
             pole_anchor[1] = info[5]
             pole_anchor[2] = 1.0
+            pole_anchor[3] = info[9]
         else:
             pole_anchor[2] = 0.0
+        if info[3] > 0.0:
+            # out of contact: remember the side the shaft is on
+            pole_anchor[4] = info[11]
     elif kind == PLANE:
         for i in range(plane_anchors.shape[0]):
             if plane_anchors[i, 5] > 0.0:
@@ -1111,7 +1145,7 @@ def run_dynamics(
     an = a.copy()
     xa = np.zeros_like(x)
     va = np.zeros_like(x)
-    info = np.zeros(9)
+    info = np.zeros(12)
     tr = np.zeros(traj.shape[1])
     state = np.array([1.0, 0.0, 0.0, 0.0])
     pa_save = pole_anchor.copy()

@@ -28,7 +28,13 @@ __all__ = ["PushResult", "RodModel", "StaticResult", "DEFAULT_N_ELEMENTS"]
 #: the first three natural frequencies are within 2 % of the converged values.
 DEFAULT_N_ELEMENTS = 24
 
-_AXIAL_FOLLICLE_FACTOR = 10.0  # the in-follicle shaft is 10x stiffer axially than the base
+_AXIAL_FOLLICLE_FACTOR = 10.0
+
+#: Presliding distance of the elasto-plastic friction model (m): the tangential
+#: elastic displacement at which a stuck contact starts to slip. A few micrometres,
+#: the order of contact asperity deformation; small against the grains of the
+#: thesis' sandpapers (26-201 um) so texture stick-slip is resolved.
+PRESLIDING_DISTANCE_M = 2.0e-6  # the in-follicle shaft is 10x stiffer axially than the base
 
 
 class SimulationError(RuntimeError):
@@ -84,6 +90,9 @@ class PushResult:
         Components of the contact force normal and tangential to the whisker (N).
     positions_m
         Node positions at equilibrium, shape (n_nodes, 3).
+    contact_y_mm, pole_y_mm
+        Displacement along the pole's axis (y) of the whisker's contact point and of
+        the pole (equal while the contact sticks).
     """
 
     base_moment_nm: float
@@ -95,6 +104,8 @@ class PushResult:
     normal_force_n: float
     friction_force_n: float
     positions_m: np.ndarray
+    contact_y_mm: float = 0.0
+    pole_y_mm: float = 0.0
 
 
 class RodModel:
@@ -329,10 +340,10 @@ class RodModel:
     def _static(
         self, x, f_app, kind=_k.NO_CONTACT, cpar=None, tr=None, anchor=None, tol=1e-11, max_iter=60
     ):
-        info = np.zeros(9)
+        info = np.zeros(12)
         cpar = np.zeros(5) if cpar is None else cpar
         tr = np.zeros(6) if tr is None else tr
-        anchor = np.zeros(3) if anchor is None else anchor
+        anchor = np.zeros(5) if anchor is None else anchor
         it = _k.solve_static(
             x,
             self.free,
@@ -432,6 +443,7 @@ class RodModel:
         pole_radius_mm: float = 0.5,
         n_increments: int | None = None,
         contact_stiffness_n_m: float = 2e4,
+        direction_deg: float = 0.0,
     ) -> PushResult:
         """Quasi-static push of a thin pole (parallel to y) through the whisker.
 
@@ -454,32 +466,45 @@ class RodModel:
             Load increments (default: one per 0.25 mm, at least 20).
         contact_stiffness_n_m
             Penalty stiffness of the contact (N/m).
+        direction_deg
+            Direction of the pole's motion, measured from +x (perpendicular to the
+            shaft) toward +y (along the pole's own axis), in [-80, 80] degrees. The
+            y component is resisted by friction alone: since the whisker bends equally
+            easily in x and y, the contact sticks (the whisker follows the pole in y)
+            while tan(direction) < friction, and slides along the pole once the
+            friction cone is exceeded.
         """
         j, u = self.locate(at_mm)
         D = non_negative("displacement_mm", displacement_mm) * 1e-3
         mu = non_negative("friction", friction)
         rp = positive("pole_radius_mm", pole_radius_mm) * 1e-3
         kn = positive("contact_stiffness_n_m", contact_stiffness_n_m)
+        beta = math.radians(in_range("direction_deg", direction_deg, -80.0, 80.0, "deg"))
+        ux, uy = math.cos(beta), math.sin(beta)
         if n_increments is None:
             n_increments = max(20, int(math.ceil(D / 0.25e-3)))
         a = at_mm * 1e-3
         r_here = float(self.geometry.radius_m(a))
         px0 = -(rp + r_here)
-        cpar = np.array([rp, kn, 0.0, mu, 0.5 * kn])
-        anchor = np.zeros(3)
+        cpar = np.array([rp, kn, 0.0, mu, PRESLIDING_DISTANCE_M])
+        anchor = np.zeros(5)
         x = self.x_rest.copy()
-        info = np.zeros(9)
+        info = np.zeros(12)
         for k in range(1, n_increments + 1):
-            tr = np.array([px0 + D * k / n_increments, a, 0.0, 0.0, 0.0, 0.0])
+            tr = np.array(
+                [px0 + ux * D * k / n_increments, a, 0.0, 0.0, uy * D * k / n_increments, 0.0]
+            )
             trial = x.copy()
             sub = 1
             while True:
                 ok = True
                 xs = x.copy()
                 anc = anchor.copy()
-                prev = px0 + D * (k - 1) / n_increments
+                prev = D * (k - 1) / n_increments
                 for m in range(1, sub + 1):
-                    tr[0] = prev + (D / n_increments) * m / sub
+                    dk = prev + (D / n_increments) * m / sub
+                    tr[0] = px0 + ux * dk
+                    tr[4] = uy * dk
                     it, info = self._static(
                         xs, np.zeros((self.n_nodes, 3)), _k.POLE, cpar, tr.copy(), anc
                     )
@@ -497,19 +522,18 @@ class RodModel:
                     )
             x = trial
         _check_finite(x)
-        fx, fz = info[7], info[8]
+        fvec = np.array([info[7], info[10], info[8]])
         s_c = info[1]
         jj, uu = self._segment_of(s_c)
         q = (1 - uu) * x[jj] + uu * x[jj + 1]
-        r = q - x[1]
-        M = r[2] * fx - r[0] * fz
+        M = float(np.linalg.norm(np.cross(q - x[1], fvec)))
         fn = info[0]
-        force = math.hypot(fx, fz)
+        force = float(np.linalg.norm(fvec))
         in_contact = info[3] < 0.0
         slipped = (not in_contact) and s_c >= self.geometry.length_m * (1 - 1e-9)
         tx, ty = self.tan_angles(x)
         return PushResult(
-            base_moment_nm=float(abs(M)),
+            base_moment_nm=M,
             base_force_n=float(force),
             contact_arc_length_mm=float(s_c * 1e3),
             slipped_off=bool(slipped),
@@ -518,6 +542,8 @@ class RodModel:
             normal_force_n=float(fn),
             friction_force_n=float(math.sqrt(max(force**2 - fn**2, 0.0))),
             positions_m=x,
+            contact_y_mm=float(q[1] * 1e3),
+            pole_y_mm=float(tr[4] * 1e3),
         )
 
     def _segment_of(self, s_m: float) -> tuple[int, float]:

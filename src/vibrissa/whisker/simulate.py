@@ -18,7 +18,7 @@ import numpy as np
 from vibrissa._validate import finite, finite_array, in_range, non_negative, positive
 from vibrissa.whisker import _kernels as _k
 from vibrissa.whisker.hall import HallSensor, calibrated_gain
-from vibrissa.whisker.rod import RodModel, SimulationError
+from vibrissa.whisker.rod import PRESLIDING_DISTANCE_M, RodModel, SimulationError
 from vibrissa.whisker.surfaces import Surface
 
 __all__ = [
@@ -47,15 +47,19 @@ class PoleContact:
         Normal penalty stiffness of the contact (N/m).
     damping_n_s_m
         Normal contact damping, acting only while approaching (N s/m).
+    presliding_distance_um
+        Tangential elastic displacement before a stuck contact slips (um).
     """
 
     radius_mm: float = 0.5
     friction: float = 0.3
     stiffness_n_m: float = 2.0e4
     damping_n_s_m: float = 0.5
+    presliding_distance_um: float = PRESLIDING_DISTANCE_M * 1e6
 
     def __post_init__(self) -> None:
         positive("radius_mm", self.radius_mm)
+        positive("presliding_distance_um", self.presliding_distance_um)
         non_negative("friction", self.friction)
         positive("stiffness_n_m", self.stiffness_n_m)
         non_negative("damping_n_s_m", self.damping_n_s_m)
@@ -81,6 +85,8 @@ class SurfaceContact:
         Coulomb coefficient; ``None`` takes the surface's.
     stiffness_n_m, damping_n_s_m
         Normal penalty stiffness and approach damping.
+    presliding_distance_um
+        Tangential elastic displacement before a stuck contact slips (um).
     """
 
     surface: Surface
@@ -88,9 +94,11 @@ class SurfaceContact:
     friction: float | None = None
     stiffness_n_m: float = 2.0e4
     damping_n_s_m: float = 0.5
+    presliding_distance_um: float = PRESLIDING_DISTANCE_M * 1e6
 
     def __post_init__(self) -> None:
         in_range("angle_deg", self.angle_deg, 0.0, 90.0, "deg")
+        positive("presliding_distance_um", self.presliding_distance_um)
         if self.friction is not None:
             non_negative("friction", self.friction)
         positive("stiffness_n_m", self.stiffness_n_m)
@@ -274,9 +282,9 @@ def simulate(
     initial_velocities_m_s: np.ndarray | None = None,
     record_every: int = 0,
     rho_inf: float = 0.5,
-    tol_m: float = 1e-9,
+    tol_m: float = 1e-8,
     max_iterations: int = 30,
-    refactor_every: int = 8,
+    refactor_every: int = 16,
     max_halvings: int = 6,
 ) -> SimulationResult:
     """Integrate the whisker's motion for ``duration_s`` seconds.
@@ -356,7 +364,7 @@ def simulate(
                     contact.stiffness_n_m,
                     contact.damping_n_s_m,
                     contact.friction,
-                    0.5 * contact.stiffness_n_m,
+                    contact.presliding_distance_um * 1e-6,
                 ]
             )
             traj[:, 0:2] = p * 1e-3
@@ -365,7 +373,13 @@ def simulate(
             kind = _k.PLANE
             mu = contact.surface.friction if contact.friction is None else contact.friction
             cpar = np.array(
-                [0.0, contact.stiffness_n_m, contact.damping_n_s_m, mu, 0.5 * contact.stiffness_n_m]
+                [
+                    0.0,
+                    contact.stiffness_n_m,
+                    contact.damping_n_s_m,
+                    mu,
+                    contact.presliding_distance_um * 1e-6,
+                ]
             )
             traj[:, 0] = p[:, 0] * 1e-3
             traj[:, 2] = p[:, 1] * 1e-3
@@ -381,7 +395,7 @@ def simulate(
     out = np.zeros((n_steps + 1, 8))
     n_states = (n_steps // record_every + 1) if record_every > 0 else 1
     states = np.zeros((n_states, n, 3))
-    pole_anchor = np.zeros(3)
+    pole_anchor = np.zeros(5)
     plane_anchors = np.zeros((n, 6))
     done = _k.run_dynamics(
         x,
