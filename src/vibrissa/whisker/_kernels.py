@@ -1122,8 +1122,8 @@ def run_dynamics(
     origin xyz, velocity xyz), linearly interpolated within steps. ``out[k]``
     receives per-step outputs [tan_x, tan_y of the magnet, contact normal force (N),
     contact arc length (m), slipping, contact force x, contact force z, Newton
-    iterations]. Every ``state_every`` steps (if > 0) the positions are stored in
-    ``states``.
+    iterations]. Every ``state_every`` steps (if > 0) positions and velocities are stored in
+    ``states[:, 0]`` and ``states[:, 1]``.
 
     Newton's method reuses the factorised iteration matrix across iterations and
     steps (a modified Newton method); it is refreshed every ``refactor_every``
@@ -1155,7 +1155,8 @@ def run_dynamics(
     out[0, 2:] = 0.0
     si = 0
     if state_every > 0:
-        states[0] = x
+        states[0, 0] = x
+        states[0, 1] = v
         si = 1
     prev_contact = 0.0
     prev_slip = 0.0
@@ -1246,6 +1247,7 @@ def run_dynamics(
             out[k + 1, 6] = info[5]
         out[k + 1, 7] = iters
         if state_every > 0 and (k + 1) % state_every == 0 and si < states.shape[0]:
-            states[si] = x
+            states[si, 0] = x
+            states[si, 1] = v
             si += 1
     return nsteps

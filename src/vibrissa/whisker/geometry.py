@@ -184,7 +184,9 @@ PRESETS: dict[str, WhiskerGeometry] = {
         damping_ratio=0.05,
         follicle_stiffness_nm_per_rad=_follicle_k(2.3, 1.0),
         name="scratchbot",
-        source="Thesis 3.2.3: SCRATCHbot ABS whisker shaft, 200 mm long, 2 mm diameter, E ~ 2.3 GPa.",
+        source=(
+            "Thesis 3.2.3: SCRATCHbot ABS whisker shaft, 200 mm long, 2 mm diameter, E ~ 2.3 GPa."
+        ),
     ),
     "biotact-g1-80": WhiskerGeometry(
         length_mm=80.0,

@@ -26,7 +26,7 @@ __all__ = ["PushResult", "RodModel", "StaticResult", "DEFAULT_N_ELEMENTS"]
 
 #: Elements along the free shaft. Chosen by the convergence study in docs/physics.md:
 #: the first three natural frequencies are within 2 % of the converged values.
-DEFAULT_N_ELEMENTS = 24
+DEFAULT_N_ELEMENTS = 28
 
 _AXIAL_FOLLICLE_FACTOR = 10.0
 
@@ -490,6 +490,7 @@ class RodModel:
         anchor = np.zeros(5)
         x = self.x_rest.copy()
         info = np.zeros(12)
+        released = False
         for k in range(1, n_increments + 1):
             tr = np.array(
                 [px0 + ux * D * k / n_increments, a, 0.0, 0.0, uy * D * k / n_increments, 0.0]
@@ -516,11 +517,28 @@ class RodModel:
                     trial, anchor = xs, anc
                     break
                 sub *= 2
-                if sub > 256:
+                if sub > 64:
+                    if info[1] >= self.geometry.length_m * (1 - 1e-6):
+                        # the tip is at the pole and equilibrium is lost: the whisker
+                        # slips off the pole's end and springs back (it lands beyond
+                        # the pole, which the remaining increments then never touch)
+                        xs = x.copy()
+                        it, info = self._static(xs, np.zeros((self.n_nodes, 3)))
+                        if it < 0:
+                            raise SimulationError("whisker failed to spring back after slip-off")
+                        info[1] = self.geometry.length_m
+                        info[3] = 1.0
+                        info[0] = info[7] = info[8] = info[10] = 0.0
+                        anchor = np.zeros(5)
+                        released = True
+                        trial = xs
+                        break
                     raise SimulationError(
                         f"push did not converge at displacement {D * k / n_increments * 1e3:.2f} mm"
                     )
             x = trial
+            if released:
+                break
         _check_finite(x)
         fvec = np.array([info[7], info[10], info[8]])
         s_c = info[1]
@@ -530,7 +548,7 @@ class RodModel:
         fn = info[0]
         force = float(np.linalg.norm(fvec))
         in_contact = info[3] < 0.0
-        slipped = (not in_contact) and s_c >= self.geometry.length_m * (1 - 1e-9)
+        slipped = released or ((not in_contact) and s_c >= self.geometry.length_m * (1 - 1e-9))
         tx, ty = self.tan_angles(x)
         return PushResult(
             base_moment_nm=M,

@@ -200,7 +200,10 @@ class SimulationResult:
     dt_s
         Internal time step (s).
     states_m
-        Node positions every ``record_every`` steps if requested, else None.
+        Node positions every ``record_every`` steps if requested, else None;
+        shape (n_records, n_nodes, 3).
+    velocities_m_s
+        Node velocities at the same records, else None.
     """
 
     time_s: np.ndarray
@@ -213,6 +216,7 @@ class SimulationResult:
     model: RodModel
     dt_s: float
     states_m: np.ndarray | None = None
+    velocities_m_s: np.ndarray | None = None
     final_velocity_m_s: np.ndarray | None = field(default=None, repr=False)
 
     @property
@@ -394,7 +398,7 @@ def simulate(
     a = _initial_acceleration(model, x, v)
     out = np.zeros((n_steps + 1, 8))
     n_states = (n_steps // record_every + 1) if record_every > 0 else 1
-    states = np.zeros((n_states, n, 3))
+    states = np.zeros((n_states, 2, n, 3))
     pole_anchor = np.zeros(5)
     plane_anchors = np.zeros((n, 6))
     done = _k.run_dynamics(
@@ -449,7 +453,8 @@ def simulate(
         newton_iterations=out[:, 7].astype(np.int32),
         model=model,
         dt_s=dt,
-        states_m=states if record_every > 0 else None,
+        states_m=states[:, 0] if record_every > 0 else None,
+        velocities_m_s=states[:, 1] if record_every > 0 else None,
         final_velocity_m_s=v,
     )
 

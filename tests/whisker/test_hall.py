@@ -1,0 +1,82 @@
+"""Hall-effect sensor: calibration, linearity in tan, clamping, sampling, noise, ADC."""
+
+import numpy as np
+import pytest
+
+from vibrissa.whisker.geometry import PRESETS
+from vibrissa.whisker.hall import HallSensor, calibrated_gain, calibration_point_mm
+from vibrissa.whisker.rod import RodModel
+
+XY = PRESETS["xy-robot"]
+
+
+def test_rest_is_half_supply_and_output_is_linear_in_tan():
+    s = HallSensor(gain_v=10.0)
+    t = np.array([[0.0, 0.0], [0.01, -0.02], [0.05, 0.1]])
+    v = s.ideal_volts(t)
+    assert v[0].tolist() == [2.5, 2.5]
+    np.testing.assert_allclose(v[1], [2.6, 2.3])
+    assert v[2].tolist() == [3.0, 3.5]
+
+
+def test_calibration_maps_60mm_at_150mm_to_95_percent_of_supply():
+    gain = calibrated_gain(XY)
+    res = RodModel(XY).push(150, 60, friction=0.0)
+    v = HallSensor(gain).ideal_volts(np.array([res.tan_x, res.tan_y]))
+    assert v[0] == pytest.approx(0.95 * 5.0, abs=1e-6)
+    assert v[1] == pytest.approx(2.5)
+    # half the deflection stays inside the range
+    half = RodModel(XY).push(150, 30, friction=0.0)
+    vh = HallSensor(gain).ideal_volts(np.array([half.tan_x, 0.0]))[0]
+    assert 2.5 < vh < 4.75
+
+
+def test_output_clamps_at_the_calibrated_range():
+    s = HallSensor(gain_v=10.0)
+    v = s.ideal_volts(np.array([[1.0, -1.0]]))
+    assert v.tolist() == [[4.75, 0.25]]
+
+
+def test_short_whiskers_are_calibrated_at_a_proportional_point():
+    r, d = calibration_point_mm(PRESETS["biotact-g1-80"])
+    assert r == pytest.approx(80 * 150 / 185)
+    assert d == pytest.approx(60 * r / 150)
+
+
+def test_read_decimates_filters_quantises_and_adds_noise():
+    s = HallSensor(gain_v=10.0, sample_rate_hz=1000, bandwidth_hz=None, noise_v=0.0, adc_bits=0)
+    t = np.zeros((4000, 2))
+    t[:, 0] = np.linspace(0, 0.1, 4000)
+    v = s.read(t, internal_rate_hz=4000)
+    assert v.shape == (1000, 2)
+    np.testing.assert_allclose(v[:, 0], 2.5 + 10 * t[::4, 0])
+    q = HallSensor(gain_v=10.0, sample_rate_hz=1000, bandwidth_hz=None, noise_v=0.0, adc_bits=12)
+    vq = q.read(t, 4000)
+    lsb = 5.0 / 4096
+    np.testing.assert_allclose(vq / lsb, np.round(vq / lsb), atol=1e-9)
+    assert np.abs(vq - v).max() <= lsb / 2 + 1e-12
+    noisy = HallSensor(gain_v=10.0, sample_rate_hz=1000, noise_v=0.01, adc_bits=0)
+    vn = noisy.read(np.zeros((40000, 2)), 4000, rng=np.random.default_rng(0))
+    assert vn.std() == pytest.approx(0.01, rel=0.05)
+    # a 2 kHz sensor bandwidth attenuates a 3 kHz component sampled internally at 20 kHz
+    bw = HallSensor(gain_v=1.0, sample_rate_hz=20000, bandwidth_hz=2000, noise_v=0, adc_bits=0)
+    tt = np.arange(20000) / 20000
+    sine = np.column_stack([0.1 * np.sin(2 * np.pi * 3000 * tt), np.zeros_like(tt)])
+    out = bw.read(sine, 20000)
+    assert (out[2000:, 0] - 2.5).std() < 0.6 * (0.1 / np.sqrt(2))
+
+
+def test_read_rejects_bad_input():
+    s = HallSensor(gain_v=10.0)
+    with pytest.raises(ValueError, match="integer multiple"):
+        s.read(np.zeros((10, 2)), internal_rate_hz=1500)
+    with pytest.raises(ValueError, match="shape"):
+        s.read(np.zeros((10, 3)), internal_rate_hz=4000)
+    with pytest.raises(ValueError, match="NaN"):
+        s.read(np.full((10, 2), np.nan), internal_rate_hz=4000)
+    with pytest.raises(ValueError, match="gain_v"):
+        HallSensor(gain_v=0.0)
+    with pytest.raises(ValueError, match="sample_rate_hz"):
+        HallSensor(gain_v=1.0, sample_rate_hz=-1)
+    with pytest.raises(ValueError, match="adc_bits"):
+        HallSensor(gain_v=1.0, adc_bits=40)
