@@ -1115,6 +1115,7 @@ def run_dynamics(
     state_every,
     refactor_every,
     max_halvings,
+    stop_tan,
 ):
     """Integrate ``len(traj) - 1`` steps of size ``dt`` from (x, v, a) in place.
 
@@ -1132,7 +1133,12 @@ def run_dynamics(
     changes the cost, not the solution (to within ``tol``). A step that does not
     converge is retried as 2, 4, ... sub-steps (at most ``2**max_halvings``).
 
-    Returns the number of completed steps (less than requested if a step failed).
+    If ``stop_tan > 0`` the integration stops after the first step whose |tan_x|
+    reaches it (an event for closed-loop control); x, v, a and the anchors then hold
+    the state at that step, ready to continue.
+
+    Returns the number of completed steps (less than requested if a step failed or
+    the stop event fired).
     """
     n = x.shape[0]
     nsteps = traj.shape[0] - 1
@@ -1250,4 +1256,6 @@ def run_dynamics(
             states[si, 0] = x
             states[si, 1] = v
             si += 1
+        if stop_tan > 0.0 and abs(out[k + 1, 0]) >= stop_tan:
+            return k + 1
     return nsteps

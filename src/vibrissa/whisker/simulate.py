@@ -32,6 +32,19 @@ __all__ = [
 
 DEFAULT_DT_S = 2.5e-4
 
+_ENVELOPES: dict[tuple[int, float], tuple[Surface, np.ndarray]] = {}
+
+
+def _tip_envelope(surface: Surface, tip_radius_m: float) -> np.ndarray:
+    key = (id(surface), tip_radius_m)
+    hit = _ENVELOPES.get(key)
+    if hit is None or hit[0] is not surface:
+        if len(_ENVELOPES) > 64:
+            _ENVELOPES.clear()
+        hit = (surface, surface.for_tip(tip_radius_m))
+        _ENVELOPES[key] = hit
+    return hit[1]
+
 
 @dataclass(frozen=True)
 class PoleContact:
@@ -103,6 +116,10 @@ class SurfaceContact:
             non_negative("friction", self.friction)
         positive("stiffness_n_m", self.stiffness_n_m)
         non_negative("damping_n_s_m", self.damping_n_s_m)
+
+    def surface_for(self, model: RodModel) -> np.ndarray:
+        """The height field as seen by ``model``'s tip (cached per tip radius)."""
+        return _tip_envelope(self.surface, float(model.radius[-1]))
 
     def frame(self) -> np.ndarray:
         """Rows: outward normal, in-plane u, in-plane w (= y)."""
@@ -204,6 +221,10 @@ class SimulationResult:
         shape (n_records, n_nodes, 3).
     velocities_m_s
         Node velocities at the same records, else None.
+    final_state
+        The state at the last step, to continue with ``simulate(initial_state=...)``.
+    stopped_early
+        True if ``stop_when_tan_x_exceeds`` ended the run.
     """
 
     time_s: np.ndarray
@@ -218,6 +239,8 @@ class SimulationResult:
     states_m: np.ndarray | None = None
     velocities_m_s: np.ndarray | None = None
     final_velocity_m_s: np.ndarray | None = field(default=None, repr=False)
+    final_state: DynamicState | None = field(default=None, repr=False)
+    stopped_early: bool = False
 
     @property
     def follicle_angle_rad(self) -> np.ndarray:
@@ -276,6 +299,92 @@ def _initial_acceleration(model: RodModel, x: np.ndarray, v: np.ndarray) -> np.n
     return a
 
 
+@dataclass
+class DynamicState:
+    """Everything needed to continue a simulation exactly where it stopped.
+
+    Attributes
+    ----------
+    positions_m, velocities_m_s, accelerations_m_s2
+        Node states, each of shape (n_nodes, 3).
+    pole_anchor
+        Friction state of a pole contact (5,).
+    plane_anchors
+        Friction state of each node on a surface (n_nodes, 6).
+    time_s
+        Simulation time of this state (s).
+    """
+
+    positions_m: np.ndarray
+    velocities_m_s: np.ndarray
+    accelerations_m_s2: np.ndarray
+    pole_anchor: np.ndarray
+    plane_anchors: np.ndarray
+    time_s: float = 0.0
+
+    def copy(self) -> DynamicState:
+        """Deep copy."""
+        return DynamicState(
+            self.positions_m.copy(),
+            self.velocities_m_s.copy(),
+            self.accelerations_m_s2.copy(),
+            self.pole_anchor.copy(),
+            self.plane_anchors.copy(),
+            self.time_s,
+        )
+
+
+def _contact_arrays(model, contact, trajectory, times):
+    """Pack the contact description for the kernels."""
+    n_steps = times.size - 1
+    kind = _k.NO_CONTACT
+    cpar = np.zeros(5)
+    traj = np.zeros((n_steps + 1, 6))
+    frame = np.eye(3)
+    H = np.zeros((1, 1))
+    du = 1.0
+    if contact is None:
+        return kind, cpar, traj, frame, H, du
+    if trajectory is None:
+        raise ValueError("a contact needs a trajectory")
+    p, pv = trajectory.sample(times)
+    if isinstance(contact, PoleContact):
+        kind = _k.POLE
+        cpar = np.array(
+            [
+                contact.radius_mm * 1e-3,
+                contact.stiffness_n_m,
+                contact.damping_n_s_m,
+                contact.friction,
+                contact.presliding_distance_um * 1e-6,
+            ]
+        )
+        traj[:, 0:2] = p * 1e-3
+        traj[:, 2:4] = pv * 1e-3
+    elif isinstance(contact, SurfaceContact):
+        kind = _k.PLANE
+        mu = contact.surface.friction if contact.friction is None else contact.friction
+        cpar = np.array(
+            [
+                0.0,
+                contact.stiffness_n_m,
+                contact.damping_n_s_m,
+                mu,
+                contact.presliding_distance_um * 1e-6,
+            ]
+        )
+        traj[:, 0] = p[:, 0] * 1e-3
+        traj[:, 2] = p[:, 1] * 1e-3
+        traj[:, 3] = pv[:, 0] * 1e-3
+        traj[:, 5] = pv[:, 1] * 1e-3
+        frame = contact.frame()
+        H = contact.surface_for(model)
+        du = contact.surface.spacing_m
+    else:
+        raise TypeError(f"unsupported contact type {type(contact).__name__}")
+    return kind, cpar, traj, frame, H, du
+
+
 def simulate(
     model: RodModel,
     contact: PoleContact | SurfaceContact | None,
@@ -290,6 +399,8 @@ def simulate(
     max_iterations: int = 30,
     refactor_every: int = 16,
     max_halvings: int = 6,
+    initial_state: DynamicState | None = None,
+    stop_when_tan_x_exceeds: float | None = None,
 ) -> SimulationResult:
     """Integrate the whisker's motion for ``duration_s`` seconds.
 
@@ -300,16 +411,16 @@ def simulate(
     contact
         Contact object, or None for free motion.
     trajectory
-        The object's motion (required with a contact). Times outside the
-        trajectory's range hold its end values.
+        The object's motion (required with a contact), in absolute simulation time.
+        Times outside the trajectory's range hold its end values.
     duration_s
         Simulated time (s).
     dt_s
         Internal time step (s).
     initial_positions_m, initial_velocities_m_s
-        Initial state (default: at rest).
+        Initial state (default: at rest; ignored if ``initial_state`` is given).
     record_every
-        Store node positions every that many steps (0: never).
+        Store node positions and velocities every that many steps (0: never).
     rho_inf
         Spectral radius of the generalised-alpha scheme at infinite frequency, [0, 1].
     tol_m
@@ -322,6 +433,12 @@ def simulate(
     max_halvings
         A step that fails to converge is retried in up to ``2**max_halvings``
         sub-steps before the simulation gives up.
+    initial_state
+        Continue from a :class:`DynamicState` (e.g. ``result.final_state``); the
+        simulation then starts at ``initial_state.time_s``.
+    stop_when_tan_x_exceeds
+        Stop early after the first step at which |tan_x| of the magnet reaches this
+        value (an event for closed-loop control); ``result.stopped_early`` tells.
 
     Raises
     ------
@@ -333,129 +450,73 @@ def simulate(
     if dt > 1e-3:
         raise ValueError(f"dt_s must be at most 1 ms for this model, got {dt_s}")
     in_range("rho_inf", rho_inf, 0.0, 1.0)
+    stop = 0.0 if stop_when_tan_x_exceeds is None else positive(
+        "stop_when_tan_x_exceeds", stop_when_tan_x_exceeds
+    )
     n_steps = int(round(T / dt))
     if n_steps < 1:
         raise ValueError(f"duration_s ({duration_s}) is shorter than one step ({dt_s})")
-    times = np.arange(n_steps + 1) * dt
     n = model.n_nodes
-    x = (
-        model.x_rest.copy()
-        if initial_positions_m is None
-        else np.array(finite_array("initial_positions_m", initial_positions_m), dtype=float)
-    )
-    v = (
-        np.zeros((n, 3))
-        if initial_velocities_m_s is None
-        else np.array(finite_array("initial_velocities_m_s", initial_velocities_m_s), dtype=float)
-    )
-    if x.shape != (n, 3) or v.shape != (n, 3):
-        raise ValueError(f"initial state must have shape ({n}, 3)")
-    kind = _k.NO_CONTACT
-    cpar = np.zeros(5)
-    traj = np.zeros((n_steps + 1, 6))
-    frame = np.eye(3)
-    H = np.zeros((1, 1))
-    du = 1.0
-    if contact is not None:
-        if trajectory is None:
-            raise ValueError("a contact needs a trajectory")
-        p, pv = trajectory.sample(times)
-        if isinstance(contact, PoleContact):
-            kind = _k.POLE
-            cpar = np.array(
-                [
-                    contact.radius_mm * 1e-3,
-                    contact.stiffness_n_m,
-                    contact.damping_n_s_m,
-                    contact.friction,
-                    contact.presliding_distance_um * 1e-6,
-                ]
+    if initial_state is not None:
+        st = initial_state.copy()
+        x, v, a = st.positions_m, st.velocities_m_s, st.accelerations_m_s2
+        pole_anchor, plane_anchors = st.pole_anchor, st.plane_anchors
+        t0 = float(st.time_s)
+    else:
+        x = (
+            model.x_rest.copy()
+            if initial_positions_m is None
+            else np.array(finite_array("initial_positions_m", initial_positions_m), dtype=float)
+        )
+        v = (
+            np.zeros((n, 3))
+            if initial_velocities_m_s is None
+            else np.array(
+                finite_array("initial_velocities_m_s", initial_velocities_m_s), dtype=float
             )
-            traj[:, 0:2] = p * 1e-3
-            traj[:, 2:4] = pv * 1e-3
-        elif isinstance(contact, SurfaceContact):
-            kind = _k.PLANE
-            mu = contact.surface.friction if contact.friction is None else contact.friction
-            cpar = np.array(
-                [
-                    0.0,
-                    contact.stiffness_n_m,
-                    contact.damping_n_s_m,
-                    mu,
-                    contact.presliding_distance_um * 1e-6,
-                ]
-            )
-            traj[:, 0] = p[:, 0] * 1e-3
-            traj[:, 2] = p[:, 1] * 1e-3
-            traj[:, 3] = pv[:, 0] * 1e-3
-            traj[:, 5] = pv[:, 1] * 1e-3
-            frame = contact.frame()
-            H = contact.surface.for_tip(float(model.radius[-1]))
-            du = contact.surface.spacing_m
-        else:
-            raise TypeError(f"unsupported contact type {type(contact).__name__}")
+        )
+        if x.shape != (n, 3) or v.shape != (n, 3):
+            raise ValueError(f"initial state must have shape ({n}, 3)")
+        a = _initial_acceleration(model, x, v)
+        pole_anchor = np.zeros(5)
+        plane_anchors = np.zeros((n, 6))
+        t0 = 0.0
+    times = t0 + np.arange(n_steps + 1) * dt
+    kind, cpar, traj, frame, H, du = _contact_arrays(model, contact, trajectory, times)
     alpha, beta, beta_f = model.damping
-    a = _initial_acceleration(model, x, v)
     out = np.zeros((n_steps + 1, 8))
     n_states = (n_steps // record_every + 1) if record_every > 0 else 1
     states = np.zeros((n_states, 2, n, 3))
-    pole_anchor = np.zeros(5)
-    plane_anchors = np.zeros((n, 6))
     done = _k.run_dynamics(
-        x,
-        v,
-        a,
-        model.free,
-        model.kb,
-        model.kf,
-        model.axis,
-        model.L0,
-        model.EA,
-        model.mass,
-        alpha,
-        beta,
-        beta_f,
-        model.radius,
-        model.s_rest,
-        kind,
-        cpar,
-        traj,
-        frame,
-        H,
-        du,
-        du,
-        2,
-        pole_anchor,
-        plane_anchors,
-        dt,
-        rho_inf,
-        tol_m,
-        max_iterations,
-        out,
-        states,
-        int(record_every),
-        int(refactor_every),
-        int(max_halvings),
-    )
-    if done < n_steps or not np.all(np.isfinite(out)):
+        x, v, a, model.free, model.kb, model.kf, model.axis, model.L0, model.EA, model.mass,
+        alpha, beta, beta_f, model.radius, model.s_rest, kind, cpar, traj, frame, H, du, du, 2,
+        pole_anchor, plane_anchors, dt, rho_inf, tol_m, max_iterations, out, states,
+        int(record_every), int(refactor_every), int(max_halvings), stop,
+    )  # fmt: skip
+    stopped = stop > 0 and done < n_steps and abs(out[done, 0]) >= stop
+    if (done < n_steps and not stopped) or not np.all(np.isfinite(out[: done + 1])):
         raise SimulationError(
-            f"simulation diverged or failed to converge at t = {done * dt:.5f} s "
+            f"simulation diverged or failed to converge at t = {t0 + done * dt:.5f} s "
             f"(step {done} of {n_steps}); try a smaller dt_s"
         )
-    arc = out[:, 3] * 1e3 if kind == _k.POLE else np.full(n_steps + 1, np.nan)
+    m = done + 1
+    arc = out[:m, 3] * 1e3 if kind == _k.POLE else np.full(m, np.nan)
+    n_rec = (done // record_every + 1) if record_every > 0 else 0
     return SimulationResult(
-        time_s=times,
-        tan_xy=out[:, 0:2].copy(),
-        contact_force_n=out[:, 2].copy(),
+        time_s=times[:m],
+        tan_xy=out[:m, 0:2].copy(),
+        contact_force_n=out[:m, 2].copy(),
         contact_arc_mm=arc,
-        slipping=out[:, 4].copy(),
-        contact_force_xz_n=out[:, 5:7].copy(),
-        newton_iterations=out[:, 7].astype(np.int32),
+        slipping=out[:m, 4].copy(),
+        contact_force_xz_n=out[:m, 5:7].copy(),
+        newton_iterations=out[:m, 7].astype(np.int32),
         model=model,
         dt_s=dt,
-        states_m=states[:, 0] if record_every > 0 else None,
-        velocities_m_s=states[:, 1] if record_every > 0 else None,
+        states_m=states[:n_rec, 0] if record_every > 0 else None,
+        velocities_m_s=states[:n_rec, 1] if record_every > 0 else None,
         final_velocity_m_s=v,
+        final_state=DynamicState(x, v, a, pole_anchor, plane_anchors, float(times[done])),
+        stopped_early=bool(stopped),
     )
 
 
