@@ -1,1 +1,21 @@
-"""vibrissa.robots."""
+"""Robots that move objects into (or whiskers onto) things: the XY positioning stage."""
+
+from vibrissa.robots.xy_stage import (
+    LatencyModel,
+    PoleStimulus,
+    SurfaceStimulus,
+    TrialResult,
+    XYStage,
+    nominal_sensor,
+    run_trial,
+)
+
+__all__ = [
+    "LatencyModel",
+    "PoleStimulus",
+    "SurfaceStimulus",
+    "TrialResult",
+    "XYStage",
+    "nominal_sensor",
+    "run_trial",
+]

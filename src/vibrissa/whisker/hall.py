@@ -16,6 +16,7 @@ further anti-alias filter, as on the LabJack UE9) -> ADC quantisation
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass, replace
 from functools import lru_cache
@@ -167,12 +168,11 @@ def calibration_point_mm(geometry: WhiskerGeometry) -> tuple[float, float]:
 
 
 @lru_cache(maxsize=64)
-def _gain_cached(geometry_json: str, n_elements: int) -> float:
+def _gain_cached(geometry_json: str, n_elements: int, r: float, d: float) -> float:
     from vibrissa.whisker.rod import RodModel
 
-    g = WhiskerGeometry.from_dict(__import__("json").loads(geometry_json))
+    g = WhiskerGeometry.from_dict(json.loads(geometry_json))
     model = RodModel(g, n_elements)
-    r, d = calibration_point_mm(g)
     res = model.push(r, d, friction=0.0)
     tan = math.hypot(res.tan_x, res.tan_y)
     if not tan > 0:
@@ -180,13 +180,33 @@ def _gain_cached(geometry_json: str, n_elements: int) -> float:
     return 0.5 * 0.9 * 5.0 / tan
 
 
-def calibrated_gain(geometry: WhiskerGeometry, n_elements: int | None = None) -> float:
+def calibrated_gain(
+    geometry: WhiskerGeometry,
+    n_elements: int | None = None,
+    calibration_mm: tuple[float, float] | None = None,
+) -> float:
     """Hall gain (V per unit tan) that maps the calibration deflection to 5-95 % of 5 V.
 
     Computed from the simulated whisker itself: a frictionless pole pushes the
-    whisker by the calibration deflection at the calibration radius
-    (:func:`calibration_point_mm`) and the follicle's tilt is read.
+    whisker by the calibration deflection at the calibration radius and the
+    follicle's tilt is read.
+
+    Parameters
+    ----------
+    geometry
+        The whisker calibrated.
+    n_elements
+        Discretisation of the model used (default: the model's default).
+    calibration_mm
+        (radius, deflection) in mm; default :func:`calibration_point_mm` (the
+        thesis' 60 mm at r = 150 mm). The MLX90333 is re-programmable "to best suit
+        the current experiment" (3.2.3), so protocols may calibrate elsewhere.
     """
     from vibrissa.whisker.rod import DEFAULT_N_ELEMENTS
 
-    return _gain_cached(geometry.to_json(), int(n_elements or DEFAULT_N_ELEMENTS))
+    if calibration_mm is None:
+        r, d = calibration_point_mm(geometry)
+    else:
+        r = in_range("calibration radius", calibration_mm[0], 1e-6, geometry.length_mm, "mm")
+        d = positive("calibration deflection", calibration_mm[1])
+    return _gain_cached(geometry.to_json(), int(n_elements or DEFAULT_N_ELEMENTS), r, d)

@@ -450,8 +450,10 @@ def simulate(
     if dt > 1e-3:
         raise ValueError(f"dt_s must be at most 1 ms for this model, got {dt_s}")
     in_range("rho_inf", rho_inf, 0.0, 1.0)
-    stop = 0.0 if stop_when_tan_x_exceeds is None else positive(
-        "stop_when_tan_x_exceeds", stop_when_tan_x_exceeds
+    stop = (
+        0.0
+        if stop_when_tan_x_exceeds is None
+        else positive("stop_when_tan_x_exceeds", stop_when_tan_x_exceeds)
     )
     n_steps = int(round(T / dt))
     if n_steps < 1:

@@ -1,0 +1,337 @@
+"""The XY positioning robot and its minimal-impingement (MI) control loop.
+
+Thesis 3.3: a Yamaha PXYX Cartesian robot (350 x 650 mm range, up to 720 mm/s,
+repeatability +/-0.01 mm) carries an object into a whisker fixed to the table.
+MI control (3.3.2): "move an object into the whisker at a given speed until a
+deflection threshold is crossed, at which point the robot retracts the object as
+fast as possible (720 mm/s). Temporal latency for the loop is ~300 ms from initial
+contact due to the controller duty cycle."
+
+Modelled here:
+
+* **Motion**: constant approach speed; on the controller's command the stage
+  brakes and reverses with a finite acceleration (``acceleration_mm_s2``, default
+  10 m/s^2, about 1 g, typical of belt/ball-screw Cartesian robots) up to the
+  retraction speed. Positioning error: Gaussian with sigma = repeatability / 2 on
+  the object's starting position.
+* **Loop latency**: the controller polls the sensor once per duty cycle and the
+  command takes effect after a fixed pipeline delay. The threshold crossing is
+  therefore seen at a uniformly distributed phase of the duty cycle: latency =
+  ``latency_s - duty_cycle_s / 2 + U(0, duty_cycle_s)`` (default 300 ms +/- 20 ms,
+  i.e. a 40 ms MATLAB/RS-232 duty cycle). This jitter is the main source of
+  trial-to-trial variability in contact duration, as on the real robot.
+* **Recording**: the Hall sensor is sampled at the protocol's rate; each trial is
+  aligned to its peak deflection and cut to a window around it (+/-325 ms in
+  chapter 4, +/-750 ms in chapter 5). The whisker rests before contact, so any part
+  of the window before the simulation starts is the sensor's resting output.
+* **Directions**: trials in -x are simulated with the motion mirrored and then
+  converted (x channel reflected about 2.5 V) "so all data samples were
+  equivalent" (4.2).
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from vibrissa._validate import in_range, non_negative, positive
+from vibrissa.whisker.geometry import WhiskerGeometry
+from vibrissa.whisker.hall import HallSensor
+from vibrissa.whisker.rod import RodModel
+from vibrissa.whisker.simulate import (
+    PoleContact,
+    SurfaceContact,
+    Trajectory,
+    simulate,
+)
+from vibrissa.whisker.surfaces import Surface, make_surface
+
+__all__ = [
+    "nominal_sensor",
+    "LatencyModel",
+    "PoleStimulus",
+    "SurfaceStimulus",
+    "TrialResult",
+    "XYStage",
+    "run_trial",
+]
+
+
+@dataclass(frozen=True)
+class LatencyModel:
+    """Controller loop latency: mean plus a uniform jitter over one duty cycle (s)."""
+
+    latency_s: float = 0.300
+    duty_cycle_s: float = 0.040
+
+    def __post_init__(self) -> None:
+        positive("latency_s", self.latency_s)
+        non_negative("duty_cycle_s", self.duty_cycle_s)
+        if self.duty_cycle_s / 2 > self.latency_s:
+            raise ValueError("duty_cycle_s must not exceed twice latency_s")
+
+    def sample(self, rng: np.random.Generator) -> float:
+        """One latency draw (s)."""
+        return self.latency_s - self.duty_cycle_s / 2 + rng.uniform(0.0, self.duty_cycle_s)
+
+
+@dataclass(frozen=True)
+class XYStage:
+    """The XY positioning robot with its MI controller (thesis 3.3)."""
+
+    range_x_mm: float = 350.0
+    range_y_mm: float = 650.0
+    max_speed_mm_s: float = 720.0
+    retract_speed_mm_s: float = 720.0
+    acceleration_mm_s2: float = 10_000.0
+    repeatability_mm: float = 0.01
+    latency: LatencyModel = field(default_factory=LatencyModel)
+    threshold_v: float = 0.05
+    approach_gap_mm: float = 1.0
+    retract_distance_mm: float = 40.0
+    max_travel_mm: float = 80.0
+
+    def __post_init__(self) -> None:
+        positive("max_speed_mm_s", self.max_speed_mm_s)
+        in_range("retract_speed_mm_s", self.retract_speed_mm_s, 1e-9, self.max_speed_mm_s)
+        positive("acceleration_mm_s2", self.acceleration_mm_s2)
+        non_negative("repeatability_mm", self.repeatability_mm)
+        positive("threshold_v", self.threshold_v)
+        positive("approach_gap_mm", self.approach_gap_mm)
+        positive("retract_distance_mm", self.retract_distance_mm)
+        positive("max_travel_mm", self.max_travel_mm)
+
+    def check_speed(self, speed_mm_s: float) -> float:
+        """Validate an approach speed against the robot's limit."""
+        return in_range("speed_mm_s", speed_mm_s, 1e-6, self.max_speed_mm_s, "mm/s")
+
+    def to_dict(self) -> dict:
+        """Plain dict of the parameters."""
+        d = asdict(self)
+        d["name"] = "xy-stage (Yamaha PXYX + RCX222, simulated)"
+        return d
+
+
+@dataclass(frozen=True)
+class PoleStimulus:
+    """A thin vertical pole (a corner) meeting the shaft at ``radial_distance_mm``."""
+
+    radial_distance_mm: float
+    radius_mm: float = 0.5
+    friction: float = 0.3
+
+
+@dataclass(frozen=True)
+class SurfaceStimulus:
+    """The angled textured corner of thesis 5.2, meeting the whisker tip."""
+
+    texture: str
+    angle_deg: float
+    surface_seed: int = 0
+
+
+@dataclass
+class TrialResult:
+    """One recorded trial.
+
+    Attributes
+    ----------
+    signal_v
+        Sensor output aligned to peak deflection, shape (n_channels=2, n_samples).
+    peak_index
+        Index of the peak in ``signal_v``.
+    threshold_time_s
+        Time from the start of the approach to the controller seeing the threshold
+        (nan if it never did).
+    latency_s
+        The loop latency drawn for this trial.
+    contact_duration_s
+        Time the object was in contact with the whisker.
+    saturated
+        True if the sensor clipped at its range.
+    peak_deflection_v
+        Peak |V_x - 2.5| (V).
+    """
+
+    signal_v: np.ndarray
+    peak_index: int
+    threshold_time_s: float
+    latency_s: float
+    contact_duration_s: float
+    saturated: bool
+    peak_deflection_v: float
+
+
+def _motion_profile(
+    t_rev: float,
+    v: float,
+    vr: float,
+    acc: float,
+    retract_mm: float,
+    x_start: float,
+    t_end: float,
+    dt: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Sampled x(t), vx(t): advance at v, from t_rev brake and retract at -vr."""
+    t = np.arange(0.0, t_end + dt, dt)
+    vel = np.full_like(t, v)
+    after = t > t_rev
+    vel[after] = np.maximum(v - acc * (t[after] - t_rev), -vr)
+    x = x_start + np.concatenate([[0.0], np.cumsum(0.5 * (vel[1:] + vel[:-1]) * np.diff(t))])
+    # stop once the retraction distance is covered
+    x_turn = x_start + v * t_rev + v * v / (2 * acc)
+    stop = after & (x < x_turn - retract_mm)
+    if np.any(stop):
+        k = int(np.argmax(stop))
+        x[k:] = x[k]
+        vel[k:] = 0.0
+    return t, np.column_stack([x, vel])
+
+
+def run_trial(
+    stage: XYStage,
+    model: RodModel,
+    sensor: HallSensor,
+    stimulus: PoleStimulus | SurfaceStimulus,
+    speed_mm_s: float,
+    direction: int,
+    window_s: tuple[float, float],
+    rng: np.random.Generator,
+    dt_s: float = 2.5e-4,
+    surface: Surface | None = None,
+) -> TrialResult:
+    """Simulate one MI contact and record it as the thesis did.
+
+    Parameters
+    ----------
+    stage
+        The robot.
+    model
+        The whisker (possibly drifted) to simulate.
+    sensor
+        The Hall sensor (calibrated on the nominal whisker) with the protocol's rate.
+    stimulus
+        Pole at a radial distance, or textured surface at an angle.
+    speed_mm_s
+        Approach speed.
+    direction
+        +1 (object moves +x) or -1 (mirrored; converted back on recording).
+    window_s
+        Seconds kept before and after the peak.
+    rng
+        Random generator of this trial (latency, positioning error, noise).
+    dt_s
+        Internal time step; 1/dt_s must be a multiple of the sample rate.
+    surface
+        Height field for a surface stimulus (default: built from the texture).
+    """
+    v = stage.check_speed(speed_mm_s)
+    if direction not in (1, -1):
+        raise ValueError(f"direction must be +1 or -1, got {direction!r}")
+    g: WhiskerGeometry = model.geometry
+    latency = stage.latency.sample(rng)
+    jitter = rng.normal(0.0, stage.repeatability_mm / 2, 2)
+    sgn = float(direction)
+    acc = stage.acceleration_mm_s2
+    vr = stage.retract_speed_mm_s
+    if isinstance(stimulus, PoleStimulus):
+        r = in_range("radial_distance_mm", stimulus.radial_distance_mm, 1e-6, g.length_mm, "mm")
+        contact: PoleContact | SurfaceContact = PoleContact(
+            radius_mm=stimulus.radius_mm, friction=stimulus.friction
+        )
+        clearance = stimulus.radius_mm + float(g.radius_m(r * 1e-3)) * 1e3
+        x_start = -(clearance + stage.approach_gap_mm) + jitter[0]
+        z_ref = r + jitter[1]
+    elif isinstance(stimulus, SurfaceStimulus):
+        in_range("angle_deg", stimulus.angle_deg, 1e-6, 90.0 - 1e-6, "deg")
+        surf = (
+            surface
+            if surface is not None
+            else make_surface(stimulus.texture, stimulus.surface_seed)
+        )
+        contact = SurfaceContact(surf, angle_deg=stimulus.angle_deg)
+        n, u, _ = contact.frame()
+        # the plane starts approach_gap_mm (along x) short of touching the tip, at a
+        # random place on the sheet so that each trial meets different grains
+        tip = np.array([0.0, 0.0, g.length_m])
+        gap_normal = (stage.approach_gap_mm + g.tip_radius_mm) * 1e-3 * n[0]
+        origin = tip - n * gap_normal
+        origin += u * rng.uniform(0, 8e-3)
+        x_start = origin[0] * 1e3 + jitter[0]
+        z_ref = origin[2] * 1e3 + jitter[1]
+    else:
+        raise TypeError(f"unsupported stimulus {type(stimulus).__name__}")
+
+    def traj_for(t_rev: float, t_end: float) -> Trajectory:
+        t, xv = _motion_profile(
+            t_rev, v, vr, acc, stage.retract_distance_mm, x_start, t_end, min(1e-3, 4 * dt_s)
+        )
+        pos = np.column_stack([sgn * xv[:, 0], np.full(t.size, z_ref)])
+        vel = np.column_stack([sgn * xv[:, 1], np.zeros(t.size)])
+        return Trajectory(t, pos, vel)
+
+    # phase 1: advance until the controller sees the threshold
+    t_max = stage.max_travel_mm / v
+    tan_thr = stage.threshold_v / sensor.gain_v
+    approach = traj_for(1e9, t_max)
+    first = simulate(model, contact, approach, t_max, dt_s, stop_when_tan_x_exceeds=tan_thr)
+    if first.stopped_early:
+        t_c = float(first.time_s[-1])
+        t_rev = t_c + latency
+    else:
+        t_c = float("nan")
+        t_rev = t_max
+    # phase 2: keep advancing for the latency, then brake and retract
+    t_peak_guess = t_rev + v / acc
+    t_end = t_peak_guess + window_s[1] + 0.05
+    traj = traj_for(t_rev, t_end + 1.0)
+    parts = [first]
+    state = first.final_state
+    while True:
+        remaining = t_end - state.time_s
+        if remaining > dt_s / 2:
+            nxt = simulate(model, contact, traj, remaining, dt_s, initial_state=state)
+            parts.append(nxt)
+            state = nxt.final_state
+        tan = np.concatenate([parts[0].tan_xy] + [p.tan_xy[1:] for p in parts[1:]])
+        force = np.concatenate(
+            [parts[0].contact_force_n] + [p.contact_force_n[1:] for p in parts[1:]]
+        )
+        tan = tan * np.array([sgn, 1.0])  # convert -x trials: equivalent to +x
+        volts = sensor.read(tan, 1.0 / dt_s, rng)
+        step = int(round(1.0 / (dt_s * sensor.sample_rate_hz)))
+        dev = np.abs(volts[:, 0] - sensor.offset_v)
+        k_peak = int(np.argmax(dev))
+        n_before = int(round(window_s[0] * sensor.sample_rate_hz))
+        n_after = int(round(window_s[1] * sensor.sample_rate_hz))
+        if k_peak + n_after < volts.shape[0] or t_end > t_max + 10.0:
+            break
+        t_end += window_s[1]
+    rest = sensor.read(np.zeros((max(n_before, 1) * step, 2)), 1.0 / dt_s, rng)
+    padded = np.concatenate([rest[: max(0, n_before - k_peak)], volts], axis=0)
+    k_peak += max(0, n_before - k_peak)
+    seg = padded[k_peak - n_before : k_peak + n_after + 1]
+    in_contact = force > 0
+    duration = float(np.count_nonzero(in_contact) * dt_s)
+    saturated = bool(np.any(seg <= sensor.v_min) or np.any(seg >= sensor.v_max))
+    return TrialResult(
+        signal_v=np.ascontiguousarray(seg.T),
+        peak_index=n_before,
+        threshold_time_s=t_c,
+        latency_s=latency,
+        contact_duration_s=duration,
+        saturated=saturated,
+        peak_deflection_v=float(dev.max()),
+    )
+
+
+def nominal_sensor(
+    geometry: WhiskerGeometry, sample_rate_hz: float, n_elements: int, **kwargs: float
+) -> HallSensor:
+    """A Hall sensor calibrated on the nominal whisker (calibration precedes a session)."""
+    from vibrissa.whisker.hall import calibrated_gain
+
+    return HallSensor(
+        calibrated_gain(geometry, n_elements), sample_rate_hz=sample_rate_hz, **kwargs
+    )
