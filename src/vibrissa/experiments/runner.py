@@ -1,0 +1,156 @@
+"""Simulate a protocol's trials: the unit of work of a (parallel) generation.
+
+:func:`simulate_trials` runs any subset of a protocol's trials and returns plain
+arrays. Every trial draws from its own random stream, seeded by
+``(protocol.seed, trial index)``, so results do not depend on how trials are
+split into chunks, which process runs them, or in which order: the same seed
+gives the same bytes.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+
+from vibrissa.experiments.protocols import Protocol, TrialSpec
+from vibrissa.robots.xy_stage import PoleStimulus, SurfaceStimulus, run_trial
+from vibrissa.whisker.geometry import WhiskerGeometry, preset
+from vibrissa.whisker.hall import HallSensor, calibrated_gain
+from vibrissa.whisker.rod import RodModel
+from vibrissa.whisker.surfaces import Surface, make_surface
+
+__all__ = ["TRIAL_DIAGNOSTICS", "n_samples", "simulate_trials", "whisker_attrs"]
+
+#: Per-trial quantities recorded besides the signal.
+TRIAL_DIAGNOSTICS = (
+    "latency_s",
+    "threshold_time_s",
+    "contact_duration_s",
+    "saturated",
+    "peak_deflection_v",
+)
+
+_DRIFT_LEVELS = 20
+
+
+def n_samples(protocol: Protocol) -> int:
+    """Samples per recorded trial."""
+    fs = protocol.sample_rate_hz
+    return int(round(protocol.window_s[0] * fs)) + int(round(protocol.window_s[1] * fs)) + 1
+
+
+@lru_cache(maxsize=8)
+def _specs(protocol: Protocol) -> tuple[TrialSpec, ...]:
+    return tuple(protocol.trials())
+
+
+@lru_cache(maxsize=64)
+def _model(whisker: str, n_elements: int, drift: float) -> RodModel:
+    g = preset(whisker)
+    if drift != 0.0:
+        g = g.replace(
+            youngs_modulus_gpa=g.youngs_modulus_gpa * (1 + drift),
+            follicle_stiffness_nm_per_rad=g.follicle_stiffness_nm_per_rad * (1 + drift),
+        )
+    return RodModel(g, n_elements)
+
+
+@lru_cache(maxsize=8)
+def _sensor(protocol: Protocol) -> HallSensor:
+    g = preset(protocol.whisker)
+    gain = calibrated_gain(g, protocol.n_elements, protocol.hall_calibration_mm)
+    return HallSensor(
+        gain,
+        sample_rate_hz=protocol.sample_rate_hz,
+        bandwidth_hz=protocol.bandwidth_hz,
+        noise_v=protocol.noise_v,
+        adc_bits=protocol.adc_bits,
+    )
+
+
+@lru_cache(maxsize=16)
+def _surface(texture: str, seed: int) -> Surface:
+    # one physical sheet per texture for the whole session
+    code = sum(ord(c) for c in texture)
+    return make_surface(texture, seed=np.random.default_rng([seed, code]))
+
+
+def whisker_attrs(protocol: Protocol) -> dict[str, Any]:
+    """What a classifier needs to know about the whisker and sensor (Dataset attr)."""
+    g: WhiskerGeometry = preset(protocol.whisker)
+    s = _sensor(protocol)
+    d = g.to_dict()
+    d.update(
+        n_elements=protocol.n_elements,
+        hall_gain_v=s.gain_v,
+        hall_offset_v=s.offset_v,
+        hall_calibration_mm=list(protocol.hall_calibration_mm),
+        hall_sensor=s.to_dict(),
+        natural_frequencies_hz=_model(protocol.whisker, protocol.n_elements, 0.0)
+        .natural_frequencies_hz[:3]
+        .tolist(),
+    )
+    return d
+
+
+def simulate_trials(protocol: Protocol, indices: Sequence[int]) -> dict[str, np.ndarray]:
+    """Simulate the trials ``indices`` of ``protocol``.
+
+    Returns
+    -------
+    dict
+        ``index`` (n,), ``signal`` (n, 2, n_samples) in volts, and one array per
+        name in :data:`TRIAL_DIAGNOSTICS`.
+    """
+    specs = _specs(protocol)
+    idx = np.asarray(indices, dtype=np.int64)
+    if idx.size and (idx.min() < 0 or idx.max() >= len(specs)):
+        raise ValueError(f"trial indices must lie in [0, {len(specs)})")
+    ns = n_samples(protocol)
+    out: dict[str, np.ndarray] = {
+        "index": idx,
+        "signal": np.empty((idx.size, 2, ns)),
+        "latency_s": np.empty(idx.size),
+        "threshold_time_s": np.empty(idx.size),
+        "contact_duration_s": np.empty(idx.size),
+        "saturated": np.empty(idx.size, dtype=bool),
+        "peak_deflection_v": np.empty(idx.size),
+    }
+    sensor = _sensor(protocol)
+    n_total = len(specs)
+    for k, i in enumerate(idx):
+        spec = specs[int(i)]
+        rng = np.random.default_rng(np.random.SeedSequence([protocol.seed, 11, int(i)]))
+        drift = 0.0
+        if protocol.drift_fraction:
+            level = round(spec.order / max(n_total - 1, 1) * _DRIFT_LEVELS) / _DRIFT_LEVELS
+            drift = protocol.drift_fraction * level
+        model = _model(protocol.whisker, protocol.n_elements, drift)
+        surface = None
+        if protocol.name == "radial-distance":
+            stim: PoleStimulus | SurfaceStimulus = PoleStimulus(spec.labels["radial_distance_mm"])
+        else:
+            stim = SurfaceStimulus(spec.labels["texture"], spec.labels["angle_deg"])
+            surface = _surface(spec.labels["texture"], protocol.seed)
+        res = run_trial(
+            protocol.stage,
+            model,
+            sensor,
+            stim,
+            spec.labels["speed_mm_s"],
+            spec.direction,
+            protocol.window_s,
+            rng,
+            dt_s=protocol.dt_s,
+            surface=surface,
+        )
+        out["signal"][k] = res.signal_v
+        out["latency_s"][k] = res.latency_s
+        out["threshold_time_s"][k] = res.threshold_time_s
+        out["contact_duration_s"][k] = res.contact_duration_s
+        out["saturated"][k] = res.saturated
+        out["peak_deflection_v"][k] = res.peak_deflection_v
+    return out
