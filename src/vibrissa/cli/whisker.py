@@ -1,9 +1,719 @@
-"""`vibrissa` commands of the whisker family (being built)."""
+"""`vibrissa whisker ...`: inspect and exercise the simulated whisker.
+
+Commands
+--------
+``presets``
+    The built-in whisker presets and all their parameters.
+``info``
+    Geometry, material, natural frequencies, damping and Hall gain of a whisker.
+``static``
+    Static equilibrium under a point force.
+``push``
+    Quasi-static push of a thin pole through the whisker.
+``ring``
+    Ring-down after releasing a deflected tip; measured frequency and damping.
+
+Every command that takes a whisker accepts the same geometry options
+(``--preset`` and/or explicit ``--length-mm`` ... ``--damping-ratio``), plus
+``--n-elements`` and ``--rigid-follicle``; see :func:`build_geometry`.
+"""
 
 from __future__ import annotations
 
+import math
+import re
+import sys
+from collections.abc import Callable
+from functools import wraps
+from typing import Annotated, Any, TypeVar
+
+import numpy as np
+import scipy.signal
 import typer
+
+from vibrissa._validate import finite, in_range, non_negative, positive
+from vibrissa.cli._common import echo_json, user_errors
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+DEFAULT_PRESET = "xy-robot"
+
+#: Geometry fields settable from the command line, with their option names.
+GEOMETRY_OPTIONS: dict[str, str] = {
+    "length_mm": "--length-mm",
+    "base_radius_mm": "--base-radius-mm",
+    "tip_radius_mm": "--tip-radius-mm",
+    "youngs_modulus_gpa": "--youngs-modulus-gpa",
+    "density_kg_m3": "--density-kg-m3",
+    "damping_ratio": "--damping-ratio",
+}
+
+whisker_app = typer.Typer(
+    help="Inspect and exercise the simulated whisker: presets, parameters and natural "
+    "frequencies, static bending, pole pushes and ring-down.\n\n"
+    "A whisker is chosen with --preset NAME and/or the explicit geometry options "
+    "(--length-mm, --base-radius-mm, --tip-radius-mm, --youngs-modulus-gpa, "
+    "--density-kg-m3, --damping-ratio); unspecified values come from the preset "
+    "(default xy-robot). The follicle's stiffness, depth and inertia always come from "
+    "the preset.",
+    no_args_is_help=True,
+)
+
+# --------------------------------------------------------------------------- options
+PresetOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--preset",
+        help="Whisker preset (see `vibrissa whisker presets`); default xy-robot. "
+        "Explicit geometry options override its values.",
+        rich_help_panel="Whisker",
+    ),
+]
+LengthOpt = Annotated[
+    float | None,
+    typer.Option("--length-mm", help="Free length, base to tip (mm).", rich_help_panel="Whisker"),
+]
+BaseRadiusOpt = Annotated[
+    float | None,
+    typer.Option("--base-radius-mm", help="Radius at the base (mm).", rich_help_panel="Whisker"),
+]
+TipRadiusOpt = Annotated[
+    float | None,
+    typer.Option(
+        "--tip-radius-mm",
+        help="Radius at the tip (mm), at most the base radius (linear taper).",
+        rich_help_panel="Whisker",
+    ),
+]
+ModulusOpt = Annotated[
+    float | None,
+    typer.Option(
+        "--youngs-modulus-gpa", help="Young's modulus of the shaft (GPa).",
+        rich_help_panel="Whisker",
+    ),
+]
+DensityOpt = Annotated[
+    float | None,
+    typer.Option(
+        "--density-kg-m3", help="Density of the shaft (kg/m^3).", rich_help_panel="Whisker"
+    ),
+]
+DampingOpt = Annotated[
+    float | None,
+    typer.Option(
+        "--damping-ratio",
+        help="Damping ratio of the first bending mode, in [0, 0.99] (dimensionless).",
+        rich_help_panel="Whisker",
+    ),
+]
+NElementsOpt = Annotated[
+    int | None,
+    typer.Option(
+        "--n-elements",
+        help="Elements along the free shaft, 4-400 (default: the model's default).",
+        rich_help_panel="Whisker",
+    ),
+]
+RigidOpt = Annotated[
+    bool,
+    typer.Option(
+        "--rigid-follicle",
+        help="Clamp the base: the follicle (and magnet) cannot rotate.",
+        rich_help_panel="Whisker",
+    ),
+]
+JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON instead of text.")]
+
+
+# --------------------------------------------------------------------------- helpers
+def _option_names(message: str) -> str:
+    """Rewrite geometry field names in an error message as command-line option names."""
+    pattern = r"\b(" + "|".join(GEOMETRY_OPTIONS) + r")\b"
+    return re.sub(pattern, lambda m: GEOMETRY_OPTIONS[m.group(1)], message)
+
+
+def build_geometry(
+    preset_name: str | None = None,
+    length_mm: float | None = None,
+    base_radius_mm: float | None = None,
+    tip_radius_mm: float | None = None,
+    youngs_modulus_gpa: float | None = None,
+    density_kg_m3: float | None = None,
+    damping_ratio: float | None = None,
+) -> Any:
+    """The whisker described by the command-line geometry options.
+
+    Parameters
+    ----------
+    preset_name : str, optional
+        Preset to start from (default ``"xy-robot"``).
+    length_mm, base_radius_mm, tip_radius_mm, youngs_modulus_gpa, density_kg_m3, damping_ratio
+        Explicit values overriding the preset's (``None``: keep the preset's).
+
+    Returns
+    -------
+    vibrissa.whisker.geometry.WhiskerGeometry
+        The preset itself if nothing is overridden, else a copy named ``"custom"``
+        whose ``source`` records the preset and the overrides.
+
+    Raises
+    ------
+    ValueError
+        Naming the offending option (``--length-mm`` etc. or ``--preset``).
+    """
+    from vibrissa.whisker.geometry import preset
+
+    base_name = DEFAULT_PRESET if preset_name is None else preset_name
+    try:
+        base = preset(base_name)
+    except ValueError as exc:
+        raise ValueError(f"--preset: {exc}") from None
+    given = {
+        "length_mm": length_mm,
+        "base_radius_mm": base_radius_mm,
+        "tip_radius_mm": tip_radius_mm,
+        "youngs_modulus_gpa": youngs_modulus_gpa,
+        "density_kg_m3": density_kg_m3,
+        "damping_ratio": damping_ratio,
+    }
+    changes = {k: v for k, v in given.items() if v is not None}
+    for key, value in changes.items():
+        opt = GEOMETRY_OPTIONS[key]
+        if key == "damping_ratio":
+            in_range(opt, value, 0.0, 0.99)
+        else:
+            positive(opt, value)
+    if not changes:
+        return base
+    overrides = ", ".join(f"{k}={v:g}" for k, v in changes.items())
+    try:
+        return base.replace(
+            **changes, name="custom", source=f"preset {base.name} with {overrides}"
+        )
+    except ValueError as exc:
+        raise ValueError(_option_names(str(exc))) from None
+
+
+def build_model(geometry: Any, n_elements: int | None = None, rigid_follicle: bool = False) -> Any:
+    """A :class:`~vibrissa.whisker.rod.RodModel`, checking ``--n-elements``."""
+    from vibrissa.whisker.rod import DEFAULT_N_ELEMENTS, RodModel
+
+    if n_elements is None:
+        n_elements = DEFAULT_N_ELEMENTS
+    elif not 4 <= n_elements <= 400:
+        raise ValueError(f"--n-elements must lie in [4, 400], got {n_elements}")
+    return RodModel(geometry, n_elements, rigid_follicle=rigid_follicle)
+
+
+def _check_at_mm(at_mm: float, geometry: Any) -> float:
+    a = finite("--at-mm", at_mm)
+    if not 0.0 < a <= geometry.length_mm:
+        raise ValueError(
+            f"--at-mm must lie in (0, {geometry.length_mm:g}] mm (the whisker's length), "
+            f"got {at_mm:g}"
+        )
+    return a
+
+
+def _sensor(model: Any) -> Any:
+    from vibrissa.whisker.hall import HallSensor, calibrated_gain
+
+    return HallSensor(calibrated_gain(model.geometry, model.n_elements))
+
+
+def _hall_volts(model: Any, tan_x: float, tan_y: float) -> tuple[float, float]:
+    """Noise-free Hall output (V); 2.5 V at rest and whenever the follicle is rigid."""
+    sensor = _sensor(model)
+    tan = np.zeros(2) if model.rigid_follicle else np.array([tan_x, tan_y])
+    v = sensor.ideal_volts(tan)
+    return float(v[0]), float(v[1])
+
+
+def _physics_errors(func: F) -> F:
+    """Report a solver failure (``SimulationError``) as one line and exit status 1."""
+
+    @wraps(func)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        from vibrissa.whisker.rod import SimulationError
+
+        try:
+            return func(*args, **kwargs)
+        except SimulationError as exc:
+            print(f"error: simulation failed: {exc}", file=sys.stderr)
+            raise typer.Exit(code=1) from exc
+
+    return wrapper  # type: ignore[return-value]
+
+
+def _console() -> Any:
+    from rich.console import Console
+
+    return Console(highlight=False, soft_wrap=True)
+
+
+def _fmt(value: Any) -> str:
+    if isinstance(value, bool) or value is None:
+        return str(value)
+    if isinstance(value, float | np.floating):
+        return f"{float(value):.6g}"
+    if isinstance(value, list | tuple | np.ndarray):
+        return ", ".join(_fmt(v) for v in value)
+    return str(value)
+
+
+def _print_table(title: str, rows: dict[str, Any]) -> None:
+    from rich.table import Table
+
+    table = Table(title=title, show_header=False)
+    table.add_column("quantity", style="bold")
+    table.add_column("value")
+    for key, value in rows.items():
+        table.add_row(key, _fmt(value))
+    _console().print(table)
+
+
+# --------------------------------------------------------------------------- analysis
+def ring_down(
+    signal: np.ndarray, dt_s: float, max_half_cycles: int = 10, skip_half_cycles: int = 2
+) -> dict[str, Any]:
+    """Damped frequency and damping ratio of a free decay.
+
+    Zero crossings of ``signal`` (about its rest value 0) are found with a small
+    hysteresis (so high-mode ripple near zero is not counted) and located by
+    linear interpolation; the damped frequency is ``1 / (2 x mean half period)``.
+    The largest ``|signal|`` of each complete half cycle (refined by a parabola
+    through the three samples around it) gives one peak; a least-squares line
+    through ``log|peak|`` against peak time over ``max_half_cycles`` half cycles
+    gives the decay rate ``sigma``, and ``zeta = sigma / sqrt(sigma^2 + omega_d^2)``.
+    The first ``skip_half_cycles`` complete half cycles are left out of the fit
+    when there are enough: after releasing a statically deflected tip the higher
+    bending modes still beat with the first one there (they decay faster), which
+    biases the decrement upward by ~5 %.
+
+    Parameters
+    ----------
+    signal : numpy.ndarray
+        Samples of the decaying signal, shape (n,), resting at 0.
+    dt_s : float
+        Sample interval (s).
+    max_half_cycles : int, default=10
+        Half cycles used in the fit.
+    skip_half_cycles : int, default=2
+        Complete half cycles skipped before the fit window (ignored if fewer than
+        ``skip_half_cycles + 3`` are found).
+
+    Returns
+    -------
+    dict
+        ``frequency_hz`` and ``damping_ratio`` (``None`` if fewer than three
+        complete half cycles are found), ``n_peaks`` used in the fit, ``first_peak``
+        (index of the first half cycle fitted), ``peak_times_s`` and ``peak_values``
+        of the fitted peaks.
+    """
+    s = np.asarray(signal, dtype=float)
+    amp = float(np.max(np.abs(s))) if s.size else 0.0
+    empty: dict[str, Any] = {
+        "frequency_hz": None, "damping_ratio": None, "n_peaks": 0, "first_peak": 0,
+        "peak_times_s": [], "peak_values": [],
+    }
+    if not amp > 0:
+        return empty
+    h = 0.005 * amp
+    crossings: list[float] = []
+    state = 0
+    last_sign_change = -1
+    for i in range(1, s.size):
+        if (s[i - 1] > 0) != (s[i] > 0):
+            last_sign_change = i - 1
+        new = 1 if s[i] > h else (-1 if s[i] < -h else state)
+        if state != 0 and new != state and last_sign_change >= 0:
+            j = last_sign_change
+            frac = s[j] / (s[j] - s[j + 1]) if s[j] != s[j + 1] else 0.5
+            crossings.append((j + frac) * dt_s)
+        state = new
+    cross = np.asarray(crossings)
+    times: list[float] = []
+    peaks: list[float] = []
+    for a, b in zip(cross[:-1], cross[1:], strict=True):
+        i0, i1 = int(math.ceil(a / dt_s)), int(math.floor(b / dt_s))
+        if i1 < i0:
+            continue
+        seg = np.abs(s[i0 : i1 + 1])
+        k = i0 + int(np.argmax(seg))
+        t_k, p_k = k * dt_s, abs(s[k])
+        if 0 < k < s.size - 1:
+            y0, y1, y2 = abs(s[k - 1]), abs(s[k]), abs(s[k + 1])
+            den = y0 - 2 * y1 + y2
+            if den < 0:
+                off = 0.5 * (y0 - y2) / den
+                if abs(off) <= 1:
+                    t_k = (k + off) * dt_s
+                    p_k = y1 - 0.25 * (y0 - y2) * off
+        times.append(t_k)
+        peaks.append(p_k)
+        if len(peaks) >= skip_half_cycles + max_half_cycles:
+            break
+    if len(peaks) < 3:
+        return {**empty, "n_peaks": len(peaks), "peak_times_s": times, "peak_values": peaks}
+    first = skip_half_cycles if len(peaks) >= skip_half_cycles + 3 else 0
+    t_fit = np.asarray(times[first : first + max_half_cycles])
+    p_fit = np.asarray(peaks[first : first + max_half_cycles])
+    n = t_fit.size
+    half_period = float(np.mean(np.diff(cross[first : first + n + 1])))
+    wd = math.pi / half_period
+    sigma = -float(np.polyfit(t_fit, np.log(p_fit), 1)[0])
+    zeta = sigma / math.hypot(sigma, wd)
+    return {
+        "frequency_hz": wd / (2 * math.pi),
+        "damping_ratio": zeta,
+        "n_peaks": n,
+        "first_peak": first,
+        "peak_times_s": t_fit.tolist(),
+        "peak_values": p_fit.tolist(),
+    }
+
+
+# --------------------------------------------------------------------------- commands
+@whisker_app.command("presets")
+@user_errors
+def presets_cmd(json_out: JsonOpt = False) -> None:
+    """List the built-in whisker presets with all their parameters.
+
+    Lengths and radii in mm, Young's modulus in GPa, density in kg/m^3, follicle
+    stiffness in N m/rad, follicle depth in mm, follicle inertia in kg m^2.
+    """
+    from vibrissa.whisker.geometry import PRESETS
+
+    items = [g.to_dict() for g in PRESETS.values()]
+    if json_out:
+        echo_json(items)
+        return
+    from rich.table import Table
+
+    table = Table(title="whisker presets")
+    for col in ("name", "length mm", "base r mm", "tip r mm", "E GPa", "rho kg/m3",
+                "zeta", "follicle N m/rad"):
+        table.add_column(col)
+    for d in items:
+        table.add_row(
+            d["name"], _fmt(d["length_mm"]), _fmt(d["base_radius_mm"]),
+            _fmt(d["tip_radius_mm"]), _fmt(d["youngs_modulus_gpa"]), _fmt(d["density_kg_m3"]),
+            _fmt(d["damping_ratio"]), _fmt(d["follicle_stiffness_nm_per_rad"]),
+        )
+    con = _console()
+    con.print(table)
+    for d in items:
+        con.print(f"[bold]{d['name']}[/bold]: {d['source']}")
+
+
+@whisker_app.command("info")
+@user_errors
+@_physics_errors
+def info_cmd(
+    preset: PresetOpt = None,
+    length_mm: LengthOpt = None,
+    base_radius_mm: BaseRadiusOpt = None,
+    tip_radius_mm: TipRadiusOpt = None,
+    youngs_modulus_gpa: ModulusOpt = None,
+    density_kg_m3: DensityOpt = None,
+    damping_ratio: DampingOpt = None,
+    n_elements: NElementsOpt = None,
+    rigid_follicle: RigidOpt = False,
+    json_out: JsonOpt = False,
+) -> None:
+    """Geometry, material and derived properties of a whisker.
+
+    Reports every geometry/material parameter, the number of elements, the first
+    three bending natural frequencies (Hz, undamped, from the model), the damped
+    frequencies and damping ratios of those modes, mass (kg), base bending
+    stiffness (N m^2), the Hall sensor gain (V per unit tangent of the magnet
+    angle) and the damping coefficients (mass-proportional alpha in 1/s,
+    stiffness-proportional beta of shaft and follicle in s).
+    """
+    from vibrissa.whisker.hall import calibration_point_mm
+
+    g = build_geometry(preset, length_mm, base_radius_mm, tip_radius_mm, youngs_modulus_gpa,
+                       density_kg_m3, damping_ratio)
+    model = build_model(g, n_elements, rigid_follicle)
+    alpha, beta_s, beta_f = model.damping
+    zetas, fd = model.modal_damping(alpha, beta_s, beta_f, 3)
+    cal_r, cal_d = calibration_point_mm(g)
+    out: dict[str, Any] = {
+        **g.to_dict(),
+        "n_elements": model.n_elements,
+        "rigid_follicle": model.rigid_follicle,
+        "natural_frequencies_hz": [float(f) for f in model.natural_frequencies_hz[:3]],
+        "damped_frequencies_hz": [float(f) for f in fd],
+        "modal_damping_ratios": [float(z) for z in zetas],
+        "mass_kg": g.mass_kg,
+        "bending_stiffness_base_nm2": g.bending_stiffness_base_nm2,
+        "hall_gain_v_per_tan": _sensor(model).gain_v,
+        "hall_calibration_radius_mm": cal_r,
+        "hall_calibration_deflection_mm": cal_d,
+        "damping_alpha_per_s": alpha,
+        "damping_beta_shaft_s": beta_s,
+        "damping_beta_follicle_s": beta_f,
+    }
+    if json_out:
+        echo_json(out)
+        return
+    rows = {k: v for k, v in out.items() if k != "source"}
+    _print_table(f"whisker {g.name}", rows)
+    _console().print(f"source: {g.source}")
+
+
+@whisker_app.command("static")
+@user_errors
+@_physics_errors
+def static_cmd(
+    force_n: Annotated[
+        float,
+        typer.Option("--force-n", help="Force (N), along +x, perpendicular to the rest axis."),
+    ],
+    at_mm: Annotated[
+        float, typer.Option("--at-mm", help="Where it acts: arc length from the base (mm).")
+    ],
+    preset: PresetOpt = None,
+    length_mm: LengthOpt = None,
+    base_radius_mm: BaseRadiusOpt = None,
+    tip_radius_mm: TipRadiusOpt = None,
+    youngs_modulus_gpa: ModulusOpt = None,
+    density_kg_m3: DensityOpt = None,
+    damping_ratio: DampingOpt = None,
+    n_elements: NElementsOpt = None,
+    rigid_follicle: RigidOpt = False,
+    json_out: JsonOpt = False,
+) -> None:
+    """Static equilibrium under a point force of fixed direction (geometrically nonlinear).
+
+    Reports the base bending moment (N m), sideways deflection of the loaded point
+    (mm), its axial shortening toward the base (mm), the follicle rotation (deg) and
+    the noise-free Hall outputs (V; 2.5 V at rest and for a rigid follicle).
+    """
+    g = build_geometry(preset, length_mm, base_radius_mm, tip_radius_mm, youngs_modulus_gpa,
+                       density_kg_m3, damping_ratio)
+    f = finite("--force-n", force_n)
+    a = _check_at_mm(at_mm, g)
+    model = build_model(g, n_elements, rigid_follicle)
+    res = model.static_force(f, a)
+    hx, hy = _hall_volts(model, res.tan_x, res.tan_y)
+    out = {
+        "base_moment_nm": res.base_moment_nm,
+        "deflection_mm": res.deflection_mm,
+        "axial_shortening_mm": res.axial_shortening_mm,
+        "base_angle_deg": res.base_angle_deg,
+        "hall_x_v": hx,
+        "hall_y_v": hy,
+        "tan_x": res.tan_x,
+        "tan_y": res.tan_y,
+        "force_n": f,
+        "at_mm": a,
+        "whisker": g.name,
+        "n_elements": model.n_elements,
+        "rigid_follicle": model.rigid_follicle,
+    }
+    if json_out:
+        echo_json(out)
+        return
+    _print_table(f"static force {f:g} N at {a:g} mm on {g.name}", out)
+
+
+@whisker_app.command("push")
+@user_errors
+@_physics_errors
+def push_cmd(
+    at_mm: Annotated[
+        float,
+        typer.Option("--at-mm", help="Radial distance of first contact from the base (mm)."),
+    ],
+    displacement_mm: Annotated[
+        float,
+        typer.Option(
+            "--displacement-mm", help="Sideways (+x) displacement of the pole (mm), >= 0."
+        ),
+    ],
+    friction: Annotated[
+        float, typer.Option("--friction", help="Coulomb friction coefficient, >= 0.")
+    ] = 0.0,
+    pole_radius_mm: Annotated[
+        float, typer.Option("--pole-radius-mm", help="Radius of the pole (mm).")
+    ] = 0.5,
+    preset: PresetOpt = None,
+    length_mm: LengthOpt = None,
+    base_radius_mm: BaseRadiusOpt = None,
+    tip_radius_mm: TipRadiusOpt = None,
+    youngs_modulus_gpa: ModulusOpt = None,
+    density_kg_m3: DensityOpt = None,
+    damping_ratio: DampingOpt = None,
+    n_elements: NElementsOpt = None,
+    rigid_follicle: RigidOpt = False,
+    json_out: JsonOpt = False,
+) -> None:
+    """Quasi-static push of a thin pole (parallel to y) through the whisker.
+
+    The pole touches the undeformed whisker at --at-mm on its -x side and moves
+    --displacement-mm along +x. Reports the base bending moment (N m), the contact
+    force (N), where along the whisker the contact ends up (arc length, mm),
+    whether the whisker slipped off the pole, and the noise-free Hall outputs (V;
+    2.5 V for a rigid follicle). The Hall calibration push is --at-mm 150
+    --displacement-mm 60 (4.75 V).
+    """
+    g = build_geometry(preset, length_mm, base_radius_mm, tip_radius_mm, youngs_modulus_gpa,
+                       density_kg_m3, damping_ratio)
+    a = _check_at_mm(at_mm, g)
+    d = non_negative("--displacement-mm", displacement_mm)
+    mu = non_negative("--friction", friction)
+    rp = positive("--pole-radius-mm", pole_radius_mm)
+    model = build_model(g, n_elements, rigid_follicle)
+    res = model.push(a, d, friction=mu, pole_radius_mm=rp)
+    hx, hy = _hall_volts(model, res.tan_x, res.tan_y)
+    out = {
+        "base_moment_nm": res.base_moment_nm,
+        "base_force_n": res.base_force_n,
+        "contact_arc_length_mm": res.contact_arc_length_mm,
+        "slipped_off": res.slipped_off,
+        "hall_x_v": hx,
+        "hall_y_v": hy,
+        "normal_force_n": res.normal_force_n,
+        "friction_force_n": res.friction_force_n,
+        "tan_x": res.tan_x,
+        "tan_y": res.tan_y,
+        "at_mm": a,
+        "displacement_mm": d,
+        "friction": mu,
+        "whisker": g.name,
+        "n_elements": model.n_elements,
+        "rigid_follicle": model.rigid_follicle,
+    }
+    if json_out:
+        echo_json(out)
+        return
+    _print_table(f"pole push {d:g} mm at {a:g} mm on {g.name}", out)
+
+
+@whisker_app.command("ring")
+@user_errors
+@_physics_errors
+def ring_cmd(
+    tip_deflection_mm: Annotated[
+        float,
+        typer.Option("--tip-deflection-mm", help="Initial static tip deflection along x (mm)."),
+    ] = 10.0,
+    duration_s: Annotated[
+        float, typer.Option("--duration-s", help="Simulated time after release (s).")
+    ] = 1.0,
+    dt_ms: Annotated[
+        float, typer.Option("--dt-ms", help="Integration time step (ms), at most 1.")
+    ] = 0.25,
+    no_lowpass: Annotated[
+        bool,
+        typer.Option(
+            "--no-lowpass",
+            help="Measure on the raw base signal, without the zero-phase low-pass that "
+            "isolates the first mode.",
+        ),
+    ] = False,
+    preset: PresetOpt = None,
+    length_mm: LengthOpt = None,
+    base_radius_mm: BaseRadiusOpt = None,
+    tip_radius_mm: TipRadiusOpt = None,
+    youngs_modulus_gpa: ModulusOpt = None,
+    density_kg_m3: DensityOpt = None,
+    damping_ratio: DampingOpt = None,
+    n_elements: NElementsOpt = None,
+    rigid_follicle: RigidOpt = False,
+    json_out: JsonOpt = False,
+) -> None:
+    """Deflect the tip, release it, and measure the ring-down at the base.
+
+    The base signal is the magnet's tangent tan_x (with --rigid-follicle, which
+    holds the magnet still, the slope of the first shaft element instead). It is
+    low-passed (4th-order Butterworth, zero phase) at the geometric mean of the
+    first two natural frequencies to isolate the first mode, whose decay the
+    higher modes otherwise disturb (badly so at a clamped base). The damped
+    frequency (Hz) comes from the mean spacing of its zero crossings, the damping
+    ratio from a least-squares fit of log|peak| against time over ten half-cycle
+    peaks (after the first cycle). Both are compared with the configured damping
+    ratio and the model's first natural frequency (undamped, Hz) and damped
+    frequency.
+    """
+    from vibrissa.whisker.simulate import free_vibration
+
+    g = build_geometry(preset, length_mm, base_radius_mm, tip_radius_mm, youngs_modulus_gpa,
+                       density_kg_m3, damping_ratio)
+    tip = finite("--tip-deflection-mm", tip_deflection_mm)
+    if tip == 0:
+        raise ValueError("--tip-deflection-mm must be non-zero, got 0")
+    if abs(tip) > 0.5 * g.length_mm:
+        raise ValueError(
+            f"--tip-deflection-mm must be at most half the whisker's length "
+            f"({0.5 * g.length_mm:g} mm), got {tip_deflection_mm:g}"
+        )
+    dur = positive("--duration-s", duration_s)
+    dt = in_range("--dt-ms", dt_ms, 1e-4, 1.0, "ms") * 1e-3
+    if dur < 100 * dt:
+        raise ValueError(
+            f"--duration-s must cover at least 100 steps of --dt-ms, got {duration_s:g}"
+        )
+    model = build_model(g, n_elements, rigid_follicle)
+    res = free_vibration(model, tip_deflection_mm=tip, duration_s=dur, dt_s=dt,
+                         record_every=1 if model.rigid_follicle else 0)
+    if model.rigid_follicle:
+        e = res.states_m[:, 2] - res.states_m[:, 1]
+        sig = e[:, 0] / e[:, 2]
+        signal_name = "base slope of the shaft (rigid follicle)"
+    else:
+        sig = res.tan_xy[:, 0]
+        signal_name = "magnet tan_x"
+    f_nat = model.natural_frequencies_hz
+    lowpass_hz: float | None = None
+    if not no_lowpass and f_nat.size > 1:
+        fc = float(math.sqrt(f_nat[0] * f_nat[1]))
+        if fc < 0.4 / res.dt_s:
+            sos = scipy.signal.butter(4, fc, fs=1.0 / res.dt_s, output="sos")
+            sig = scipy.signal.sosfiltfilt(sos, sig)
+            lowpass_hz = fc
+    meas = ring_down(sig, res.dt_s)
+    alpha, beta_s, beta_f = model.damping
+    _, fd = model.modal_damping(alpha, beta_s, beta_f, 1)
+    f_model = float(model.natural_frequencies_hz[0])
+    out: dict[str, Any] = {
+        "frequency_hz": meas["frequency_hz"],
+        "damping_ratio": meas["damping_ratio"],
+        "configured_damping_ratio": g.damping_ratio,
+        "model_frequency_hz": f_model,
+        "model_damped_frequency_hz": float(fd[0]),
+        "n_peaks_fitted": meas["n_peaks"],
+        "signal": signal_name,
+        "lowpass_hz": lowpass_hz,
+        "whisker": g.name,
+        "n_elements": model.n_elements,
+        "rigid_follicle": model.rigid_follicle,
+        "tip_deflection_mm": tip,
+        "duration_s": dur,
+        "dt_s": res.dt_s,
+    }
+    if json_out:
+        echo_json(out)
+        return
+    con = _console()
+    con.print(f"[bold]ring-down of whisker {g.name}[/bold] ({model.n_elements} elements"
+              f"{', rigid follicle' if model.rigid_follicle else ''}): tip deflected "
+              f"{tip:g} mm, released, {dur:g} s simulated at dt = {res.dt_s * 1e3:g} ms")
+    filt = (f", low-passed at {lowpass_hz:.1f} Hz" if lowpass_hz else ", unfiltered")
+    con.print(f"  model:    first natural frequency {f_model:.2f} Hz "
+              f"(damped {fd[0]:.2f} Hz), configured damping ratio {g.damping_ratio:.3f}")
+    if meas["frequency_hz"] is None:
+        con.print(f"  measured: too few half cycles ({meas['n_peaks']}) in the {signal_name} "
+                  "to measure; try a longer --duration-s or less damping")
+        return
+    f_m, z_m = meas["frequency_hz"], meas["damping_ratio"]
+    z_err = (f"{100 * (z_m / g.damping_ratio - 1):+.1f} %" if g.damping_ratio > 0 else "n/a")
+    con.print(f"  measured: frequency {f_m:.2f} Hz ({100 * (f_m / f_model - 1):+.1f} % vs "
+              f"model), damping ratio {z_m:.4f} ({z_err} vs configured) from "
+              f"{meas['n_peaks']} half-cycle peaks of the {signal_name}{filt}")
 
 
 def register(app: typer.Typer) -> None:
-    """Register this family's commands on the top-level app."""
+    """Register the ``whisker`` command group on the top-level ``app``."""
+    app.add_typer(whisker_app, name="whisker")
