@@ -23,11 +23,15 @@ def register(app: typer.Typer) -> None:
             ..., help="Protocol: radial-distance (chapter 4) or angle-texture (chapter 5)."
         ),
         out: Path = typer.Option(..., "--out", "-o", help="Output NetCDF file."),
-        quick: bool = typer.Option(False, "--quick", help="A small grid that runs in under a minute."),
+        quick: bool = typer.Option(
+            False, "--quick", help="A small grid that runs in under a minute."
+        ),
         radial_distances: str = typer.Option(
             None, "--radial-distances", help=f"Radial distances in mm ({_GRID_HELP})."
         ),
-        speeds: str = typer.Option(None, "--speeds", help=f"Contact speeds in mm/s ({_GRID_HELP})."),
+        speeds: str = typer.Option(
+            None, "--speeds", help=f"Contact speeds in mm/s ({_GRID_HELP})."
+        ),
         angles: str = typer.Option(None, "--angles", help=f"Surface angles in deg ({_GRID_HELP})."),
         textures: str = typer.Option(
             None, "--textures", help="Comma list of textures (aluminium, p600, p180, p80)."
@@ -37,15 +41,21 @@ def register(app: typer.Typer) -> None:
         whisker: str = typer.Option(None, "--whisker", help="Whisker preset (default xy-robot)."),
         noise_v: float = typer.Option(None, "--noise-v", help="Sensor noise, V rms."),
         drift: float = typer.Option(
-            None, "--drift", help="Relative drift of whisker stiffness over the session, e.g. -0.05."
+            None,
+            "--drift",
+            help="Relative drift of whisker stiffness over the session, e.g. -0.05.",
         ),
         seed: int = typer.Option(0, "--seed", help="Seed: same seed, same bytes."),
-        workers: int = typer.Option(None, "--workers", help="Local processes (default: all cores)."),
+        workers: int = typer.Option(
+            None, "--workers", help="Local processes (default: all cores)."
+        ),
         scheduler: str = typer.Option(
             None, "--scheduler", help="Run on an existing Dask cluster at this address."
         ),
         chunk_size: int = typer.Option(32, "--chunk-size", help="Trials per unit of work."),
-        restart: bool = typer.Option(False, "--restart", help="Discard an interrupted run's shards."),
+        restart: bool = typer.Option(
+            False, "--restart", help="Discard an interrupted run's shards."
+        ),
         json_out: bool = typer.Option(False, "--json", help="Print a JSON summary."),
     ) -> None:
         """Simulate a protocol on the virtual XY robot and save it as a NetCDF dataset.

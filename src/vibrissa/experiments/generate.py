@@ -110,8 +110,9 @@ def _run_chunk(protocol: Protocol, indices: np.ndarray) -> dict[str, np.ndarray]
     return simulate_trials(protocol, indices)
 
 
-def _local_results(protocol: Protocol, todo: list[tuple[int, np.ndarray]], workers: int
-                   ) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
+def _local_results(
+    protocol: Protocol, todo: list[tuple[int, np.ndarray]], workers: int
+) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
     if workers <= 1:
         for k, idx in todo:
             yield k, _run_chunk(protocol, idx)
@@ -128,13 +129,13 @@ def _local_results(protocol: Protocol, todo: list[tuple[int, np.ndarray]], worke
             raise
 
 
-def _dask_results(protocol: Protocol, todo: list[tuple[int, np.ndarray]], scheduler: str
-                  ) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
+def _dask_results(
+    protocol: Protocol, todo: list[tuple[int, np.ndarray]], scheduler: str
+) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
     from dask.distributed import Client, as_completed
 
     with Client(scheduler, set_as_default=False) as client:
-        futs = client.map(_run_chunk, [protocol] * len(todo), [idx for _, idx in todo],
-                          pure=False)
+        futs = client.map(_run_chunk, [protocol] * len(todo), [idx for _, idx in todo], pure=False)
         keys = {f.key: k for f, (k, _) in zip(futs, todo, strict=True)}
         for fut in as_completed(futs):
             yield keys[fut.key], fut.result()

@@ -199,7 +199,9 @@ class Protocol:
         if not isinstance(self.runs, int) or self.runs < 1:
             raise ValueError(f"runs must be a positive integer, got {self.runs!r}")
         if not self.directions or any(d not in (1, -1) for d in self.directions):
-            raise ValueError(f"directions must be a non-empty subset of (1, -1), got {self.directions}")
+            raise ValueError(
+                f"directions must be a non-empty subset of (1, -1), got {self.directions}"
+            )
         positive("sample_rate_hz", self.sample_rate_hz)
         positive("window before peak", self.window_s[0])
         positive("window after peak", self.window_s[1])
@@ -313,9 +315,7 @@ def _angle_texture(quick: bool) -> Protocol:
     )
     if quick:
         return Protocol(angles_deg=(20.0, 50.0, 80.0), speeds_mm_s=(16.0, 56.0, 96.0), **common)
-    return Protocol(
-        angles_deg=parse_grid("10:80:10"), speeds_mm_s=parse_grid("6:106:10"), **common
-    )
+    return Protocol(angles_deg=parse_grid("10:80:10"), speeds_mm_s=parse_grid("6:106:10"), **common)
 
 
 def get_protocol(name: str, quick: bool = False, **overrides: Any) -> Protocol:
