@@ -1,0 +1,196 @@
+"""Tests of `vibrissa whisker presets|info|static|push|ring`."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from vibrissa.cli import app
+from vibrissa.cli.whisker import build_geometry, ring_down
+from vibrissa.whisker.geometry import PRESETS
+
+runner = CliRunner()
+
+
+def run_json(*args: str) -> dict:
+    res = runner.invoke(app, ["whisker", *args, "--json"])
+    assert res.exit_code == 0, res.output
+    return json.loads(res.stdout)
+
+
+def test_presets_lists_all_with_parameters():
+    items = run_json("presets")
+    names = [d["name"] for d in items]
+    for name in ("xy-robot", "scratchbot", "crunchbot", "biotact-g1-80", "biotact-g1-112",
+                 "biotact-g1-158"):
+        assert name in names
+    keys = set(PRESETS["xy-robot"].to_dict())
+    for d in items:
+        assert set(d) == keys
+        assert d == PRESETS[d["name"]].to_dict()
+
+
+def test_presets_text():
+    res = runner.invoke(app, ["whisker", "presets"])
+    assert res.exit_code == 0
+    assert "crunchbot" in res.stdout
+
+
+def test_info_keys_and_values():
+    d = run_json("info")
+    for key in PRESETS["xy-robot"].to_dict():
+        assert key in d
+    for key in ("n_elements", "natural_frequencies_hz", "mass_kg", "hall_gain_v_per_tan",
+                "damping_alpha_per_s", "damping_beta_shaft_s", "damping_beta_follicle_s"):
+        assert key in d
+    assert d["name"] == "xy-robot"
+    assert len(d["natural_frequencies_hz"]) == 3
+    f = d["natural_frequencies_hz"]
+    assert 0 < f[0] < f[1] < f[2]
+    assert d["mass_kg"] == pytest.approx(PRESETS["xy-robot"].mass_kg)
+    assert d["hall_gain_v_per_tan"] > 0
+
+
+def test_info_overrides_preset():
+    d = run_json("info", "--preset", "scratchbot", "--length-mm", "150", "--n-elements", "12")
+    assert d["length_mm"] == 150.0
+    assert d["base_radius_mm"] == PRESETS["scratchbot"].base_radius_mm
+    assert d["youngs_modulus_gpa"] == PRESETS["scratchbot"].youngs_modulus_gpa
+    assert d["name"] == "custom"
+    assert d["n_elements"] == 12
+
+
+def test_explicit_options_default_to_xy_robot():
+    g = build_geometry(None, tip_radius_mm=0.5)
+    xy = PRESETS["xy-robot"]
+    assert g.tip_radius_mm == 0.5
+    assert (g.length_mm, g.base_radius_mm, g.youngs_modulus_gpa) == (
+        xy.length_mm, xy.base_radius_mm, xy.youngs_modulus_gpa)
+    assert build_geometry("crunchbot") is PRESETS["crunchbot"]
+
+
+def test_info_text():
+    res = runner.invoke(app, ["whisker", "info", "--preset", "biotact-g1-80"])
+    assert res.exit_code == 0
+    assert "natural_frequencies_hz" in res.stdout
+
+
+STATIC_KEYS = {"base_moment_nm", "deflection_mm", "axial_shortening_mm", "base_angle_deg",
+               "hall_x_v", "hall_y_v"}
+PUSH_KEYS = {"base_moment_nm", "base_force_n", "contact_arc_length_mm", "slipped_off",
+             "hall_x_v", "hall_y_v"}
+
+
+def test_static_uniform_rigid_matches_beam_theory():
+    F, L = 1e-4, 185.0
+    d = run_json("static", "--base-radius-mm", "1", "--tip-radius-mm", "1", "--rigid-follicle",
+                 "--force-n", str(F), "--at-mm", str(L))
+    assert STATIC_KEYS <= set(d)
+    E = PRESETS["xy-robot"].youngs_modulus_gpa * 1e9
+    EI = E * math.pi * (1e-3) ** 4 / 4
+    expected_mm = F * (L * 1e-3) ** 3 / (3 * EI) * 1e3
+    assert d["deflection_mm"] == pytest.approx(expected_mm, rel=0.02)
+    assert d["base_moment_nm"] == pytest.approx(F * L * 1e-3, rel=0.01)
+    assert d["hall_x_v"] == 2.5 and d["hall_y_v"] == 2.5
+    assert d["base_angle_deg"] == 0.0
+
+
+def test_static_midpoint_moment_and_compliant_hall():
+    F, A = 1e-3, 100.0
+    d = run_json("static", "--force-n", str(F), "--at-mm", str(A))
+    assert d["base_moment_nm"] == pytest.approx(F * A * 1e-3, rel=0.02)
+    assert d["hall_x_v"] > 2.5
+    assert d["hall_y_v"] == pytest.approx(2.5)
+    assert d["base_angle_deg"] > 0
+
+
+def test_push_rigid_vs_compliant():
+    rigid = run_json("push", "--at-mm", "100", "--displacement-mm", "10", "--rigid-follicle")
+    assert PUSH_KEYS <= set(rigid)
+    assert rigid["hall_x_v"] == 2.5 and rigid["hall_y_v"] == 2.5
+    assert rigid["base_moment_nm"] > 0
+    soft = run_json("push", "--at-mm", "100", "--displacement-mm", "10", "--friction", "0.3")
+    assert PUSH_KEYS <= set(soft)
+    assert soft["hall_x_v"] > 2.5
+    assert soft["slipped_off"] is False
+    assert soft["contact_arc_length_mm"] == pytest.approx(100, abs=5)
+
+
+def test_calibration_push_reads_full_scale():
+    d = run_json("push", "--at-mm", "150", "--displacement-mm", "60")
+    assert d["hall_x_v"] == pytest.approx(4.75, abs=0.02)
+    assert d["hall_y_v"] == pytest.approx(2.5, abs=0.02)
+
+
+def test_ring_matches_configuration():
+    d = run_json("ring")
+    for key in ("frequency_hz", "damping_ratio", "configured_damping_ratio",
+                "model_frequency_hz"):
+        assert key in d
+    assert d["configured_damping_ratio"] == PRESETS["xy-robot"].damping_ratio
+    assert d["damping_ratio"] == pytest.approx(d["configured_damping_ratio"], rel=0.10)
+    assert d["frequency_hz"] == pytest.approx(d["model_frequency_hz"], rel=0.05)
+
+
+def test_ring_other_damping_and_rigid_follicle():
+    d = run_json("ring", "--damping-ratio", "0.15", "--rigid-follicle", "--duration-s", "0.6")
+    assert d["damping_ratio"] == pytest.approx(0.15, rel=0.10)
+    assert d["frequency_hz"] == pytest.approx(d["model_frequency_hz"], rel=0.05)
+
+
+def test_ring_text_summary():
+    res = runner.invoke(app, ["whisker", "ring"])
+    assert res.exit_code == 0
+    out = res.stdout
+    assert "xy-robot" in out and "Hz" in out and "damping" in out
+
+
+def test_ring_down_on_synthetic_decay():
+    dt, f, z = 1e-4, 20.0, 0.04
+    t = np.arange(0, 1.0, dt)
+    wn = 2 * math.pi * f
+    wd = wn * math.sqrt(1 - z * z)
+    s = np.exp(-z * wn * t) * np.cos(wd * t)
+    r = ring_down(s, dt)
+    assert r["frequency_hz"] == pytest.approx(wd / (2 * math.pi), rel=1e-3)
+    assert r["damping_ratio"] == pytest.approx(z, rel=0.01)
+    assert ring_down(np.zeros(100), dt)["damping_ratio"] is None
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["info", "--length-mm", "-5"], "--length-mm"),
+        (["info", "--tip-radius-mm", "2"], "--tip-radius-mm"),
+        (["info", "--youngs-modulus-gpa", "0"], "--youngs-modulus-gpa"),
+        (["info", "--length-mm", "nan"], "--length-mm"),
+        (["info", "--preset", "no-such-whisker"], "--preset"),
+        (["info", "--n-elements", "2"], "--n-elements"),
+        (["info", "--damping-ratio", "1.5"], "--damping-ratio"),
+        (["static", "--force-n", "0.01", "--at-mm", "200"], "--at-mm"),
+        (["static", "--force-n", "nan", "--at-mm", "100"], "--force-n"),
+        (["push", "--at-mm", "190", "--displacement-mm", "5"], "--at-mm"),
+        (["push", "--at-mm", "100", "--displacement-mm", "-5"], "--displacement-mm"),
+        (["push", "--at-mm", "100", "--displacement-mm", "5", "--friction", "-1"], "--friction"),
+        (["ring", "--duration-s", "0"], "--duration-s"),
+    ],
+)
+def test_bad_input_exits_2_with_one_line(args, needle):
+    res = runner.invoke(app, ["whisker", *args, "--json"])
+    assert res.exit_code == 2
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1
+    assert needle in lines[0]
+    assert res.stdout == ""
+
+
+def test_help_mentions_units():
+    for cmd in ("info", "static", "push", "ring"):
+        res = runner.invoke(app, ["whisker", cmd, "--help"])
+        assert res.exit_code == 0
+    res = runner.invoke(app, ["whisker", "push", "--help"], terminal_width=200)
+    assert "(mm)" in res.stdout
