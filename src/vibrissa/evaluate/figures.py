@@ -322,7 +322,7 @@ def training_size_plot(
     if full is not None and full.get("mean") is not None:
         pts[100.0] = (full["mean"], full.get("std") or 0.0)
     for key, per in results.get("training_fractions", {}).items():
-        e = per.get(name, {}).get(parameter)
+        e = (per.get(name) or {}).get(parameter)
         if e is not None and e.get("mean") is not None:
             pts[100.0 * float(key)] = (e["mean"], e.get("std") or 0.0)
     ax = _axes(ax)

@@ -653,12 +653,15 @@ def run_chapter4(
             runs = []
             for k in range(int(n_seeds)):
                 idx = subsets[k][i]
+                prog.step(f"{name}: {f:g} of training set, seed {k}")
+                if min(len(np.unique(y_tr[idx, c])) for c in range(y_tr.shape[1])) < 2:
+                    # too small a subset of a small grid to train on: recorded as skipped
+                    continue
                 r = fit_and_score(name, est, X_tr[idx], y_tr[idx], X_te, y_te,
                                   radius_only=ro(name))
                 r.pop("radius_error_by_speed")
                 runs.append({"seed": [int(seed), k], **r})
-                prog.step(f"{name}: {f:g} of training set, seed {k}")
-            fractions_out[key][name] = _average_runs(runs)
+            fractions_out[key][name] = _average_runs(runs) if runs else None
 
     out: dict[str, Any] = {
         "protocol": "evans2011_chapter4",

@@ -225,6 +225,8 @@ def results_csv(results: Mapping[str, Any], per_seed: bool = True) -> str:
         rows += _rows("1.0", "", name, entry)
     for frac, per in results.get("training_fractions", {}).items():
         for name, entry in per.items():
+            if entry is None:  # skipped: the subset was too small to train on
+                continue
             rows += _rows(frac, "mean", name, entry)
             if per_seed:
                 for run in entry.get("per_seed", []):
@@ -289,7 +291,7 @@ def _md_table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
 def _ours(results: Mapping[str, Any], name: str, frac: str) -> dict[str, Any] | None:
     if frac == "1.0" and name in results.get("classifiers", {}):
         return results["classifiers"][name]
-    return results.get("training_fractions", {}).get(frac, {}).get(name)
+    return (results.get("training_fractions", {}).get(frac) or {}).get(name)
 
 
 def _get(entry: Mapping[str, Any] | None, par: str, stat: str) -> Any:
