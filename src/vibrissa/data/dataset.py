@@ -28,6 +28,7 @@ from vibrissa import __version__
 __all__ = [
     "KNOWN_LABELS",
     "as_arrays",
+    "attr_value",
     "concat_datasets",
     "label_names",
     "make_dataset",
@@ -35,6 +36,8 @@ __all__ = [
     "validate_dataset",
     "whisker_params",
 ]
+
+_RESERVED = frozenset({"trial", "channel", "time", "signal"})
 
 #: Contact parameters with a conventional name and unit.
 KNOWN_LABELS = (
@@ -78,6 +81,21 @@ def make_dataset(
         Extra attributes; dicts are stored as JSON strings.
     units
         Units of the signal.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dims ``(trial, channel, time)``, labels as per-trial coordinates, attrs
+        ``sample_rate_hz``, ``vibrissa_version`` and those given (``None``
+        values dropped).
+
+    Raises
+    ------
+    ValueError
+        If the signal is not 2-D/3-D real numbers or holds NaN/inf, if the
+        channel names, time values or a label do not match the signal's shape,
+        if a label uses a reserved name (``trial``, ``channel``, ``time``,
+        ``signal``) or if ``sample_rate_hz`` is not positive.
     """
     x = np.asarray(signal)
     if x.ndim == 2:
@@ -107,15 +125,24 @@ def make_dataset(
         "time": ("time", tt, {"units": "s"}),
     }
     for name, values in (labels or {}).items():
+        name = str(name)
+        if name in _RESERVED:
+            raise ValueError(f"label name {name!r} is reserved (one of {sorted(_RESERVED)})")
         arr = np.asarray(values)
         if arr.shape != (n,):
-            raise ValueError(f"label {name!r} has {arr.shape} values for {n} trials")
-        if arr.dtype.kind in "OU":
-            arr = arr.astype(str)
-        coords[str(name)] = ("trial", arr)
+            raise ValueError(
+                f"label {name!r} has {arr.shape[0] if arr.ndim == 1 else arr.shape} "
+                f"value(s) for {n} trials"
+            )
+        if arr.dtype.kind in "OUS":
+            arr = np.array([_to_str(v) for v in arr], dtype=str)
+        elif arr.dtype.kind not in "biuf":
+            raise ValueError(f"label {name!r} must hold numbers or strings, got dtype {arr.dtype}")
+        coords[name] = ("trial", arr)
     at: dict[str, Any] = {"sample_rate_hz": fs, "vibrissa_version": __version__}
     for k, v in (attrs or {}).items():
-        at[k] = json.dumps(v, sort_keys=True, default=str) if isinstance(v, dict | list) else v
+        if v is not None:
+            at[str(k)] = attr_value(v)
     ds = xr.Dataset(
         {"signal": (("trial", "channel", "time"), x, {"units": units})}, coords=coords, attrs=at
     )
@@ -123,8 +150,48 @@ def make_dataset(
     return ds
 
 
+def _to_str(v: Any) -> str:
+    return v.decode("utf-8") if isinstance(v, bytes | np.bytes_) else str(v)
+
+
+def attr_value(value: Any) -> Any:
+    """``value`` in a form NetCDF attributes can hold.
+
+    Dicts and lists become JSON strings, booleans integers, numpy scalars
+    Python scalars; strings and numbers pass unchanged.
+    """
+    if isinstance(value, bool | np.bool_):
+        return int(value)
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, dict | list | tuple):
+        return json.dumps(value, sort_keys=True, default=str)
+    return value
+
+
 def validate_dataset(ds: xr.Dataset) -> xr.Dataset:
-    """Check ``ds`` against the schema; raise ``ValueError`` naming the problem."""
+    """Check ``ds`` against the schema and return it unchanged.
+
+    Parameters
+    ----------
+    ds
+        The dataset to check.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``ds`` itself, so that calls can be chained.
+
+    Raises
+    ------
+    TypeError
+        If ``ds`` is not an :class:`xarray.Dataset`.
+    ValueError
+        Naming the problem: no ``signal`` variable, wrong dims, no samples,
+        non-float or non-finite signal, missing or malformed ``channel``/``time``
+        coordinates, a label without one value per trial, a non-positive
+        ``sample_rate_hz``.
+    """
     if not isinstance(ds, xr.Dataset):
         raise TypeError(f"expected an xarray.Dataset, got {type(ds).__name__}")
     if "signal" not in ds.data_vars:
@@ -140,6 +207,18 @@ def validate_dataset(ds: xr.Dataset) -> xr.Dataset:
     bad = int(np.size(vals) - np.count_nonzero(np.isfinite(vals)))
     if bad:
         raise ValueError(f"'signal' contains {bad} NaN or infinite value(s)")
+    if "channel" not in ds.coords:
+        raise ValueError("dataset has no 'channel' coordinate")
+    chans = [str(c) for c in np.asarray(ds["channel"].values).ravel()]
+    if ds["channel"].dims != ("channel",) or len(set(chans)) != len(chans):
+        raise ValueError(f"'channel' must be distinct names along dim 'channel', got {chans}")
+    if "time" not in ds.coords:
+        raise ValueError("dataset has no 'time' coordinate")
+    tt = np.asarray(ds["time"].values)
+    if ds["time"].dims != ("time",) or tt.dtype.kind not in "iuf":
+        raise ValueError(f"'time' must be numbers (s) along dim 'time', got dtype {tt.dtype}")
+    if not np.all(np.isfinite(tt)) or np.any(np.diff(tt) <= 0):
+        raise ValueError("'time' must be finite and strictly increasing")
     fs = ds.attrs.get("sample_rate_hz")
     try:
         ok = fs is not None and float(fs) > 0 and np.isfinite(float(fs))
@@ -148,61 +227,167 @@ def validate_dataset(ds: xr.Dataset) -> xr.Dataset:
     if not ok:
         raise ValueError(f"attribute 'sample_rate_hz' must be positive, got {fs!r}")
     for name, coord in ds.coords.items():
+        if "trial" in coord.dims and name != "trial" and coord.dims != ("trial",):
+            raise ValueError(f"label {name!r} must have dims ('trial',), got {coord.dims}")
         if coord.dims == ("trial",) and coord.size != sig.sizes["trial"]:
             raise ValueError(f"label {name!r} does not have one value per trial")
     return ds
 
 
 def label_names(ds: xr.Dataset) -> list[str]:
-    """Names of the per-trial coordinates (labels) of ``ds``."""
+    """Names of the per-trial coordinates (labels) of ``ds``, in dataset order."""
     return [str(k) for k, c in ds.coords.items() if c.dims == ("trial",) and k != "trial"]
 
 
 def as_arrays(ds: xr.Dataset, labels: Sequence[str]) -> tuple[np.ndarray, np.ndarray]:
-    """``X`` (n_trials, n_channels, n_timepoints) and ``y`` (n_trials, n_labels).
+    """The arrays classifiers take: ``X`` and the multi-target label ``y``.
+
+    Parameters
+    ----------
+    ds
+        A dataset of the schema.
+    labels
+        Names of the per-trial labels forming the columns of ``y``, e.g.
+        ``["radial_distance_mm", "speed_mm_s"]``. A single string is taken as
+        one name.
+
+    Returns
+    -------
+    X : numpy.ndarray
+        Shape ``(n_trials, n_channels, n_timepoints)``, float64.
+    y : numpy.ndarray
+        Shape ``(n_trials, n_labels)``; float64 if every label is numeric,
+        otherwise an array of strings.
 
     Raises
     ------
     KeyError
         If a requested label is missing (the message lists those present).
     """
-    missing = [name for name in labels if name not in ds.coords]
+    if isinstance(labels, str):
+        labels = [labels]
+    labels = list(labels)
+    present = label_names(ds)
+    missing = [name for name in labels if name not in present]
     if missing:
-        raise KeyError(f"dataset has no label(s) {missing}; it has {label_names(ds)}")
+        raise KeyError(f"dataset has no label(s) {missing}; it has {present}")
     X = np.asarray(ds["signal"].values, dtype=float)
     cols = [np.asarray(ds[name].values) for name in labels]
-    y = np.column_stack(cols) if cols else np.empty((X.shape[0], 0))
+    if not cols:
+        return X, np.empty((X.shape[0], 0))
     if all(c.dtype.kind in "fiub" for c in cols):
-        y = y.astype(float)
-    return X, y
+        return X, np.column_stack([c.astype(float) for c in cols])
+    return X, np.column_stack([c.astype(str) for c in cols])
+
+
+def _matches(vals: np.ndarray, wanted: Any) -> np.ndarray:
+    wanted_arr = np.asarray(
+        list(wanted) if isinstance(wanted, list | tuple | set | np.ndarray) else [wanted]
+    )
+    if vals.dtype.kind in "fiu" and wanted_arr.dtype.kind in "fiub":
+        # physical values such as 36 + 7.2 k mm/s: compare with a relative tolerance
+        w = wanted_arr.astype(float).ravel()
+        close = np.isclose(vals[:, None].astype(float), w[None, :], rtol=1e-9, atol=1e-12)
+        return close.any(axis=1)
+    return np.isin(vals.astype(str), wanted_arr.astype(str))
 
 
 def select(ds: xr.Dataset, **criteria: Any) -> xr.Dataset:
-    """Trials whose labels equal the given values (a value may be a list of values)."""
+    """The trials whose labels take the given values.
+
+    Parameters
+    ----------
+    ds
+        A dataset of the schema.
+    **criteria
+        ``label=value`` or ``label=[value, ...]`` (any of the values). Numeric
+        labels are compared with a relative tolerance of 1e-9, so that
+        ``speed_mm_s=43.2`` finds ``36 + 7.2``; a callable value is applied to
+        the label's array and must return a boolean mask.
+
+    Returns
+    -------
+    xarray.Dataset
+        The selected trials (possibly none), in their original order.
+
+    Raises
+    ------
+    KeyError
+        If a criterion names a label the dataset does not have.
+    """
+    present = label_names(ds)
     mask = np.ones(ds.sizes["trial"], dtype=bool)
     for name, value in criteria.items():
-        if name not in ds.coords:
-            raise KeyError(f"dataset has no label {name!r}; it has {label_names(ds)}")
+        if name not in present:
+            raise KeyError(f"dataset has no label {name!r}; it has {present}")
         vals = np.asarray(ds[name].values)
-        wanted = value if isinstance(value, list | tuple | np.ndarray) else [value]
-        mask &= np.isin(vals, wanted)
+        if callable(value):
+            m = np.asarray(value(vals), dtype=bool)
+            if m.shape != vals.shape:
+                raise ValueError(f"criterion for {name!r} must return one boolean per trial")
+            mask &= m
+        else:
+            mask &= _matches(vals, value)
     return ds.isel(trial=np.flatnonzero(mask))
 
 
 def concat_datasets(datasets: Sequence[xr.Dataset]) -> xr.Dataset:
-    """Concatenate datasets along ``trial`` (same channels, time and sample rate)."""
+    """Concatenate datasets along ``trial``.
+
+    Parameters
+    ----------
+    datasets
+        Datasets of the schema with the same channels, time coordinate, sample
+        rate and label names.
+
+    Returns
+    -------
+    xarray.Dataset
+        Trials of all inputs in order, renumbered ``0..n-1``; attributes of the
+        first dataset.
+
+    Raises
+    ------
+    ValueError
+        If the list is empty or the datasets differ in sample rate, channels,
+        time coordinate or label names (the message names the first offender).
+    """
+    datasets = list(datasets)
     if not datasets:
         raise ValueError("no datasets to concatenate")
+    for i, d in enumerate(datasets):
+        try:
+            validate_dataset(d)
+        except ValueError as exc:
+            raise ValueError(f"dataset {i}: {exc}") from None
     first = datasets[0]
-    for d in datasets[1:]:
-        if d.attrs.get("sample_rate_hz") != first.attrs.get("sample_rate_hz"):
-            raise ValueError("datasets have different sample rates")
-        if d.sizes["time"] != first.sizes["time"] or list(d["channel"].values) != list(
-            first["channel"].values
+    names = set(label_names(first))
+    for i, d in enumerate(datasets[1:], start=1):
+        if float(d.attrs["sample_rate_hz"]) != float(first.attrs["sample_rate_hz"]):
+            raise ValueError(
+                f"dataset {i} has sample rate {d.attrs['sample_rate_hz']} Hz, "
+                f"dataset 0 has {first.attrs['sample_rate_hz']} Hz"
+            )
+        if list(d["channel"].values) != list(first["channel"].values):
+            raise ValueError(
+                f"dataset {i} has channels {list(d['channel'].values)}, "
+                f"dataset 0 has {list(first['channel'].values)}"
+            )
+        if d.sizes["time"] != first.sizes["time"] or not np.allclose(
+            d["time"].values, first["time"].values, rtol=1e-9, atol=1e-12
         ):
-            raise ValueError("datasets have different channels or numbers of samples")
+            raise ValueError(f"dataset {i} has a different time coordinate from dataset 0")
+        other = set(label_names(d))
+        if other != names:
+            raise ValueError(
+                f"dataset {i} has labels {sorted(other)}, dataset 0 has {sorted(names)}"
+            )
+    # the first dataset's time coordinate for all (they agree within rounding)
+    aligned = [d.assign_coords(time=first["time"]) for d in datasets]
     out = xr.concat(
-        datasets, dim="trial", data_vars="all", coords="different", combine_attrs="override"
+        aligned, dim="trial", data_vars="all", coords="different", compat="equals",
+        combine_attrs="override",
+        join="exact",
     )
     return out.assign_coords(trial=np.arange(out.sizes["trial"]))
 
