@@ -327,13 +327,86 @@ def _penalty(kn, pen):
 
 
 @njit(cache=True)
-def _add_weighted(S, j, w, blk, coef):
-    """Add coef * w_p w_q blk to the blocks of nodes (j, j+1) x (j, j+1)."""
-    for p in range(2):
-        for q in range(2):
+def _add_weighted(S, i0, w, blk, coef):
+    """Add coef * w_p w_q blk to the blocks of nodes (i0 .. i0+len(w)-1)^2."""
+    m = w.shape[0]
+    for p in range(m):
+        for q in range(m):
             ww = w[p] * w[q] * coef
             if ww != 0.0:
-                band_add_block(S, j + p, j + q, blk, ww)
+                band_add_block(S, i0 + p, i0 + q, blk, ww)
+
+
+@njit(cache=True)
+def _curve_weights(n, j, u):
+    """Node weights of the C1 centreline at parameter u of piece j.
+
+    The centreline of the free shaft (nodes 1..n-1) is the quadratic B-spline with
+    the nodes as control points, clamped at both ends: piece j (2 <= j <= n-2) runs
+    from the midpoint of edge (j-1, j) to that of edge (j, j+1) with node j as
+    control point; piece 1 is the straight half-edge from the base node and piece
+    n-1 the straight half-edge to the tip. Returns (w0, w1, w2, i0) for nodes i0,
+    i0+1, i0+2.
+    """
+    if j == 1:
+        return 1.0 - 0.5 * u, 0.5 * u, 0.0, 1
+    if j == n - 1:
+        return 0.0, 0.5 * (1.0 - u), 0.5 * (1.0 + u), n - 3
+    a = 1.0 - u
+    return 0.5 * a * a, 0.5 * a * a + 2.0 * u * a + 0.5 * u * u, 0.5 * u * u, j - 1
+
+
+@njit(cache=True)
+def _curve_tangent(x, n, j, u):
+    """Unit tangent (toward the tip) of the centreline at parameter u of piece j."""
+    t = np.empty(3)
+    if j == 1:
+        for c in range(3):
+            t[c] = x[2, c] - x[1, c]
+    elif j == n - 1:
+        for c in range(3):
+            t[c] = x[n - 1, c] - x[n - 2, c]
+    else:
+        for c in range(3):
+            t[c] = (1.0 - u) * (x[j, c] - x[j - 1, c]) + u * (x[j + 1, c] - x[j, c])
+    t, _ = _unit(t)
+    return t
+
+
+@njit(cache=True)
+def _closest_u(x, j, px, pz):
+    """Parameter of the point of piece j closest to (px, pz) in the x-z plane."""
+    n = x.shape[0]
+    w0, w1, w2, i0 = _curve_weights(n, j, 0.0)
+    ax = w0 * x[i0, 0] + w1 * x[i0 + 1, 0] + w2 * x[i0 + 2, 0]
+    az = w0 * x[i0, 2] + w1 * x[i0 + 1, 2] + w2 * x[i0 + 2, 2]
+    w0, w1, w2, i0 = _curve_weights(n, j, 1.0)
+    bx = w0 * x[i0, 0] + w1 * x[i0 + 1, 0] + w2 * x[i0 + 2, 0] - ax
+    bz = w0 * x[i0, 2] + w1 * x[i0 + 1, 2] + w2 * x[i0 + 2, 2] - az
+    ll = bx * bx + bz * bz
+    u = ((px - ax) * bx + (pz - az) * bz) / ll if ll > 0 else 0.0
+    u = min(1.0, max(0.0, u))
+    if j == 1 or j == n - 1:
+        return u
+    # quadratic piece: a few Newton steps on |q(u) - p|^2
+    d1x = x[j, 0] - x[j - 1, 0]
+    d1z = x[j, 2] - x[j - 1, 2]
+    d2x = x[j + 1, 0] - x[j, 0]
+    d2z = x[j + 1, 2] - x[j, 2]
+    qqx = d2x - d1x
+    qqz = d2z - d1z
+    for _ in range(4):
+        w0, w1, w2, i0 = _curve_weights(n, j, u)
+        rx = w0 * x[i0, 0] + w1 * x[i0 + 1, 0] + w2 * x[i0 + 2, 0] - px
+        rz = w0 * x[i0, 2] + w1 * x[i0 + 1, 2] + w2 * x[i0 + 2, 2] - pz
+        tx = (1.0 - u) * d1x + u * d2x
+        tz = (1.0 - u) * d1z + u * d2z
+        g = rx * tx + rz * tz
+        hh = tx * tx + tz * tz + rx * qqx + rz * qqz
+        if hh <= 0.0:
+            break
+        u = min(1.0, max(0.0, u - g / hh))
+    return u
 
 
 @njit(cache=True)
@@ -358,25 +431,26 @@ def add_pole(
     side].
     """
     n = x.shape[0]
+    # closest point on the C1 centreline (quadratic B-spline through the segment
+    # midpoints, see _curve_point): the polyline's kinks would make the distance
+    # non-smooth at nodes and Newton's method cycle there
     best = 1e300
+    best_d = 1e300
     bj = -1
     bu = 0.0
-    for j in range(1, n - 1):
-        ax = x[j, 0]
-        az = x[j, 2]
-        bx = x[j + 1, 0] - ax
-        bz = x[j + 1, 2] - az
-        px = pole[0] - ax
-        pz = pole[1] - az
-        ll = bx * bx + bz * bz
-        u = (px * bx + pz * bz) / ll if ll > 0 else 0.0
-        u = min(1.0, max(0.0, u))
-        qx = ax + u * bx - pole[0]
-        qz = az + u * bz - pole[1]
+    for j in range(1, n):
+        u = _closest_u(x, j, pole[0], pole[1])
+        w0, w1, w2, i0 = _curve_weights(n, j, u)
+        qx = w0 * x[i0, 0] + w1 * x[i0 + 1, 0] + w2 * x[i0 + 2, 0] - pole[0]
+        qz = w0 * x[i0, 2] + w1 * x[i0 + 1, 2] + w2 * x[i0 + 2, 2] - pole[1]
         dist = np.sqrt(qx * qx + qz * qz)
-        gap = dist - pole_radius - ((1.0 - u) * radius[j] + u * radius[j + 1])
-        if gap < best:
-            best = gap
+        # select by centreline distance (the point where the normal passes through
+        # the pole's axis); the taper's radius enters the gap only at that point
+        if dist < best_d:
+            best_d = dist
+            best = (
+                dist - pole_radius - (w0 * radius[i0] + w1 * radius[i0 + 1] + w2 * radius[i0 + 2])
+            )
             bj = j
             bu = u
     info[0] = 0.0
@@ -389,8 +463,12 @@ def add_pole(
         return
     j = bj
     u = bu
-    q = (1.0 - u) * x[j] + u * x[j + 1]
-    s_c = (1.0 - u) * s_rest[j] + u * s_rest[j + 1]
+    w0, w1, w2, i0 = _curve_weights(n, j, u)
+    w = np.array([w0, w1, w2])
+    q = w0 * x[i0] + w1 * x[i0 + 1] + w2 * x[i0 + 2]
+    s_c = w0 * s_rest[i0] + w1 * s_rest[i0 + 1] + w2 * s_rest[i0 + 2]
+    rad_c = w0 * radius[i0] + w1 * radius[i0 + 1] + w2 * radius[i0 + 2]
+    tw = _curve_tangent(x, n, j, u)
     info[1] = s_c
     nx = q[0] - pole[0]
     nz = q[2] - pole[1]
@@ -400,25 +478,22 @@ def add_pole(
     nvec = np.array([nx / nd, 0.0, nz / nd])
     # which side of the pole the shaft is on (sign of the offset across the segment);
     # remembered between steps so that a fast whisker cannot tunnel through the pole
-    at_tip = j == n - 2 and u >= 1.0
+    at_tip = j == n - 1 and u >= 1.0
     side_now = 0.0
     if not at_tip:
-        sx = x[j + 1, 2] - x[j, 2]
-        sz = -(x[j + 1, 0] - x[j, 0])
-        side_now = 1.0 if nx * sx + nz * sz >= 0.0 else -1.0
+        side_now = 1.0 if nx * tw[2] - nz * tw[0] >= 0.0 else -1.0
     info[11] = side_now
     pen = -best
     if anchor[4] != 0.0 and side_now != 0.0 and side_now != anchor[4]:
         # crossed to the wrong side within a step: push back out the way it came
         nvec[0] = -nvec[0]
         nvec[2] = -nvec[2]
-        pen = nd + pole_radius + (1.0 - u) * radius[j] + u * radius[j + 1]
+        pen = nd + pole_radius + rad_c
     info[3] = -pen
     fpen, kpen, dramp = _penalty(kn, pen)
     if kpen == 0.0:
         return
-    w = np.array([1.0 - u, u])
-    vq = (1.0 - u) * v[j] + u * v[j + 1]
+    vq = w0 * v[i0] + w1 * v[i0 + 1] + w2 * v[i0 + 2]
     vrel = vq - pole_v
     vn = vrel[0] * nvec[0] + vrel[2] * nvec[2]
     if fpen == 0.0:
@@ -428,7 +503,7 @@ def add_pole(
             for p in range(3):
                 for r in range(3):
                     blk[p, r] = cK * kpen * nvec[p] * nvec[r]
-            _add_weighted(S, j, w, blk, 1.0)
+            _add_weighted(S, i0, w, blk, 1.0)
         return
     ramp = kpen / kn  # damping ramps in with the penalty (no force jump at touch)
     damp = -cn * ramp * vn if vn < 0.0 else 0.0
@@ -437,7 +512,6 @@ def add_pole(
     if fn < 0.0:
         fn = 0.0
     # tangential directions: along the whisker (in contact plane) and along the pole (y)
-    tw, _ = _unit(x[j + 1] - x[j])
     tn = tw[0] * nvec[0] + tw[2] * nvec[2]
     for c in range(3):
         tw[c] -= tn * nvec[c]
@@ -482,8 +556,9 @@ def add_pole(
         fvec[c] = fn * nvec[c] + ft_s * tw[c]
     fvec[1] += ft_y
     for c in range(3):
-        F[j, c] += w[0] * fvec[c]
-        F[j + 1, c] += w[1] * fvec[c]
+        F[i0, c] += w0 * fvec[c]
+        F[i0 + 1, c] += w1 * fvec[c]
+        F[i0 + 2, c] += w2 * fvec[c]
     info[0] = fn
     info[2] = 1.0 if slipping else 0.0
     info[4] = s_c + rel_s  # re-anchored at the current pole angle, same elastic slip
@@ -511,7 +586,7 @@ def add_pole(
                 )
                 if vn < 0.0:
                     blk[p, r] += cD * cn * ramp * nvec[p] * nvec[r]
-        _add_weighted(S, j, w, blk, 1.0)
+        _add_weighted(S, i0, w, blk, 1.0)
 
 
 @njit(cache=True)
