@@ -133,3 +133,10 @@ def test_foreign_file_without_checksum_is_accepted(tmp_path) -> None:
     ds.drop_vars("texture").to_netcdf(p3, engine="scipy")
     back = load_dataset(p3)
     np.testing.assert_array_equal(back["signal"].values, ds["signal"].values)
+
+
+def test_error_pickles() -> None:
+    import pickle
+
+    err = pickle.loads(pickle.dumps(DatasetFileError("/a/b.nc", "bad")))
+    assert str(err) == "/a/b.nc: bad" and err.problem == "bad"

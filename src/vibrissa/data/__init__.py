@@ -3,6 +3,7 @@
 from vibrissa.data.dataset import (
     KNOWN_LABELS,
     as_arrays,
+    attr_value,
     concat_datasets,
     label_names,
     make_dataset,
@@ -10,16 +11,27 @@ from vibrissa.data.dataset import (
     validate_dataset,
     whisker_params,
 )
+from vibrissa.data.importers import (
+    ImportMapping,
+    import_file,
+    import_recording,
+    load_mapping,
+)
 from vibrissa.data.netcdf import DatasetFileError, checksum, load_dataset, save_dataset
 
 __all__ = [
     "KNOWN_LABELS",
     "DatasetFileError",
+    "ImportMapping",
     "as_arrays",
+    "attr_value",
     "checksum",
     "concat_datasets",
+    "import_file",
+    "import_recording",
     "label_names",
     "load_dataset",
+    "load_mapping",
     "make_dataset",
     "save_dataset",
     "select",

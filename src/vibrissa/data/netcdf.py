@@ -37,6 +37,9 @@ class DatasetFileError(ValueError):
         self.problem = problem
         super().__init__(f"{self.path}: {problem}")
 
+    def __reduce__(self) -> tuple[type, tuple[Path, str]]:
+        return (type(self), (self.path, self.problem))
+
 
 _HDF5_MAGIC = b"\x89HDF\r\n\x1a\n"
 
