@@ -998,6 +998,7 @@ def _import_csv(path: Path, mapping: ImportMapping) -> dict[str, Any]:
     for u in order:
         rows = np.flatnonzero(inverse == u)
         tid = trial_ids[rows[0]]
+        tid = tid.item() if isinstance(tid, np.generic) else tid
         nm = f"trial {tid!r} of {path.name}"
         if times is not None:
             rows = rows[np.argsort(times[rows], kind="stable")]
