@@ -451,3 +451,27 @@ def test_parse_range_and_axis_option() -> None:
     assert parse_axis_option("trial") == {"name": "trial"}
     with pytest.raises(ValueError, match="--axis"):
         parse_axis_option("=1,2")
+
+
+def test_matlab_numeric_array_with_trials_last(tmp_path) -> None:
+    # samples x channels x trials, as MATLAB users often store recordings
+    data = np.stack([cell_recording(0, 0, k, n=40) for k in range(3)], axis=-1)
+    assert data.shape == (40, 2, 3)
+    mapping = {"signal": "data", "sample_rate_hz": 1000, "trial_axes": "last",
+               "cell_axes": [{"name": "radial_distance_mm", "values": [80.0, 90.0, 100.0]}]}
+    p5 = tmp_path / "v5.mat"
+    scipy.io.savemat(p5, {"data": data})
+    p73 = write_mat73(tmp_path / "v73.mat", {"data": data})
+    for path in (p5, p73):
+        ds = import_recording(path, mapping)
+        assert ds.sizes == {"trial": 3, "channel": 2, "time": 40}
+        np.testing.assert_array_equal(ds["signal"].values[2], cell_recording(0, 0, 2, n=40).T)
+        assert ds["radial_distance_mm"].values[2] == 100.0
+    data[5, 1, 2] = np.inf
+    scipy.io.savemat(p5, {"data": data})
+    with pytest.raises(ValueError, match=r"data\(:,:,3\) contains 1 NaN or infinite"):
+        import_recording(p5, mapping)
+    csv = tmp_path / "x.csv"
+    csv.write_text("trial,x\n0,1\n")
+    with pytest.raises(ValueError, match="do not apply to csv"):
+        import_recording(csv, {"trial_axes": "last", "sample_rate_hz": 1})

@@ -29,6 +29,7 @@ _IMPORT_HELP = "\n\n".join(
         "cell_axes: one per cell dimension (or leading array dimension), MATLAB order, each "
         "with values, start/stop/num, start/step/stop or from (a variable);\n"
         "time_axis: 0 = samples x channels (default), 1 = channels x samples;\n"
+        "trial_axes: first (default) | last, for numeric arrays (samples x channels x trials);\n"
         "channels; sample_rate_hz (number or variable); t0_s; units; attrs;\n"
         "labels: label -> variable or CSV column; constants: label -> value;\n"
         "ragged: error | crop (to the shortest); empty: error | skip;\n"
@@ -132,6 +133,10 @@ def register(app: typer.Typer) -> None:
             False, "--crop", help="Crop recordings of unequal length to the shortest."
         ),
         skip_empty: bool = typer.Option(False, "--skip-empty", help="Leave out empty cells."),
+        trials_last: bool = typer.Option(
+            False, "--trials-last",
+            help="Numeric arrays: trial axes come last (e.g. samples x channels x trials).",
+        ),
         t0_s: float | None = typer.Option(
             None, "--t0-s", help="Time of the first sample relative to alignment (s)."
         ),
@@ -159,6 +164,8 @@ def register(app: typer.Typer) -> None:
             raw["ragged"] = "crop"
         if skip_empty:
             raw["empty"] = "skip"
+        if trials_last:
+            raw["trial_axes"] = "last"
         if t0_s is not None:
             raw["t0_s"] = t0_s
         ds = import_file(source, load_mapping(raw), out, format=fmt)

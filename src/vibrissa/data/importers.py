@@ -68,6 +68,10 @@ Mapping keys
     Default: ``[{"name": "trial"}]`` (a 1-D cell array, or the first axis of a
     numeric array). **Trial order** is C order over the trial axes: the last
     axis varies fastest (for ``data_XY``: set, then speed, then radius).
+``trial_axes`` (numeric mat/npz arrays)
+    ``"first"`` (default): the trial axes lead, e.g. trials x samples x
+    channels; ``"last"``: they trail, as MATLAB users often store them, e.g. a
+    750 x 2 x N array of N recordings (samples x channels x trials).
 ``time_axis`` (mat, npz)
     Which axis of one recording is time: ``0`` (default; MATLAB's samples x
     channels) or ``1`` (channels x samples, vibrissa's own layout). A 1-D
@@ -174,7 +178,7 @@ _COMMON_KEYS = {
     "format", "sample_rate_hz", "channels", "labels", "constants", "ragged", "empty", "t0_s",
     "units", "attrs",
 }
-_ARRAY_KEYS = {"signal", "cell_axes", "time_axis"}
+_ARRAY_KEYS = {"signal", "cell_axes", "time_axis", "trial_axes"}
 _CSV_KEYS = {"layout", "trial_column", "time_column"}
 _UNSET = object()
 #: Labels that count things: integer-valued ranges of these stay integers.
@@ -204,6 +208,7 @@ class ImportMapping:
     t0_s: float = 0.0
     units: str = "V"
     attrs: dict[str, Any] = field(default_factory=dict)
+    trial_axes: str = "first"
     layout: str = "long"
     trial_column: str = "trial"
     time_column: Any = _UNSET  # _UNSET: "time" if present; None: no time column
@@ -358,7 +363,7 @@ def load_mapping(source: Mapping[str, Any] | str | os.PathLike[str] | None) -> I
             )
         kw["constants"] = dict(consts)
     for key, choices in (("ragged", ("error", "crop")), ("empty", ("error", "skip")),
-                         ("layout", ("long", "wide"))):
+                         ("layout", ("long", "wide")), ("trial_axes", ("first", "last"))):
         if key in raw:
             if raw[key] not in choices:
                 raise ValueError(
@@ -450,11 +455,25 @@ def parse_range(text: str) -> list[Any]:
 
 
 def parse_axis_option(text: str) -> dict[str, Any]:
-    """One ``cell_axes`` entry from ``NAME``, ``NAME=SPEC`` or ``NAME=@VARIABLE``.
+    """One ``cell_axes`` entry from a command-line ``--axis`` value.
 
-    ``SPEC`` is read by :func:`parse_range`; ``@VARIABLE`` takes the values from
-    a variable of the source file; a bare ``NAME`` gives index labels (or none
-    for ``trial``).
+    Parameters
+    ----------
+    text
+        ``NAME=SPEC`` (``SPEC`` read by :func:`parse_range`; integer-valued
+        ranges of ``set``/``run``/``order``/``direction`` give integers),
+        ``NAME=@VARIABLE`` (values from a variable of the source file) or a bare
+        ``NAME`` (index labels, or none for ``trial``).
+
+    Returns
+    -------
+    dict
+        The mapping entry, e.g. ``{"name": "set", "values": [1, 2, 3, 4]}``.
+
+    Raises
+    ------
+    ValueError
+        Naming the option if the name is empty or the values malformed.
     """
     name, sep, spec = text.partition("=")
     name = name.strip()
@@ -815,6 +834,18 @@ def _file_sha256(path: Path) -> str:
 def detect_format(path: str | os.PathLike[str], fmt: str | None = None) -> str:
     """The format of ``path``: ``fmt`` if given (not ``"auto"``), else from the extension.
 
+    Parameters
+    ----------
+    path
+        The source file (``.mat``, ``.csv``/``.txt``, ``.npz``).
+    fmt
+        ``"mat"``, ``"csv"``, ``"npz"``, ``"auto"`` or ``None``.
+
+    Returns
+    -------
+    str
+        One of :data:`FORMATS`.
+
     Raises
     ------
     ValueError
@@ -880,11 +911,17 @@ def _import_array(source: _Source, mapping: ImportMapping) -> dict[str, Any]:
                 f"{'is' if k == 1 else 'es'} in cell_axes ({[a['name'] for a in axes]}) each "
                 f"recording would have {rec_ndim} dimensions, not 1 (time) or 2 (time, channel)"
             )
-        grid = arr.shape[:k]
+        last = mapping.trial_axes == "last"
+        grid = arr.shape[rec_ndim:] if last else arr.shape[:k]
+        matlab = source.kind.startswith("mat")
+        colons = [":"] * rec_ndim
         cells, names, grid_idx = [], [], []
         for idx in np.ndindex(grid):
-            cells.append(arr[idx])
-            names.append(f"{name}[{', '.join(map(str, idx))}]")
+            full = (*[slice(None)] * rec_ndim, *idx) if last else idx
+            cells.append(arr[full])
+            pos = [str(i + 1) if matlab else str(i) for i in idx]
+            parts = [*colons, *pos] if last else [*pos, *colons]
+            names.append(f"{name}({','.join(parts)})" if matlab else f"{name}[{', '.join(parts)}]")
             grid_idx.append(idx)
     # values of every trial axis, checked against the grid
     kind = "cell array" if is_cell else "array"
@@ -1193,6 +1230,18 @@ def import_file(
 
     The output is written atomically (:func:`vibrissa.data.save_dataset`); an
     existing ``out`` is replaced only when the import succeeded.
+
+    Parameters
+    ----------
+    source, mapping, format
+        As for :func:`import_recording`.
+    out
+        The dataset file to write (its directory is created if needed).
+
+    Returns
+    -------
+    xarray.Dataset
+        The dataset written.
 
     Raises
     ------
