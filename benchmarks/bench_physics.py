@@ -31,8 +31,15 @@ N_ELEMENTS = (24, 48)
 DEFAULT_OUT = Path(__file__).resolve().parent / "results" / "physics.json"
 
 _ROW_KEYS = (
-    "dt_s", "n_elements", "real_time_factor", "wall_seconds", "wall_seconds_all",
-    "cpu_seconds", "n_steps", "peak_follicle_moment_nm", "peak_hall_x_v",
+    "dt_s",
+    "n_elements",
+    "real_time_factor",
+    "wall_seconds",
+    "wall_seconds_all",
+    "cpu_seconds",
+    "n_steps",
+    "peak_follicle_moment_nm",
+    "peak_hall_x_v",
 )
 
 
@@ -86,10 +93,15 @@ def run(repeats: int = 3) -> dict[str, Any]:
 def main(argv: list[str] | None = None) -> int:
     """Command-line entry point; returns the exit status."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT,
-                        help=f"JSON file to write (default {DEFAULT_OUT}).")
-    parser.add_argument("--repeats", type=int, default=3,
-                        help="Timed runs per configuration; the fastest counts (default 3).")
+    parser.add_argument(
+        "--out", type=Path, default=DEFAULT_OUT, help=f"JSON file to write (default {DEFAULT_OUT})."
+    )
+    parser.add_argument(
+        "--repeats",
+        type=int,
+        default=3,
+        help="Timed runs per configuration; the fastest counts (default 3).",
+    )
     args = parser.parse_args(argv)
     if args.repeats < 1:
         parser.error("--repeats must be at least 1")

@@ -72,7 +72,7 @@ def _read_shard(path: Path, expected: np.ndarray) -> dict[str, np.ndarray] | Non
     try:
         with np.load(path) as z:
             data = {k: z[k] for k in z.files}
-    except (OSError, ValueError, EOFError):
+    except Exception:  # noqa: BLE001 - any unreadable shard (truncated zip, ...) is redone
         return None
     if "index" not in data or not np.array_equal(data["index"], expected):
         return None
@@ -134,7 +134,7 @@ def _dask_results(
 ) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
     from dask.distributed import Client, as_completed
 
-    with Client(scheduler, set_as_default=False) as client:
+    with Client(scheduler) as client:
         futs = client.map(_run_chunk, [protocol] * len(todo), [idx for _, idx in todo], pure=False)
         keys = {f.key: k for f, (k, _) in zip(futs, todo, strict=True)}
         for fut in as_completed(futs):

@@ -1,0 +1,172 @@
+"""Dataset generation: thesis phenomena, determinism, resumption, Dask, bad input."""
+
+import hashlib
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from vibrissa.cli import app
+from vibrissa.data import load_dataset
+from vibrissa.experiments.generate import GenerationError, generate, parts_dir
+from vibrissa.experiments.protocols import get_protocol
+from vibrissa.signal import contact_duration
+
+RADII = (90.0, 110.0, 130.0, 150.0, 170.0)
+SPEEDS = (40.0, 100.0, 160.0, 216.0)
+
+
+def small(seed=0, **kw):
+    base = dict(
+        radial_distances_mm=(100.0, 150.0),
+        speeds_mm_s=(60.0, 180.0),
+        runs=1,
+        directions=(1, -1),
+        seed=seed,
+    )
+    base.update(kw)
+    return get_protocol("radial-distance", **base)
+
+
+@pytest.fixture(scope="module")
+def phenomena(tmp_path_factory):
+    p = get_protocol(
+        "radial-distance", radial_distances_mm=RADII, speeds_mm_s=SPEEDS, runs=1, directions=(1,)
+    )
+    ds = generate(p, tmp_path_factory.mktemp("g") / "ph.nc", workers=1)
+    X = ds["signal"].values[:, 0]
+    r = ds["radial_distance_mm"].values
+    v = ds["speed_mm_s"].values
+    peak = np.abs(X - 2.5).max(axis=1)
+    dur = contact_duration(X, sample_rate_hz=1000, mode="peak")
+    table = {(ri, vi): (pk, du) for ri, vi, pk, du in zip(r, v, peak, dur, strict=True)}
+    return table
+
+
+def test_peak_falls_with_radial_distance_at_fixed_speed(phenomena):
+    for v in SPEEDS:
+        peaks = [phenomena[(r, v)][0] for r in RADII]
+        assert all(a > b for a, b in zip(peaks, peaks[1:], strict=False)), (v, peaks)
+
+
+def test_contact_duration_grows_with_speed_at_fixed_radius(phenomena):
+    # the object keeps advancing for the fixed loop latency: faster -> deeper -> longer
+    for r in (90.0, 110.0, 130.0):
+        d = [phenomena[(r, v)][1] for v in SPEEDS]
+        assert d[-1] > d[0], (r, d)
+        assert all(b >= a - 0.01 for a, b in zip(d, d[1:], strict=False)), (r, d)
+
+
+def test_different_contacts_give_equal_peaks(phenomena):
+    # figure 3.7: a near contact at low speed looks like a far contact at high speed
+    pairs = [
+        (a, b)
+        for a in phenomena
+        for b in phenomena
+        if a[0] < b[0]
+        and a[1] < b[1]
+        and abs(phenomena[a][0] - phenomena[b][0]) < 0.05 * phenomena[a][0]
+    ]
+    assert pairs, "no (radial distance, speed) pair with equal peak deflection"
+
+
+def test_same_seed_same_bytes_and_other_seed_differs(tmp_path):
+    a = generate(small(), tmp_path / "a.nc", workers=1)
+    b = generate(small(), tmp_path / "b.nc", workers=2, chunk_size=1)
+    assert a["signal"].values.tobytes() == b["signal"].values.tobytes()
+    c = generate(small(seed=1), tmp_path / "c.nc", workers=1)
+    assert not np.array_equal(a["signal"].values, c["signal"].values)
+    loaded = load_dataset(tmp_path / "a.nc")
+    assert loaded["signal"].values.tobytes() == a["signal"].values.tobytes()
+    assert set(loaded["set"].values) == {1, 2}
+    assert loaded.attrs["sample_rate_hz"] == 1000.0
+
+
+def test_interrupted_generation_resumes_to_identical_signals(tmp_path):
+    ref = generate(small(), tmp_path / "ref.nc", workers=1)
+    out = tmp_path / "out.nc"
+    assert generate(small(), out, workers=1, chunk_size=1, max_chunks=3) is None
+    assert not out.exists()
+    shards = sorted(parts_dir(out).glob("chunk-*.npz"))
+    assert len(shards) == 3
+    before = {s.name: s.stat().st_mtime_ns for s in shards}
+    # a shard truncated by the interruption is detected and redone
+    shards[-1].write_bytes(shards[-1].read_bytes()[:100])
+    seen = []
+    ds = generate(small(), out, workers=1, chunk_size=1, progress=lambda d, t: seen.append(d))
+    assert seen[0] == 2  # two intact shards reused, nothing lost
+    assert ds["signal"].values.tobytes() == ref["signal"].values.tobytes()
+    assert not parts_dir(out).exists()
+    assert before  # finished shards were not recomputed: checked via the progress count
+
+
+def test_leftover_shards_of_another_protocol_are_refused(tmp_path):
+    out = tmp_path / "x.nc"
+    generate(small(), out, workers=1, chunk_size=1, max_chunks=1)
+    with pytest.raises(GenerationError, match="different protocol"):
+        generate(small(seed=5), out, workers=1, chunk_size=1)
+    ds = generate(small(seed=5), out, workers=1, chunk_size=1, restart=True)
+    assert ds.attrs["seed"] == 5
+
+
+def test_dask_cluster_gives_identical_output(tmp_path):
+    distributed = pytest.importorskip("dask.distributed")
+    ref = generate(small(), tmp_path / "ref.nc", workers=1)
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster:
+        ds = generate(
+            small(), tmp_path / "dask.nc", scheduler=cluster.scheduler_address, chunk_size=1
+        )
+    assert ds["signal"].values.tobytes() == ref["signal"].values.tobytes()
+
+
+def sha(path):
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+@pytest.mark.parametrize(
+    ("args", "word"),
+    [
+        (["radial-distance", "--radial-distances", "80:200:20"], "radial_distance_mm"),
+        (["radial-distance", "--speeds", "36:900:100"], "speed_mm_s"),
+        (["angle-texture", "--angles", "10,95"], "angle_deg"),
+        (["angle-texture", "--textures", "p80,velvet"], "texture"),
+        (["no-such-protocol"], "protocol"),
+        (["radial-distance", "--speeds", "fast"], "speeds"),
+    ],
+)
+def test_cli_bad_input_is_one_clear_line_and_leaves_files_alone(tmp_path, args, word):
+    out = tmp_path / "existing.nc"
+    out.write_bytes(b"precious")
+    before = sha(out)
+    res = CliRunner().invoke(app, ["generate", *args, "--out", str(out)])
+    assert res.exit_code == 2
+    assert word in res.output
+    assert sha(out) == before
+    assert not parts_dir(out).exists()
+
+
+def test_cli_quick_generation(tmp_path):
+    out = tmp_path / "q.nc"
+    res = CliRunner().invoke(
+        app,
+        [
+            "generate",
+            "radial-distance",
+            "--radial-distances",
+            "100,150",
+            "--speeds",
+            "60,180",
+            "--runs",
+            "1",
+            "--out",
+            str(out),
+            "--json",
+            "--workers",
+            "1",
+        ],
+    )
+    assert res.exit_code == 0, res.output
+    assert '"n_trials": 8' in res.output
+    assert load_dataset(out).sizes["trial"] == 8

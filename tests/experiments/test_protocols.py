@@ -1,0 +1,81 @@
+"""Protocol grids, trial lists and their validation."""
+
+import pytest
+
+from vibrissa.experiments.protocols import get_protocol, parse_grid
+
+
+def test_thesis_grids():
+    p4 = get_protocol("radial-distance")
+    assert len(p4.radial_distances_mm) == 101 and len(p4.speeds_mm_s) == 26
+    assert p4.radial_distances_mm[0] == 80 and p4.radial_distances_mm[-1] == 180
+    assert p4.speeds_mm_s[0] == 36 and p4.speeds_mm_s[-1] == 216
+    assert p4.n_trials == 10504
+    assert p4.sample_rate_hz == 1000 and p4.window_s == (0.325, 0.325)
+    p5 = get_protocol("angle-texture")
+    assert p5.angles_deg == (10, 20, 30, 40, 50, 60, 70, 80)
+    assert len(p5.speeds_mm_s) == 11 and p5.speeds_mm_s[0] == 6 and p5.speeds_mm_s[-1] == 106
+    assert p5.textures == ("aluminium", "p600", "p180", "p80")
+    assert p5.n_trials == 8 * 11 * 4 * 4 and p5.sample_rate_hz == 4000
+
+
+def test_trials_cover_the_grid_in_four_sets_with_interleaved_order():
+    p = get_protocol("radial-distance", quick=True)
+    trials = p.trials()
+    assert len(trials) == p.n_trials == 80
+    assert sorted({t.set for t in trials}) == [1, 2, 3, 4]
+    per_set = [[tuple(t.labels.values()) for t in trials if t.set == s] for s in (1, 2, 3, 4)]
+    assert all(ps == per_set[0] for ps in per_set)  # every set is a complete grid
+    orders = [t.order for t in trials]
+    assert sorted(orders) == list(range(80))  # each session slot used once
+    assert orders != sorted(orders)  # randomly interleaved
+    assert {t.direction for t in trials if t.set in (1, 3)} == {1}
+
+
+def test_parse_grid():
+    assert parse_grid("80:180:20") == (80, 100, 120, 140, 160, 180)
+    assert parse_grid("36:216:#26")[1] == pytest.approx(43.2)
+    assert parse_grid("1, 2,3") == (1, 2, 3)
+    for bad in ["", "1:2", "a,b", "5:1:1", "0:1:0", "1:2:#0"]:
+        with pytest.raises(ValueError, match="grid|parse|empty"):
+            parse_grid(bad)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"radial_distances_mm": (80.0, 190.0)}, "radial_distance_mm"),
+        ({"speeds_mm_s": (36.0, 800.0)}, "speed_mm_s"),
+        ({"speeds_mm_s": ()}, "speed"),
+        ({"runs": 0}, "runs"),
+        ({"directions": (2,)}, "directions"),
+    ],
+)
+def test_bad_radial_distance_protocols(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        get_protocol("radial-distance", **kwargs)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"angles_deg": (10.0, 95.0)}, "angle_deg"),
+        ({"angles_deg": (0.0,)}, "point contacts"),
+        ({"textures": ("p120",)}, "texture"),
+    ],
+)
+def test_bad_angle_texture_protocols(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        get_protocol("angle-texture", **kwargs)
+
+
+def test_unknown_protocol():
+    with pytest.raises(ValueError, match="radial-distance"):
+        get_protocol("texture-only")
+
+
+def test_fingerprint_tracks_every_parameter():
+    a = get_protocol("radial-distance", quick=True)
+    assert a.fingerprint() == get_protocol("radial-distance", quick=True).fingerprint()
+    assert a.fingerprint() != get_protocol("radial-distance", quick=True, seed=2).fingerprint()
+    assert a.fingerprint() != a.with_overrides(noise_v=0.01).fingerprint()
