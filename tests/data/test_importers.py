@@ -8,7 +8,7 @@ import os
 import numpy as np
 import pytest
 import scipy.io
-from conftest import (
+from data_recordings import (
     N_SAMPLES,
     RADII,
     SETS,

@@ -719,9 +719,13 @@ def _matlab_index(idx: tuple[int, ...]) -> str:
 
 
 def _numeric_recording(
-    x: Any, what: str, time_axis: int
+    x: Any, what: str, time_axis: int, matlab_vectors: bool = False
 ) -> np.ndarray:
-    """One recording as a float array (n_channels, n_samples)."""
+    """One recording as a float array (n_channels, n_samples).
+
+    With ``matlab_vectors``, a 1 x N cell content (MATLAB row vector) is one
+    channel of N samples even when time is axis 0.
+    """
     arr = np.asarray(x)
     if arr.dtype == object or arr.dtype.kind in "USVb" or arr.dtype.names is not None:
         kind = {"U": "text", "S": "text", "O": "cells/structs", "b": "logical values"}.get(
@@ -732,7 +736,7 @@ def _numeric_recording(
         raise ValueError(f"{what} holds complex numbers, not real numbers")
     if arr.dtype.kind not in "iuf":
         raise ValueError(f"{what} holds {arr.dtype}, not numbers")
-    if arr.ndim == 2 and 1 in arr.shape and arr.size > 1 and time_axis in (0, -2):
+    if matlab_vectors and arr.ndim == 2 and arr.shape[0] == 1 and time_axis in (0, -2):
         # MATLAB vectors are 2-D: a 1 x N row is one channel of N samples
         arr = arr.reshape(-1, 1)
     if arr.ndim == 1:
@@ -940,7 +944,7 @@ def _import_array(source: _Source, mapping: ImportMapping) -> dict[str, Any]:
             raise ValueError(
                 f"{nm} is empty; set \"empty\": \"skip\" (--skip-empty) to leave it out"
             )
-        recs.append(_numeric_recording(c, nm, mapping.time_axis))
+        recs.append(_numeric_recording(c, nm, mapping.time_axis, matlab_vectors=is_cell))
         rec_names.append(nm)
         kept_idx.append(gi)
         keep_mask.append(True)
