@@ -32,6 +32,7 @@ GRID = {
     "feature": {"degree": [2, 3]},
     "naive_bayes_raw": {"n_bins": [20, 50]},
     "naive_bayes_velocity": {"smoothing_sigma": [0.0, 2.0]},
+    "naive_bayes_velocity_robust": {"smoothing_sigma": [0.0, 2.0]},
 }
 SMALL_GRID = {
     "youngs_modulus_gpa": [1.5, 2.35],

@@ -140,8 +140,11 @@ class Protocol:
         Sensor noise, resolution and bandwidth.
     drift_fraction
         Relative change of the whisker's Young's modulus and follicle stiffness from
-        the first to the last trial of a session (0 = no drift; e.g. -0.05 for a
-        whisker softening by 5 % over the session).
+        the first to the last trial of a session (0 = no drift). Default -0.05: the
+        whisker softens by 5 % over a session; thesis 4.5 attributes its fitted,
+        lower Young's modulus to "a softening over time through extended use", and
+        4.2 interleaves the contacts randomly "to limit any affects of changing
+        whisker properties".
     stage
         The robot and its MI controller.
     seed
@@ -164,7 +167,7 @@ class Protocol:
     noise_v: float = 0.002
     adc_bits: int = 12
     bandwidth_hz: float | None = 2000.0
-    drift_fraction: float = 0.0
+    drift_fraction: float = -0.05
     stage: XYStage = field(default_factory=XYStage)
     seed: int = 0
 

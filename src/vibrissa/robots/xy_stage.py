@@ -17,9 +17,11 @@ Modelled here:
 * **Loop latency**: the controller polls the sensor once per duty cycle and the
   command takes effect after a fixed pipeline delay. The threshold crossing is
   therefore seen at a uniformly distributed phase of the duty cycle: latency =
-  ``latency_s - duty_cycle_s / 2 + U(0, duty_cycle_s)`` (default 300 ms +/- 20 ms,
-  i.e. a 40 ms MATLAB/RS-232 duty cycle). This jitter is the main source of
-  trial-to-trial variability in contact duration, as on the real robot.
+  ``latency_s - duty_cycle_s / 2 + U(0, duty_cycle_s)`` (default 300 ms +/- 50 ms:
+  a 100 ms duty cycle of the MATLAB loop polling the sensor, BRAHMS and the RS-232
+  link to the RCX222 controller; the thesis gives only "~300 ms ... due to the
+  controller duty cycle", 3.3.2). This jitter is the main source of trial-to-trial
+  variability in contact duration, as on the real robot.
 * **Recording**: the Hall sensor is sampled at the protocol's rate; each trial is
   aligned to its peak deflection and cut to a window around it (+/-325 ms in
   chapter 4, +/-750 ms in chapter 5). The whisker rests before contact, so any part
@@ -63,7 +65,7 @@ class LatencyModel:
     """Controller loop latency: mean plus a uniform jitter over one duty cycle (s)."""
 
     latency_s: float = 0.300
-    duty_cycle_s: float = 0.040
+    duty_cycle_s: float = 0.100
 
     def __post_init__(self) -> None:
         positive("latency_s", self.latency_s)
