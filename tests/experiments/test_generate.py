@@ -50,11 +50,15 @@ def test_peak_falls_with_radial_distance_at_fixed_speed(phenomena):
 
 
 def test_contact_duration_grows_with_speed_at_fixed_radius(phenomena):
-    # the object keeps advancing for the fixed loop latency: faster -> deeper -> longer
+    # the object keeps advancing for the loop latency (300 +/- 50 ms, jittered per
+    # trial): faster -> deeper -> longer. One trial per point, so compare the ends of
+    # the speed range and the pooled trend rather than every neighbour.
+    slopes = []
     for r in (90.0, 110.0, 130.0):
-        d = [phenomena[(r, v)][1] for v in SPEEDS]
-        assert d[-1] > d[0], (r, d)
-        assert all(b >= a - 0.01 for a, b in zip(d, d[1:], strict=False)), (r, d)
+        d = np.array([phenomena[(r, v)][1] for v in SPEEDS])
+        assert d[-1] - d[0] > 0.1, (r, d)
+        slopes.append(np.polyfit(SPEEDS, d, 1)[0])
+    assert min(slopes) > 0
 
 
 def test_different_contacts_give_equal_peaks(phenomena):
