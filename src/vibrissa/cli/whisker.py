@@ -216,32 +216,10 @@ def _check_at_mm(at_mm: float, geometry: Any) -> float:
 
 
 def hall_gain(geometry: Any, n_elements: int) -> tuple[float, int]:
-    """Calibrated Hall gain (V per unit tangent) and the element count it came from.
-
-    :func:`vibrissa.whisker.hall.calibrated_gain` pushes the whisker through the
-    calibration deflection; for some element counts that push fails to converge
-    (e.g. the xy-robot whisker with 24, 32, 40 or 48 elements: the contact lands
-    exactly on a node at 57 mm). Then the gain of the nearest working
-    discretisation (the default one first, then n +/- 1, n +/- 2) is used: it
-    differs by well under 0.1 %.
-
-    Raises
-    ------
-    vibrissa.whisker.rod.SimulationError
-        If no discretisation tried calibrates.
-    """
+    """Calibrated Hall gain (V per unit tangent) and the element count it came from."""
     from vibrissa.whisker.hall import calibrated_gain
-    from vibrissa.whisker.rod import DEFAULT_N_ELEMENTS, SimulationError
 
-    tried = [n_elements, DEFAULT_N_ELEMENTS, n_elements + 1, n_elements - 1,
-             n_elements + 2, n_elements - 2]
-    err: SimulationError | None = None
-    for n in dict.fromkeys(k for k in tried if 4 <= k <= 400):
-        try:
-            return calibrated_gain(geometry, n), n
-        except SimulationError as exc:
-            err = exc
-    raise SimulationError(f"Hall calibration push failed: {err}")
+    return calibrated_gain(geometry, n_elements), n_elements
 
 
 def _sensor(model: Any) -> Any:
