@@ -16,7 +16,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from vibrissa._validate import finite, in_range, positive
+from vibrissa._validate import in_range, positive
 
 __all__ = ["PRESETS", "WhiskerGeometry", "preset", "preset_names"]
 
@@ -37,8 +37,9 @@ class WhiskerGeometry:
         Density of the shaft material, kg/m^3.
     damping_ratio
         Damping ratio of the mounted whisker's first bending mode, dimensionless in
-        [0, 1). It is realised mostly by the rubber follicle's rotational damper
-        (see ``docs/physics.md``).
+        [0, 0.5]. It is realised mostly by the rubber follicle's rotational damper
+        (see ``docs/physics.md``); values below the shaft's own material damping
+        leave the follicle undamped.
     material_damping_ratio
         Damping ratio of the shaft material at 100 Hz (stiffness-proportional, so it
         grows with frequency); ABS and cured acrylate resins have loss factors of
@@ -86,12 +87,13 @@ class WhiskerGeometry:
             )
         positive("youngs_modulus_gpa", self.youngs_modulus_gpa)
         positive("density_kg_m3", self.density_kg_m3)
-        in_range("damping_ratio", self.damping_ratio, 0.0, 0.99)
+        # above ~0.5 the first mode of a compliant-follicle whisker becomes
+        # overdamped and "the first mode's damping ratio" stops being a dial
+        in_range("damping_ratio", self.damping_ratio, 0.0, 0.5)
         in_range("material_damping_ratio", self.material_damping_ratio, 0.0, 0.5)
         positive("follicle_stiffness_nm_per_rad", self.follicle_stiffness_nm_per_rad)
         positive("follicle_depth_mm", self.follicle_depth_mm)
         positive("follicle_inertia_kg_m2", self.follicle_inertia_kg_m2)
-        finite("length_mm", self.length_mm)
 
     # --- derived quantities (SI) ---------------------------------------------
     @property
