@@ -30,13 +30,18 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--workers", type=int, default=None)
     ap.add_argument("--out", default="benchmarks/results/generation.json")
+    ap.add_argument("--keep", default=None,
+                    help="directory to keep the dataset in, named as `vibrissa reproduce` "
+                    "caches it (e.g. vibrissa-out/radial-distance/data)")
     args = ap.parse_args()
     proto = get_protocol(args.protocol, quick=args.quick)
     with tempfile.TemporaryDirectory() as tmp:
+        where = Path(args.keep) if args.keep else Path(tmp)
+        path = where / f"{proto.name}-{proto.fingerprint()}.nc"
         t0 = time.perf_counter()
-        ds = generate(proto, Path(tmp) / "bench.nc", workers=args.workers)
+        ds = generate(proto, path, workers=args.workers, restart=True)
         wall = time.perf_counter() - t0
-        size = (Path(tmp) / "bench.nc").stat().st_size
+        size = path.stat().st_size
     self_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     child_mb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
     record = {
