@@ -116,7 +116,7 @@ def physics_benchmark(
     dt_s: float = STANDARD["dt_s"],
     n_elements: int | None = None,
     duration_s: float = STANDARD["duration_s"],
-    repeats: int = 3,
+    repeats: int = 5,
     measure_memory: bool = True,
 ) -> dict[str, Any]:
     """Time the standard pole-contact trial and return its real-time factor.
@@ -260,7 +260,7 @@ def physics_cmd(
     ] = None,
     repeats: Annotated[
         int, typer.Option("--repeats", help="Timed trials; the fastest counts.")
-    ] = 3,
+    ] = 5,
     duration_s: Annotated[
         float,
         typer.Option("--duration-s", hidden=True, help="Simulated time (s); 1.5 is standard."),
@@ -284,16 +284,24 @@ def physics_cmd(
 
     con = Console(highlight=False, soft_wrap=True)
     con.print(f"[bold]physics benchmark[/bold]: {out['scenario']}")
-    con.print(f"  {out['n_elements']} elements, dt = {out['dt_s'] * 1e3:g} ms, "
-              f"{out['n_steps']} steps, {out['n_samples']} samples")
-    con.print(f"  real-time factor [bold]{out['real_time_factor']:.1f}[/bold] "
-              f"({out['duration_s']:g} s simulated in {out['wall_seconds']:.3f} s wall, "
-              f"{out['cpu_seconds']:.3f} s CPU; best of {out['repeats']})")
+    con.print(
+        f"  {out['n_elements']} elements, dt = {out['dt_s'] * 1e3:g} ms, "
+        f"{out['n_steps']} steps, {out['n_samples']} samples"
+    )
+    con.print(
+        f"  real-time factor [bold]{out['real_time_factor']:.1f}[/bold] "
+        f"({out['duration_s']:g} s simulated in {out['wall_seconds']:.3f} s wall, "
+        f"{out['cpu_seconds']:.3f} s CPU; best of {out['repeats']})"
+    )
     if out["peak_memory_mb"] is not None:
-        con.print(f"  peak memory of one trial {out['peak_memory_mb']:.2f} MB (tracemalloc); "
-                  f"process max RSS {out['process_max_rss_mb']:.0f} MB")
-    con.print(f"  peak follicle moment {out['peak_follicle_moment_nm'] * 1e3:.4f} mN m, "
-              f"peak Hall x {out['peak_hall_x_v']:.3f} V")
+        con.print(
+            f"  peak memory of one trial {out['peak_memory_mb']:.2f} MB (tracemalloc); "
+            f"process max RSS {out['process_max_rss_mb']:.0f} MB"
+        )
+    con.print(
+        f"  peak follicle moment {out['peak_follicle_moment_nm'] * 1e3:.4f} mN m, "
+        f"peak Hall x {out['peak_hall_x_v']:.3f} V"
+    )
 
 
 def register(app: typer.Typer) -> None:

@@ -130,6 +130,14 @@ def _matvec(P, v, out, scale):
 
 
 @njit(cache=True)
+def _pvec(t, v, out, scale):
+    """out = scale * (I - t t^T) v, without forming the projector."""
+    tv = t[0] * v[0] + t[1] * v[1] + t[2] * v[2]
+    for i in range(3):
+        out[i] = scale * (v[i] - t[i] * tv)
+
+
+@njit(cache=True)
 def _bend_self_into(P, t, d, length, sign, H):
     """Second-derivative block of ``k|d|^2`` w.r.t. one edge, divided by 2k, into ``H``.
 
@@ -235,20 +243,23 @@ def add_internal(x, v, kb, kf, axis, L0, EA, mass, alpha_d, beta_d, beta_f, F, S
         c = i + 1
         l1 = _edge(x, a, b, t1)
         l2 = _edge(x, b, c, t2)
-        _proj_into(t1, P1)
-        _proj_into(t2, P2)
         for q in range(3):
             d[q] = t2[q] - t1[q]
             de1[q] = v[b, q] - v[a, q]
             de2[q] = v[c, q] - v[b, q]
-        _matvec(P1, d, g1, -1.0 / l1)
-        _matvec(P2, d, g2, 1.0 / l2)
-        _matvec(P1, de1, r1, -1.0 / l1)
-        _matvec(P2, de2, tmp, 1.0 / l2)
-        for q in range(3):
-            ddot[q] = r1[q] + tmp[q]
-        _matvec(P1, ddot, r1, -1.0 / l1)
-        _matvec(P2, ddot, r2, 1.0 / l2)
+        _pvec(t1, d, g1, -1.0 / l1)
+        _pvec(t2, d, g2, 1.0 / l2)
+        if beta_d != 0.0:
+            _pvec(t1, de1, r1, -1.0 / l1)
+            _pvec(t2, de2, tmp, 1.0 / l2)
+            for q in range(3):
+                ddot[q] = r1[q] + tmp[q]
+            _pvec(t1, ddot, r1, -1.0 / l1)
+            _pvec(t2, ddot, r2, 1.0 / l2)
+        else:
+            for q in range(3):
+                r1[q] = 0.0
+                r2[q] = 0.0
         for q in range(3):
             fe1 = -2.0 * k * (g1[q] + beta_d * r1[q])
             fe2 = -2.0 * k * (g2[q] + beta_d * r2[q])
@@ -256,6 +267,8 @@ def add_internal(x, v, kb, kf, axis, L0, EA, mass, alpha_d, beta_d, beta_f, F, S
             F[b, q] += fe1 - fe2
             F[c, q] += fe2
         if jac:
+            _proj_into(t1, P1)
+            _proj_into(t2, P2)
             _bend_self_into(P1, t1, d, l1, 1.0, G1)
             _bend_self_into(P2, t2, d, l2, -1.0, G2)
             i11 = 1.0 / (l1 * l1)
@@ -438,7 +451,19 @@ def add_pole(
     best_d = 1e300
     bj = -1
     bu = 0.0
+    # coarse pass: distance to each piece's chord (cheap); then refine the nearest
+    # piece and its neighbours on the curve itself
+    jc = 1
+    dc = 1e300
     for j in range(1, n):
+        w0, w1, w2, i0 = _curve_weights(n, j, 0.5)
+        qx = w0 * x[i0, 0] + w1 * x[i0 + 1, 0] + w2 * x[i0 + 2, 0] - pole[0]
+        qz = w0 * x[i0, 2] + w1 * x[i0 + 1, 2] + w2 * x[i0 + 2, 2] - pole[1]
+        d2 = qx * qx + qz * qz
+        if d2 < dc:
+            dc = d2
+            jc = j
+    for j in range(max(1, jc - 2), min(n, jc + 3)):
         u = _closest_u(x, j, pole[0], pole[1])
         w0, w1, w2, i0 = _curve_weights(n, j, u)
         qx = w0 * x[i0, 0] + w1 * x[i0 + 1, 0] + w2 * x[i0 + 2, 0] - pole[0]
