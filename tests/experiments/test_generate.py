@@ -10,6 +10,7 @@ from vibrissa.cli import app
 from vibrissa.data import load_dataset
 from vibrissa.experiments.generate import GenerationError, generate, parts_dir
 from vibrissa.experiments.protocols import get_protocol
+from vibrissa.robots import LatencyModel, XYStage
 from vibrissa.signal import contact_duration
 
 RADII = (90.0, 110.0, 130.0, 150.0, 170.0)
@@ -31,7 +32,14 @@ def small(seed=0, **kw):
 @pytest.fixture(scope="module")
 def phenomena(tmp_path_factory):
     p = get_protocol(
-        "radial-distance", radial_distances_mm=RADII, speeds_mm_s=SPEEDS, runs=1, directions=(1,)
+        "radial-distance",
+        radial_distances_mm=RADII,
+        speeds_mm_s=SPEEDS,
+        runs=1,
+        directions=(1,),
+        # a fixed loop latency (no duty-cycle jitter) isolates the mechanism; the
+        # jitter adds +/-50 ms per trial on top
+        stage=XYStage(latency=LatencyModel(0.3, 0.0)),
     )
     ds = generate(p, tmp_path_factory.mktemp("g") / "ph.nc", workers=1)
     X = ds["signal"].values[:, 0]
@@ -50,15 +58,12 @@ def test_peak_falls_with_radial_distance_at_fixed_speed(phenomena):
 
 
 def test_contact_duration_grows_with_speed_at_fixed_radius(phenomena):
-    # the object keeps advancing for the loop latency (300 +/- 50 ms, jittered per
-    # trial): faster -> deeper -> longer. One trial per point, so compare the ends of
-    # the speed range and the pooled trend rather than every neighbour.
-    slopes = []
-    for r in (90.0, 110.0, 130.0):
+    # the object keeps advancing for the fixed loop latency: the faster it comes, the
+    # deeper it goes and the longer the 720 mm/s retraction takes to clear the whisker
+    for r in (90.0, 110.0, 130.0, 150.0):
         d = np.array([phenomena[(r, v)][1] for v in SPEEDS])
-        assert d[-1] - d[0] > 0.1, (r, d)
-        slopes.append(np.polyfit(SPEEDS, d, 1)[0])
-    assert min(slopes) > 0
+        assert np.polyfit(SPEEDS, d, 1)[0] > 0, (r, d)  # not strictly monotone: the
+        assert d[-1] - d[0] > 0.04, (r, d)  # release (slip, ringing) adds its own detail
 
 
 def test_different_contacts_give_equal_peaks(phenomena):

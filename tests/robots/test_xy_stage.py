@@ -95,3 +95,9 @@ def test_bad_trial_input(model, sensor):
         trial(model, sensor, direction=0)
     with pytest.raises(ValueError, match="duty_cycle_s"):
         LatencyModel(0.01, 0.1)
+
+
+def test_retraction_clears_the_whisker_even_after_a_deep_fast_contact(model, sensor):
+    res = trial(model, sensor, r=130.0, v=216.0)
+    tail = res.signal_v[0, -60:] - 2.5  # the last 60 ms of the window
+    assert abs(tail.mean()) < 0.1 * res.peak_deflection_v  # back near rest (ringing allowed)

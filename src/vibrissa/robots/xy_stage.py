@@ -91,7 +91,7 @@ class XYStage:
     latency: LatencyModel = field(default_factory=LatencyModel)
     threshold_v: float = 0.05
     approach_gap_mm: float = 1.0
-    retract_distance_mm: float = 40.0
+    retract_clearance_mm: float = 10.0
     max_travel_mm: float = 80.0
 
     def __post_init__(self) -> None:
@@ -101,7 +101,7 @@ class XYStage:
         non_negative("repeatability_mm", self.repeatability_mm)
         positive("threshold_v", self.threshold_v)
         positive("approach_gap_mm", self.approach_gap_mm)
-        positive("retract_distance_mm", self.retract_distance_mm)
+        positive("retract_clearance_mm", self.retract_clearance_mm)
         positive("max_travel_mm", self.max_travel_mm)
 
     def check_speed(self, speed_mm_s: float) -> float:
@@ -170,20 +170,19 @@ def _motion_profile(
     v: float,
     vr: float,
     acc: float,
-    retract_mm: float,
+    clearance_mm: float,
     x_start: float,
     t_end: float,
     dt: float,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Sampled x(t), vx(t): advance at v, from t_rev brake and retract at -vr."""
+    """Sampled x(t), vx(t): advance at v; from t_rev brake, retract at -vr and stop
+    ``clearance_mm`` behind the starting point (clear of the whisker)."""
     t = np.arange(0.0, t_end + dt, dt)
     vel = np.full_like(t, v)
     after = t > t_rev
     vel[after] = np.maximum(v - acc * (t[after] - t_rev), -vr)
     x = x_start + np.concatenate([[0.0], np.cumsum(0.5 * (vel[1:] + vel[:-1]) * np.diff(t))])
-    # stop once the retraction distance is covered
-    x_turn = x_start + v * t_rev + v * v / (2 * acc)
-    stop = after & (x < x_turn - retract_mm)
+    stop = after & (vel < 0) & (x <= x_start - clearance_mm)
     if np.any(stop):
         k = int(np.argmax(stop))
         x[k:] = x[k]
@@ -267,7 +266,7 @@ def run_trial(
 
     def traj_for(t_rev: float, t_end: float) -> Trajectory:
         t, xv = _motion_profile(
-            t_rev, v, vr, acc, stage.retract_distance_mm, x_start, t_end, min(1e-3, 4 * dt_s)
+            t_rev, v, vr, acc, stage.retract_clearance_mm, x_start, t_end, min(1e-3, 4 * dt_s)
         )
         pos = np.column_stack([sgn * xv[:, 0], np.full(t.size, z_ref)])
         vel = np.column_stack([sgn * xv[:, 1], np.zeros(t.size)])
