@@ -195,43 +195,24 @@ PRESETS: dict[str, WhiskerGeometry] = {
             "Thesis 3.2.3: SCRATCHbot ABS whisker shaft, 200 mm long, 2 mm diameter, E ~ 2.3 GPa."
         ),
     ),
-    "biotact-g1-80": WhiskerGeometry(
-        length_mm=80.0,
-        base_radius_mm=0.75,
-        tip_radius_mm=0.15,
-        youngs_modulus_gpa=2.0,
-        density_kg_m3=1150.0,
-        damping_ratio=0.05,
-        follicle_stiffness_nm_per_rad=_follicle_k(2.0, 0.75),
-        name="biotact-g1-80",
-        source=(
-            "Thesis 3.4.1: BIOTACT G1 Nanocure RC25 whiskers of 80, 112 and 158 mm. Radii are "
-            "not given for G1; we use CrunchBot's RC25 taper (1.45 -> 0.3 mm diameter, 3.5.2), "
-            "rounded to 1.5 -> 0.3 mm."
-        ),
-    ),
-    "biotact-g1-112": WhiskerGeometry(
-        length_mm=112.0,
-        base_radius_mm=0.75,
-        tip_radius_mm=0.15,
-        youngs_modulus_gpa=2.0,
-        density_kg_m3=1150.0,
-        damping_ratio=0.05,
-        follicle_stiffness_nm_per_rad=_follicle_k(2.0, 0.75),
-        name="biotact-g1-112",
-        source="Thesis 3.4.1: BIOTACT G1 Nanocure RC25 whisker, 112 mm (radii as biotact-g1-80).",
-    ),
-    "biotact-g1-158": WhiskerGeometry(
-        length_mm=158.0,
-        base_radius_mm=0.75,
-        tip_radius_mm=0.15,
-        youngs_modulus_gpa=2.0,
-        density_kg_m3=1150.0,
-        damping_ratio=0.05,
-        follicle_stiffness_nm_per_rad=_follicle_k(2.0, 0.75),
-        name="biotact-g1-158",
-        source="Thesis 3.4.1: BIOTACT G1 Nanocure RC25 whisker, 158 mm (radii as biotact-g1-80).",
-    ),
+    **{
+        f"biotact-g1-{length}": WhiskerGeometry(
+            length_mm=float(length),
+            base_radius_mm=0.75,
+            tip_radius_mm=0.15,
+            youngs_modulus_gpa=2.0,
+            density_kg_m3=1150.0,
+            damping_ratio=0.05,
+            follicle_stiffness_nm_per_rad=_follicle_k(2.0, 0.75),
+            name=f"biotact-g1-{length}",
+            source=(
+                f"Thesis 3.4.1: BIOTACT G1 Nanocure RC25 whiskers of 80, 112 and 158 mm "
+                f"(this one {length} mm). Radii are not given for G1; we use CrunchBot's "
+                "RC25 taper (1.45 -> 0.3 mm diameter, 3.5.2), rounded to 1.5 -> 0.3 mm."
+            ),
+        )
+        for length in (80, 112, 158)
+    },
     "crunchbot": WhiskerGeometry(
         length_mm=140.0,
         base_radius_mm=0.725 - (0.725 - 0.15) * 20.0 / 160.0,
