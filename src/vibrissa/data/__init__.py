@@ -13,6 +13,7 @@ from vibrissa.data.dataset import (
 )
 from vibrissa.data.importers import (
     ImportMapping,
+    ImportMappingError,
     import_file,
     import_recording,
     load_mapping,
@@ -23,6 +24,7 @@ __all__ = [
     "KNOWN_LABELS",
     "DatasetFileError",
     "ImportMapping",
+    "ImportMappingError",
     "as_arrays",
     "attr_value",
     "checksum",

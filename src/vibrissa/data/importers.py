@@ -13,16 +13,24 @@ sampled at 1 kHz. This mapping imports it (``vibrissa import data_XY.mat
 --mapping xy.json --out xy.nc``)::
 
     {
+      "format": "mat",
       "signal": "data",
       "cell_axes": [
         {"name": "set", "values": [1, 2, 3, 4]},
         {"name": "speed_mm_s", "start": 36, "stop": 216, "num": 26},
-        {"name": "radial_distance_mm", "start": 80, "step": 1, "stop": 180}
+        {"name": "radial_distance_mm", "start": 80, "stop": 180, "num": 101}
       ],
-      "time_axis": 0,
       "channels": ["x", "y"],
-      "sample_rate_hz": 1000
+      "time_axis": 0,
+      "sample_rate_hz": 1000,
+      "units": "V"
     }
+
+Trial ``n`` of the Dataset is cell ``data{set, speed, radius}`` in C order
+(radius fastest), its signal the cell's 750 x 2 array transposed to
+channels x samples. ``vibrissa.examples`` ships a small *simulated* file in
+exactly this layout, ``data_XY_small.mat`` (4 x 3 x 5 cells), with its mapping
+``data_XY_small.mapping.json``.
 
 The same from the command line, with MATLAB colon ranges ``start:step:stop``::
 
@@ -84,7 +92,8 @@ Mapping keys
     Labels with one value for every trial, e.g. ``{"texture": "P80"}``.
 ``ragged``
     ``"error"`` (default): recordings of different lengths raise a
-    ``ValueError`` naming the first cell/trial that differs from the first.
+    :class:`ImportMappingError` naming the first cell/trial that differs from
+    the first.
     ``"crop"``: every recording is cut to the shortest, keeping its *first*
     samples (so recordings must start at the same event); the attribute
     ``cropped_from_samples`` records the longest original length.
@@ -130,7 +139,19 @@ cell array is a dataset of object references (class ``cell``) to datasets in
 the ``#refs#`` group; an empty array is a dims vector with attribute
 ``MATLAB_empty``; ``char`` arrays are UTF-16 code units; structs are groups.
 Complex, sparse and object-class (``MATLAB_class`` ``"function_handle"``,
-classdef objects) data are not supported and raise ``ValueError``.
+classdef objects) data are not supported and raise :class:`ImportMappingError`.
+
+Errors
+------
+Every problem with the source file or the mapping raises
+:class:`ImportMappingError` (a :class:`ValueError`) with a one-line message
+naming the file, the variable/column, the cell (MATLAB style, 1-based:
+``cell data{2,3,17}``) or trial, and what to change: unknown or malformed
+mapping keys, a missing variable/field/column, ragged or empty recordings,
+non-numeric cells, NaN or infinite samples (how many, and the first one),
+``cell_axes`` that do not match the cell array's shape, an unknown file type,
+an unreadable, corrupt or truncated file. A source that does not exist raises
+:class:`FileNotFoundError`.
 
 Safety
 ------
@@ -162,6 +183,7 @@ from vibrissa.data.dataset import make_dataset
 __all__ = [
     "FORMATS",
     "ImportMapping",
+    "ImportMappingError",
     "detect_format",
     "import_file",
     "import_recording",
@@ -183,6 +205,15 @@ _CSV_KEYS = {"layout", "trial_column", "time_column"}
 _UNSET = object()
 #: Labels that count things: integer-valued ranges of these stay integers.
 _INTEGER_LABELS = frozenset({"set", "run", "order", "direction"})
+
+
+
+
+class ImportMappingError(ValueError):
+    """A recording cannot be imported as asked: bad mapping, bad or unreadable file.
+
+    The message names the mapping key, variable, cell, column or line at fault.
+    """
 
 
 # --------------------------------------------------------------------------- mapping
@@ -220,38 +251,42 @@ def _check_axis_entry(i: int, entry: Any) -> dict[str, Any]:
     if isinstance(entry, str):
         entry = {"name": entry}
     if not isinstance(entry, Mapping):
-        raise ValueError(f"{where} must be an object with a 'name', got {entry!r}")
+        raise ImportMappingError(f"{where} must be an object with a 'name', got {entry!r}")
     entry = dict(entry)
     allowed = {"name", "values", "start", "stop", "num", "step", "from"}
     extra = sorted(set(entry) - allowed)
     if extra:
-        raise ValueError(f"{where} has unknown key(s) {extra}; allowed: {sorted(allowed)}")
+        raise ImportMappingError(f"{where} has unknown key(s) {extra}; allowed: {sorted(allowed)}")
     name = entry.get("name")
     if not isinstance(name, str) or not name:
-        raise ValueError(f"{where} needs a 'name' (a label such as 'speed_mm_s')")
+        raise ImportMappingError(f"{where} needs a 'name' (a label such as 'speed_mm_s')")
     ways = [k for k in ("values", "from") if k in entry] + (["start"] if "start" in entry else [])
     if len(ways) > 1:
-        raise ValueError(f"{where} ({name!r}) gives its values in more than one way: {ways}")
+        raise ImportMappingError(
+            f"{where} ({name!r}) gives its values in more than one way: {ways}"
+        )
     if "start" in entry:
         if ("num" in entry) == ("step" in entry):
-            raise ValueError(
+            raise ImportMappingError(
                 f"{where} ({name!r}) needs either 'num' (with 'stop') or 'step' with 'start'"
             )
         if "num" in entry and "stop" not in entry:
-            raise ValueError(f"{where} ({name!r}) needs 'stop' with 'num'")
+            raise ImportMappingError(f"{where} ({name!r}) needs 'stop' with 'num'")
         for k in ("start", "stop", "step", "num"):
             if k in entry and not _is_number(entry[k]):
-                raise ValueError(f"{where} ({name!r}): {k!r} must be a number, got {entry[k]!r}")
+                raise ImportMappingError(
+                    f"{where} ({name!r}): {k!r} must be a number, got {entry[k]!r}"
+                )
         if "step" in entry and float(entry["step"]) == 0:
-            raise ValueError(f"{where} ({name!r}): 'step' must not be 0")
+            raise ImportMappingError(f"{where} ({name!r}): 'step' must not be 0")
     elif any(k in entry for k in ("stop", "num", "step")):
-        raise ValueError(f"{where} ({name!r}): 'stop'/'num'/'step' need 'start'")
+        raise ImportMappingError(f"{where} ({name!r}): 'stop'/'num'/'step' need 'start'")
     if "values" in entry and (
         isinstance(entry["values"], str | bytes) or not isinstance(entry["values"], Sequence)
     ):
-        raise ValueError(f"{where} ({name!r}): 'values' must be a list")
+        raise ImportMappingError(f"{where} ({name!r}): 'values' must be a list")
     if "from" in entry and not isinstance(entry["from"], str):
-        raise ValueError(f"{where} ({name!r}): 'from' must be a variable name")
+        raise ImportMappingError(f"{where} ({name!r}): 'from' must be a variable name")
     return entry
 
 
@@ -274,7 +309,7 @@ def load_mapping(source: Mapping[str, Any] | str | os.PathLike[str] | None) -> I
 
     Raises
     ------
-    ValueError
+    ImportMappingError
         If the file cannot be parsed or a key is unknown or malformed (the
         message names the key).
     """
@@ -285,18 +320,18 @@ def load_mapping(source: Mapping[str, Any] | str | os.PathLike[str] | None) -> I
     else:
         p = Path(source)
         if not p.is_file():
-            raise ValueError(f"mapping file {p} does not exist")
+            raise ImportMappingError(f"mapping file {p} does not exist")
         text = p.read_text(encoding="utf-8")
         try:
             raw = tomllib.loads(text) if p.suffix.lower() == ".toml" else json.loads(text)
         except (ValueError, tomllib.TOMLDecodeError) as exc:
             kind = "TOML" if p.suffix.lower() == ".toml" else "JSON"
-            raise ValueError(f"mapping file {p} is not valid {kind}: {exc}") from None
+            raise ImportMappingError(f"mapping file {p} is not valid {kind}: {exc}") from None
         if not isinstance(raw, dict):
-            raise ValueError(f"mapping file {p} must hold an object (key: value pairs)")
+            raise ImportMappingError(f"mapping file {p} must hold an object (key: value pairs)")
     unknown = sorted(set(raw) - _COMMON_KEYS - _ARRAY_KEYS - _CSV_KEYS)
     if unknown:
-        raise ValueError(
+        raise ImportMappingError(
             f"unknown mapping key(s) {unknown}; known: "
             f"{sorted(_COMMON_KEYS | _ARRAY_KEYS | _CSV_KEYS)}"
         )
@@ -304,14 +339,18 @@ def load_mapping(source: Mapping[str, Any] | str | os.PathLike[str] | None) -> I
     fmt = raw.get("format")
     if fmt is not None:
         if fmt not in FORMATS:
-            raise ValueError(f"mapping 'format' must be one of {list(FORMATS)}, got {fmt!r}")
+            raise ImportMappingError(
+                f"mapping 'format' must be one of {list(FORMATS)}, got {fmt!r}"
+            )
         kw["format"] = fmt
     fs = raw.get("sample_rate_hz")
     if fs is not None:
         if isinstance(fs, str):
             kw["sample_rate_hz"] = fs
         elif not _is_number(fs) or fs <= 0:
-            raise ValueError(f"mapping 'sample_rate_hz' must be a positive number, got {fs!r}")
+            raise ImportMappingError(
+                f"mapping 'sample_rate_hz' must be a positive number, got {fs!r}"
+            )
         else:
             kw["sample_rate_hz"] = float(fs)
     if raw.get("channels") is not None:
@@ -319,27 +358,29 @@ def load_mapping(source: Mapping[str, Any] | str | os.PathLike[str] | None) -> I
         if isinstance(ch, str):
             ch = [c.strip() for c in ch.split(",")]
         if not isinstance(ch, Sequence) or not ch or not all(isinstance(c, str) and c for c in ch):
-            raise ValueError(f"mapping 'channels' must be a list of names, got {ch!r}")
+            raise ImportMappingError(f"mapping 'channels' must be a list of names, got {ch!r}")
         if len(set(ch)) != len(ch):
-            raise ValueError(f"mapping 'channels' has repeated names: {list(ch)}")
+            raise ImportMappingError(f"mapping 'channels' has repeated names: {list(ch)}")
         kw["channels"] = tuple(ch)
     if raw.get("signal") is not None:
         if not isinstance(raw["signal"], str):
-            raise ValueError(f"mapping 'signal' must be a variable name, got {raw['signal']!r}")
+            raise ImportMappingError(
+                f"mapping 'signal' must be a variable name, got {raw['signal']!r}"
+            )
         kw["signal"] = raw["signal"]
     if raw.get("cell_axes") is not None:
         axes = raw["cell_axes"]
         if isinstance(axes, str) or not isinstance(axes, Sequence) or not axes:
-            raise ValueError("mapping 'cell_axes' must be a non-empty list of axes")
+            raise ImportMappingError("mapping 'cell_axes' must be a non-empty list of axes")
         entries = tuple(_check_axis_entry(i, a) for i, a in enumerate(axes))
         names = [e["name"] for e in entries if e["name"] != "trial"]
         if len(set(names)) != len(names):
-            raise ValueError(f"mapping 'cell_axes' repeats a label name: {names}")
+            raise ImportMappingError(f"mapping 'cell_axes' repeats a label name: {names}")
         kw["cell_axes"] = entries
     if "time_axis" in raw:
         ta = raw["time_axis"]
         if isinstance(ta, bool) or not isinstance(ta, int) or ta not in (0, 1, -1, -2):
-            raise ValueError(f"mapping 'time_axis' must be 0 or 1, got {ta!r}")
+            raise ImportMappingError(f"mapping 'time_axis' must be 0 or 1, got {ta!r}")
         kw["time_axis"] = ta
     labels = raw.get("labels")
     if labels is not None:
@@ -348,7 +389,7 @@ def load_mapping(source: Mapping[str, Any] | str | os.PathLike[str] | None) -> I
         if not isinstance(labels, Mapping) or not all(
             isinstance(k, str) and isinstance(v, str) for k, v in labels.items()
         ):
-            raise ValueError(
+            raise ImportMappingError(
                 "mapping 'labels' must map label names to variable/column names, "
                 f"got {labels!r}"
             )
@@ -358,7 +399,7 @@ def load_mapping(source: Mapping[str, Any] | str | os.PathLike[str] | None) -> I
         if not isinstance(consts, Mapping) or not all(
             isinstance(v, str | int | float) and not isinstance(v, bool) for v in consts.values()
         ):
-            raise ValueError(
+            raise ImportMappingError(
                 f"mapping 'constants' must map label names to a number or string, got {consts!r}"
             )
         kw["constants"] = dict(consts)
@@ -366,35 +407,35 @@ def load_mapping(source: Mapping[str, Any] | str | os.PathLike[str] | None) -> I
                          ("layout", ("long", "wide")), ("trial_axes", ("first", "last"))):
         if key in raw:
             if raw[key] not in choices:
-                raise ValueError(
+                raise ImportMappingError(
                     f"mapping {key!r} must be one of {list(choices)}, got {raw[key]!r}"
                 )
             kw[key] = raw[key]
     if "t0_s" in raw:
         if not _is_number(raw["t0_s"]):
-            raise ValueError(f"mapping 't0_s' must be a number (s), got {raw['t0_s']!r}")
+            raise ImportMappingError(f"mapping 't0_s' must be a number (s), got {raw['t0_s']!r}")
         kw["t0_s"] = float(raw["t0_s"])
     if "units" in raw:
         if not isinstance(raw["units"], str):
-            raise ValueError(f"mapping 'units' must be a string, got {raw['units']!r}")
+            raise ImportMappingError(f"mapping 'units' must be a string, got {raw['units']!r}")
         kw["units"] = raw["units"]
     if "attrs" in raw:
         if not isinstance(raw["attrs"], Mapping):
-            raise ValueError("mapping 'attrs' must be an object")
+            raise ImportMappingError("mapping 'attrs' must be an object")
         kw["attrs"] = dict(raw["attrs"])
     if "trial_column" in raw:
         if not isinstance(raw["trial_column"], str):
-            raise ValueError("mapping 'trial_column' must be a column name")
+            raise ImportMappingError("mapping 'trial_column' must be a column name")
         kw["trial_column"] = raw["trial_column"]
     if "time_column" in raw:
         if raw["time_column"] is not None and not isinstance(raw["time_column"], str):
-            raise ValueError("mapping 'time_column' must be a column name or null")
+            raise ImportMappingError("mapping 'time_column' must be a column name or null")
         kw["time_column"] = raw["time_column"]
     all_labels = [e["name"] for e in kw.get("cell_axes", ()) if e["name"] != "trial"]
     all_labels += list(kw.get("labels", {})) + list(kw.get("constants", {}))
     dup = sorted({n for n in all_labels if all_labels.count(n) > 1})
     if dup:
-        raise ValueError(f"label(s) {dup} given more than once in the mapping")
+        raise ImportMappingError(f"label(s) {dup} given more than once in the mapping")
     return ImportMapping(**kw)
 
 
@@ -419,7 +460,7 @@ def parse_range(text: str) -> list[Any]:
 
     Raises
     ------
-    ValueError
+    ImportMappingError
         If a range is malformed or empty.
     """
     text = text.strip()
@@ -428,22 +469,24 @@ def parse_range(text: str) -> list[Any]:
         try:
             nums = [float(p) for p in parts]
         except ValueError:
-            raise ValueError(f"range {text!r} must be start:stop or start:step:stop") from None
+            raise ImportMappingError(
+                f"range {text!r} must be start:stop or start:step:stop"
+            ) from None
         if len(nums) == 2:
             start, step, stop = nums[0], 1.0, nums[1]
         elif len(nums) == 3:
             start, step, stop = nums
         else:
-            raise ValueError(f"range {text!r} must be start:stop or start:step:stop")
+            raise ImportMappingError(f"range {text!r} must be start:stop or start:step:stop")
         if step == 0 or not all(math.isfinite(x) for x in (start, step, stop)):
-            raise ValueError(f"range {text!r} needs a finite, non-zero step")
+            raise ImportMappingError(f"range {text!r} needs a finite, non-zero step")
         n = math.floor((stop - start) / step + 1e-9) + 1
         if n < 1:
-            raise ValueError(f"range {text!r} is empty")
+            raise ImportMappingError(f"range {text!r} is empty")
         return [float(v) for v in _round_values(start + step * np.arange(n))]
     items = [t.strip() for t in text.split(",") if t.strip()]
     if not items:
-        raise ValueError("empty list of values")
+        raise ImportMappingError("empty list of values")
     try:
         nums2 = [float(t) for t in items]
     except ValueError:
@@ -472,13 +515,13 @@ def parse_axis_option(text: str) -> dict[str, Any]:
 
     Raises
     ------
-    ValueError
+    ImportMappingError
         Naming the option if the name is empty or the values malformed.
     """
     name, sep, spec = text.partition("=")
     name = name.strip()
     if not name:
-        raise ValueError(f"--axis {text!r}: give NAME=VALUES, e.g. speed_mm_s=36:7.2:216")
+        raise ImportMappingError(f"--axis {text!r}: give NAME=VALUES, e.g. speed_mm_s=36:7.2:216")
     if not sep:
         return {"name": name}
     spec = spec.strip()
@@ -487,7 +530,7 @@ def parse_axis_option(text: str) -> dict[str, Any]:
     try:
         values = parse_range(spec)
     except ValueError as exc:
-        raise ValueError(f"--axis {text!r}: {exc}") from None
+        raise ImportMappingError(f"--axis {text!r}: {exc}") from None
     if name in _INTEGER_LABELS and all(
         isinstance(v, int | float) and float(v).is_integer() for v in values
     ):
@@ -504,14 +547,14 @@ def _axis_values(
         vals = np.asarray(entry["values"])
     elif "from" in entry:
         if source is None:
-            raise ValueError(f"{where} ({name!r}): 'from' is not available for this format")
+            raise ImportMappingError(f"{where} ({name!r}): 'from' is not available for this format")
         vals = _label_array(source.get(entry["from"]), entry["from"])
     elif "start" in entry:
         start = float(entry["start"])
         if "num" in entry:
             num = entry["num"]
             if not isinstance(num, int) or num < 1:
-                raise ValueError(f"{where} ({name!r}): 'num' must be a positive integer")
+                raise ImportMappingError(f"{where} ({name!r}): 'num' must be a positive integer")
             vals = _round_values(np.linspace(start, float(entry["stop"]), num))
         else:
             step = float(entry["step"])
@@ -519,7 +562,7 @@ def _axis_values(
             if "stop" in entry and not math.isclose(
                 float(vals[-1]), float(entry["stop"]), rel_tol=1e-9, abs_tol=1e-9
             ):
-                raise ValueError(
+                raise ImportMappingError(
                     f"{where} ({name!r}): {size} values from {start:g} in steps of {step:g} end "
                     f"at {float(vals[-1]):g}, not at 'stop' {float(entry['stop']):g}; "
                     f"{what or 'the signal'} has {size} along this axis"
@@ -531,7 +574,7 @@ def _axis_values(
     else:
         vals = np.arange(size)
     if vals.ndim != 1 or vals.size != size:
-        raise ValueError(
+        raise ImportMappingError(
             f"{where} ({name!r}) has {vals.size} values but {what or 'the signal'} has "
             f"{size} along this axis"
         )
@@ -557,7 +600,7 @@ class _Source:
             return name
         names = self.names()
         if len(names) != 1:
-            raise ValueError(
+            raise ImportMappingError(
                 f"the file holds variables {names}; say which is the signal with 'signal'"
             )
         return names[0]
@@ -577,23 +620,31 @@ class _DictSource(_Source):
             return np.asarray(self.vars[name])
         head, *rest = name.split(".")
         if head not in self.vars or head.startswith("__"):
-            raise ValueError(f"{self.path}: no variable {head!r}; it holds {self.names()}")
+            raise ImportMappingError(f"{self.path}: no variable {head!r}; it holds {self.names()}")
         obj = self.vars[head]
         walked = head
         for part in rest:
             arr = np.asarray(obj)
             if arr.dtype.names is None:
-                raise ValueError(f"{self.path}: {walked!r} is not a struct, cannot take {part!r}")
+                raise ImportMappingError(
+                    f"{self.path}: {walked!r} is not a struct, cannot take {part!r}"
+                )
             if part not in arr.dtype.names:
-                raise ValueError(
+                raise ImportMappingError(
                     f"{self.path}: struct {walked!r} has no field {part!r}; "
                     f"fields: {list(arr.dtype.names)}"
                 )
             if arr.size != 1:
-                raise ValueError(f"{self.path}: {walked!r} is a struct array, not one struct")
+                raise ImportMappingError(
+                    f"{self.path}: {walked!r} is a struct array, not one struct"
+                )
             obj = arr.ravel()[0][part]
             walked += "." + part
         return np.asarray(obj)
+
+
+#: What h5py raises on damaged files (besides ValueError).
+_H5_ERRORS = (OSError, KeyError, RuntimeError, TypeError)
 
 
 class _H5MatSource(_Source):
@@ -606,9 +657,23 @@ class _H5MatSource(_Source):
         self.f = f
 
     def names(self) -> list[str]:
-        return sorted(k for k in self.f.keys() if not k.startswith("#"))
+        try:
+            return sorted(k for k in self.f.keys() if not k.startswith("#"))
+        except _H5_ERRORS as exc:
+            raise ImportMappingError(
+                f"{self.path}: cannot list its variables (corrupt or truncated file?): {exc}"
+            ) from None
 
     def get(self, name: str) -> np.ndarray:
+        try:
+            return self._get(name)
+        except _H5_ERRORS as exc:  # damaged HDF5 objects
+            raise ImportMappingError(
+                f"{self.path}: variable {name!r} cannot be read (corrupt or truncated "
+                f"file?): {exc}"
+            ) from None
+
+    def _get(self, name: str) -> np.ndarray:
         import h5py
 
         obj: Any = self.f
@@ -620,13 +685,13 @@ class _H5MatSource(_Source):
                     sorted(k for k in obj.keys() if not k.startswith("#"))
                     if isinstance(obj, h5py.Group) else []
                 )
-                raise ValueError(
+                raise ImportMappingError(
                     f"{self.path}: {where} has no variable/field {part!r}; it has {have}"
                 )
             obj = obj[part]
             walked = f"{walked}.{part}" if walked else part
         if isinstance(obj, h5py.Group):
-            raise ValueError(f"{self.path}: {name!r} is a struct; name one of its fields")
+            raise ImportMappingError(f"{self.path}: {name!r} is a struct; name one of its fields")
         return self._read(obj, name)
 
     def _read(self, ds: Any, where: str) -> np.ndarray:
@@ -637,7 +702,7 @@ class _H5MatSource(_Source):
         if ds.attrs.get("MATLAB_empty", 0):
             return np.zeros((0, 0))
         if ds.attrs.get("MATLAB_sparse", None) is not None:
-            raise ValueError(f"{self.path}: {where!r} is a sparse matrix (not supported)")
+            raise ImportMappingError(f"{self.path}: {where!r} is a sparse matrix (not supported)")
         data = ds[()]
         if cls == "cell" or (data.dtype == object and data.dtype.kind == "O"):
             refs = np.asarray(data).T
@@ -645,7 +710,9 @@ class _H5MatSource(_Source):
             for idx in np.ndindex(refs.shape):
                 ref = refs[idx]
                 if not isinstance(ref, h5py.Reference) or not ref:
-                    raise ValueError(f"{self.path}: {where!r} holds an invalid cell reference")
+                    raise ImportMappingError(
+                        f"{self.path}: {where!r} holds an invalid cell reference"
+                    )
                 target = self.f[ref]
                 if isinstance(target, h5py.Group):
                     out[idx] = np.array([None], dtype=object)  # a struct in a cell
@@ -657,7 +724,9 @@ class _H5MatSource(_Source):
             return np.array(["".join(map(chr, row)) for row in arr.astype(np.uint32)])
         arr = np.asarray(data)
         if arr.dtype.names is not None:
-            raise ValueError(f"{self.path}: {where!r} holds complex or compound data, not reals")
+            raise ImportMappingError(
+                f"{self.path}: {where!r} holds complex or compound data, not reals"
+            )
         arr = arr.T
         return arr.astype(bool) if cls == "logical" else arr
 
@@ -669,9 +738,9 @@ def _open_source(path: Path, fmt: str) -> Iterator[_Source]:
             with np.load(path, allow_pickle=False) as z:
                 variables = {k: _npz_get(path, z, k) for k in z.files}
         except ValueError as exc:
-            raise ValueError(f"{path}: {exc}") from None
+            raise ImportMappingError(f"{path}: {exc}") from None
         except Exception as exc:  # zipfile.BadZipFile, OSError, EOFError
-            raise ValueError(f"{path}: cannot be read as an NPZ file: {exc}") from None
+            raise ImportMappingError(f"{path}: cannot be read as an NPZ file: {exc}") from None
         yield _DictSource(path, variables, "npz")
         return
     import h5py
@@ -680,7 +749,7 @@ def _open_source(path: Path, fmt: str) -> Iterator[_Source]:
         try:
             f = h5py.File(path, "r")
         except OSError as exc:
-            raise ValueError(
+            raise ImportMappingError(
                 f"{path}: cannot be read as a MATLAB v7.3 (HDF5) file: {exc}"
             ) from None
         with f:
@@ -693,9 +762,9 @@ def _open_source(path: Path, fmt: str) -> Iterator[_Source]:
             path, squeeze_me=False, struct_as_record=True, chars_as_strings=True
         )
     except NotImplementedError as exc:
-        raise ValueError(f"{path}: unsupported MATLAB file: {exc}") from None
+        raise ImportMappingError(f"{path}: unsupported MATLAB file: {exc}") from None
     except Exception as exc:  # scipy raises ValueError, TypeError, MatReadError, ...
-        raise ValueError(f"{path}: cannot be read as a MATLAB .mat file: {exc}") from None
+        raise ImportMappingError(f"{path}: cannot be read as a MATLAB .mat file: {exc}") from None
     yield _DictSource(path, variables, "mat v5")
 
 
@@ -704,7 +773,7 @@ def _npz_get(path: Path, z: Any, key: str) -> np.ndarray:
         return z[key]
     except ValueError as exc:
         if "allow_pickle" in str(exc):
-            raise ValueError(
+            raise ImportMappingError(
                 f"array {key!r} holds Python objects (a pickle), which are not loaded for "
                 "safety; store numeric arrays (one per trial grid) instead"
             ) from None
@@ -731,24 +800,39 @@ def _numeric_recording(
         kind = {"U": "text", "S": "text", "O": "cells/structs", "b": "logical values"}.get(
             arr.dtype.kind, "structured data"
         )
-        raise ValueError(f"{what} holds {kind}, not numbers")
+        raise ImportMappingError(f"{what} holds {kind}, not numbers")
     if arr.dtype.kind == "c":
-        raise ValueError(f"{what} holds complex numbers, not real numbers")
+        raise ImportMappingError(f"{what} holds complex numbers, not real numbers")
     if arr.dtype.kind not in "iuf":
-        raise ValueError(f"{what} holds {arr.dtype}, not numbers")
+        raise ImportMappingError(f"{what} holds {arr.dtype}, not numbers")
     if matlab_vectors and arr.ndim == 2 and arr.shape[0] == 1 and time_axis in (0, -2):
         # MATLAB vectors are 2-D: a 1 x N row is one channel of N samples
         arr = arr.reshape(-1, 1)
     if arr.ndim == 1:
         arr = arr[:, None] if time_axis in (0, -2) else arr[None, :]
     if arr.ndim != 2:
-        raise ValueError(f"{what} has shape {arr.shape}; a recording must be 1-D or 2-D")
+        raise ImportMappingError(f"{what} has shape {arr.shape}; a recording must be 1-D or 2-D")
     rec = arr.T if time_axis in (0, -2) else arr
     rec = rec.astype(np.float64)
-    bad = int(rec.size - np.count_nonzero(np.isfinite(rec)))
-    if bad:
-        raise ValueError(f"{what} contains {bad} NaN or infinite value(s)")
+    finite = np.isfinite(rec)
+    if not finite.all():
+        raise ImportMappingError(f"{what} contains {_bad_values(rec, finite)}")
     return rec
+
+
+def _bad_values(rec: np.ndarray, finite: np.ndarray) -> str:
+    """How many NaN/infinite values a (n_channels, n_samples) recording has, and where."""
+    n_nan = int(np.count_nonzero(np.isnan(rec)))
+    n_inf = int(rec.size - np.count_nonzero(finite) - n_nan)
+    bad = ~finite
+    t = int(np.flatnonzero(bad.any(axis=0))[0])
+    ch = int(np.flatnonzero(bad[:, t])[0])
+    first = "NaN" if np.isnan(rec[ch, t]) else "infinite"
+    return (
+        f"{n_nan + n_inf} NaN or infinite value(s) ({n_nan} NaN, {n_inf} infinite) in "
+        f"{int(np.count_nonzero(bad.any(axis=0)))} of {rec.shape[1]} samples; the first "
+        f"({first}) is sample {t + 1} of channel {ch + 1} (counting from 1)"
+    )
 
 
 def _label_array(x: np.ndarray, name: str) -> np.ndarray:
@@ -763,37 +847,41 @@ def _label_array(x: np.ndarray, name: str) -> np.ndarray:
             elif e.dtype.kind in "iuf" and e.size == 1:
                 out.append(e.ravel()[0].item())
             else:
-                raise ValueError(f"variable {name!r} must hold one number or string per cell")
+                raise ImportMappingError(
+                    f"variable {name!r} must hold one number or string per cell"
+                )
         if all(isinstance(v, str) for v in out):
             return np.array(out, dtype=str)
         if any(isinstance(v, str) for v in out):
-            raise ValueError(f"variable {name!r} mixes numbers and strings")
+            raise ImportMappingError(f"variable {name!r} mixes numbers and strings")
         return np.array(out)
     if arr.dtype.kind in "US":
         return arr.ravel().astype(str)
     if arr.dtype.kind == "b":
         return arr.ravel().astype(np.int64)
     if arr.dtype.kind not in "iuf":
-        raise ValueError(f"variable {name!r} holds {arr.dtype}, not numbers or strings")
+        raise ImportMappingError(f"variable {name!r} holds {arr.dtype}, not numbers or strings")
     return arr.ravel(order="C")
 
 
 def _sample_rate(mapping: ImportMapping, source: _Source | None) -> float:
     fs = mapping.sample_rate_hz
     if fs is None:
-        raise ValueError(
+        raise ImportMappingError(
             "the sampling rate is not given: set 'sample_rate_hz' in the mapping "
             "(or --sample-rate-hz)"
         )
     if isinstance(fs, str):
         if source is None:
-            raise ValueError("'sample_rate_hz' must be a number for this format")
+            raise ImportMappingError("'sample_rate_hz' must be a number for this format")
         v = np.asarray(source.get(fs))
         if v.size != 1 or v.dtype.kind not in "iuf":
-            raise ValueError(f"variable {fs!r} (sample_rate_hz) must be one number")
+            raise ImportMappingError(f"variable {fs!r} (sample_rate_hz) must be one number")
         value = float(v.ravel()[0])
         if not math.isfinite(value) or value <= 0:
-            raise ValueError(f"variable {fs!r} (sample_rate_hz) must be positive, got {value}")
+            raise ImportMappingError(
+                f"variable {fs!r} (sample_rate_hz) must be positive, got {value}"
+            )
         return value
     return float(fs)
 
@@ -805,7 +893,7 @@ def _equalise(
     n_ch = recs[0].shape[0]
     for r, nm in zip(recs, names, strict=True):
         if r.shape[0] != n_ch:
-            raise ValueError(
+            raise ImportMappingError(
                 f"{nm} has {r.shape[0]} channel(s), {names[0]} has {n_ch}; "
                 "every recording needs the same channels (check 'time_axis')"
             )
@@ -814,7 +902,7 @@ def _equalise(
     if np.any(lengths != lengths[0]):
         if ragged != "crop":
             k = int(np.flatnonzero(lengths != lengths[0])[0])
-            raise ValueError(
+            raise ImportMappingError(
                 f"{names[k]} has {lengths[k]} samples but {names[0]} has {lengths[0]} "
                 f"(recordings range from {lengths.min()} to {lengths.max()} samples); "
                 "set \"ragged\": \"crop\" (--crop) to cut all to the shortest"
@@ -822,7 +910,9 @@ def _equalise(
         cropped_from = int(lengths.max())
         n = int(lengths.min())
         if n == 0:
-            raise ValueError(f"{names[int(np.argmin(lengths))]} has no samples; cannot crop")
+            raise ImportMappingError(
+                f"{names[int(np.argmin(lengths))]} has no samples; cannot crop"
+            )
         recs = [r[:, :n] for r in recs]
     return np.stack(recs), cropped_from
 
@@ -852,16 +942,16 @@ def detect_format(path: str | os.PathLike[str], fmt: str | None = None) -> str:
 
     Raises
     ------
-    ValueError
+    ImportMappingError
         If the format is unknown or cannot be told from the extension.
     """
     if fmt not in (None, "auto"):
         if fmt not in FORMATS:
-            raise ValueError(f"unknown format {fmt!r}; choose one of {list(FORMATS)}")
+            raise ImportMappingError(f"unknown format {fmt!r}; choose one of {list(FORMATS)}")
         return fmt
     ext = Path(path).suffix.lower()
     if ext not in _EXTENSIONS:
-        raise ValueError(
+        raise ImportMappingError(
             f"{path}: cannot tell the file type from extension {ext or '(none)'!r}; "
             f"give the format ({', '.join(FORMATS)}) explicitly"
         )
@@ -872,7 +962,7 @@ def _check_keys(mapping: ImportMapping, fmt: str) -> None:
     bad = _CSV_KEYS if fmt != "csv" else _ARRAY_KEYS
     wrong = sorted(set(mapping.raw) & bad)
     if wrong:
-        raise ValueError(f"mapping key(s) {wrong} do not apply to {fmt} files")
+        raise ImportMappingError(f"mapping key(s) {wrong} do not apply to {fmt} files")
 
 
 # --------------------------------------------------------------------------- arrays (mat/npz)
@@ -889,7 +979,7 @@ def _import_array(source: _Source, mapping: ImportMapping) -> dict[str, Any]:
         if len(shape) != k:
             squeezed = tuple(s for s in shape if s != 1)
             if len(squeezed) != k:
-                raise ValueError(
+                raise ImportMappingError(
                     f"signal {name!r} is a {' x '.join(map(str, shape))} cell array but the "
                     f"mapping's cell_axes has {k} entr{'y' if k == 1 else 'ies'} "
                     f"({[a['name'] for a in axes]})"
@@ -907,10 +997,10 @@ def _import_array(source: _Source, mapping: ImportMapping) -> dict[str, Any]:
         grid_idx = [tuple(idx[i] for i in keep) for idx in np.ndindex(shape)]
     else:
         if arr.dtype.kind not in "iufc" and arr.dtype != bool:
-            raise ValueError(f"signal {name!r} holds {arr.dtype} data, not numbers")
+            raise ImportMappingError(f"signal {name!r} holds {arr.dtype} data, not numbers")
         rec_ndim = arr.ndim - k
         if rec_ndim not in (1, 2):
-            raise ValueError(
+            raise ImportMappingError(
                 f"signal {name!r} has shape {arr.shape}: with {k} trial ax"
                 f"{'is' if k == 1 else 'es'} in cell_axes ({[a['name'] for a in axes]}) each "
                 f"recording would have {rec_ndim} dimensions, not 1 (time) or 2 (time, channel)"
@@ -941,7 +1031,7 @@ def _import_array(source: _Source, mapping: ImportMapping) -> dict[str, Any]:
             if mapping.empty == "skip":
                 keep_mask.append(False)
                 continue
-            raise ValueError(
+            raise ImportMappingError(
                 f"{nm} is empty; set \"empty\": \"skip\" (--skip-empty) to leave it out"
             )
         recs.append(_numeric_recording(c, nm, mapping.time_axis, matlab_vectors=is_cell))
@@ -949,7 +1039,7 @@ def _import_array(source: _Source, mapping: ImportMapping) -> dict[str, Any]:
         kept_idx.append(gi)
         keep_mask.append(True)
     if not recs:
-        raise ValueError(f"signal {name!r} holds no recordings")
+        raise ImportMappingError(f"signal {name!r} holds no recordings")
     signal, cropped_from = _equalise(recs, rec_names, mapping.ragged)
     labels: dict[str, np.ndarray] = {}
     for ax, (a, vals) in enumerate(zip(axes, axis_vals, strict=True)):
@@ -960,7 +1050,7 @@ def _import_array(source: _Source, mapping: ImportMapping) -> dict[str, Any]:
     for label, var in mapping.labels.items():
         vals = _label_array(source.get(var), var)
         if vals.size != n_all:
-            raise ValueError(
+            raise ImportMappingError(
                 f"label {label!r} (variable {var!r}) has {vals.size} values for "
                 f"{n_all} recordings in {name!r}"
             )
@@ -978,9 +1068,9 @@ def _read_csv(path: Path) -> Any:
     try:
         return pd.read_csv(path)
     except UnicodeDecodeError:
-        raise ValueError(f"{path}: is not a text CSV file") from None
+        raise ImportMappingError(f"{path}: is not a text CSV file") from None
     except (pd.errors.ParserError, pd.errors.EmptyDataError, ValueError) as exc:
-        raise ValueError(f"{path}: cannot be read as CSV: {exc}") from None
+        raise ImportMappingError(f"{path}: cannot be read as CSV: {exc}") from None
 
 
 def _numeric_column(df: Any, col: str, path: Path) -> np.ndarray:
@@ -991,7 +1081,7 @@ def _numeric_column(df: Any, col: str, path: Path) -> np.ndarray:
     bad = num.isna() & s.notna()
     if bool(bad.any()):
         row = int(np.flatnonzero(bad.to_numpy())[0])
-        raise ValueError(
+        raise ImportMappingError(
             f"{path}: column {col!r} must hold numbers; line {row + 2} has {s.iloc[row]!r}"
         )
     return num.to_numpy(dtype=float)
@@ -1004,12 +1094,14 @@ def _import_csv(path: Path, mapping: ImportMapping) -> dict[str, Any]:
     label_cols = dict(mapping.labels)
     for label, col in label_cols.items():
         if col not in cols:
-            raise ValueError(f"{path}: no column {col!r} (label {label!r}); columns: {cols}")
+            raise ImportMappingError(
+                f"{path}: no column {col!r} (label {label!r}); columns: {cols}"
+            )
     if mapping.layout == "wide":
         return _import_csv_wide(path, df, mapping, label_cols)
     tcol = mapping.trial_column
     if tcol not in cols:
-        raise ValueError(
+        raise ImportMappingError(
             f"{path}: no trial column {tcol!r} (long layout: one row per sample); "
             f"columns: {cols}. Set 'trial_column', or \"layout\": \"wide\""
         )
@@ -1017,21 +1109,21 @@ def _import_csv(path: Path, mapping: ImportMapping) -> dict[str, Any]:
     if time_col is _UNSET:
         time_col = "time" if "time" in cols else None
     if time_col is not None and time_col not in cols:
-        raise ValueError(f"{path}: no time column {time_col!r}; columns: {cols}")
+        raise ImportMappingError(f"{path}: no time column {time_col!r}; columns: {cols}")
     used = {tcol, time_col, *label_cols.values()}
     if mapping.channels is not None:
         chans = list(mapping.channels)
         missing = [c for c in chans if c not in cols]
         if missing:
-            raise ValueError(f"{path}: no channel column(s) {missing}; columns: {cols}")
+            raise ImportMappingError(f"{path}: no channel column(s) {missing}; columns: {cols}")
     else:
         chans = [c for c in cols if c not in used and df[c].dtype.kind in "iuf"]
         if not chans:
-            raise ValueError(f"{path}: no numeric channel columns; give 'channels'")
+            raise ImportMappingError(f"{path}: no numeric channel columns; give 'channels'")
     values = np.column_stack([_numeric_column(df, c, path) for c in chans])
     trial_ids = df[tcol].to_numpy()
     if df[tcol].isna().any():
-        raise ValueError(f"{path}: column {tcol!r} has empty cells")
+        raise ImportMappingError(f"{path}: column {tcol!r} has empty cells")
     times = _numeric_column(df, time_col, path) if time_col else None
     _, first, inverse = np.unique(trial_ids.astype(str), return_index=True, return_inverse=True)
     order = np.argsort(first, kind="stable")  # trials in order of first appearance
@@ -1045,16 +1137,20 @@ def _import_csv(path: Path, mapping: ImportMapping) -> dict[str, Any]:
             rows = rows[np.argsort(times[rows], kind="stable")]
             rec_times.append(times[rows])
         block = values[rows]
-        bad = int(block.size - np.count_nonzero(np.isfinite(block)))
-        if bad:
-            raise ValueError(f"{nm} has {bad} empty, NaN or infinite sample value(s)")
+        finite = np.isfinite(block)
+        if not finite.all():
+            r, c = np.argwhere(~finite)[0]
+            raise ImportMappingError(
+                f"{nm} has {int(np.count_nonzero(~finite))} empty, NaN or infinite sample "
+                f"value(s); the first is column {chans[int(c)]!r} on line {int(rows[r]) + 2}"
+            )
         recs.append(block.T)
         names.append(nm)
         row_labels = {}
         for label, col in label_cols.items():
             vals = df[col].iloc[rows]
             if vals.nunique(dropna=False) != 1:
-                raise ValueError(
+                raise ImportMappingError(
                     f"{nm}: label column {col!r} is not constant within the trial "
                     f"({sorted(map(str, vals.unique()))[:5]})"
                 )
@@ -1069,14 +1165,16 @@ def _import_csv(path: Path, mapping: ImportMapping) -> dict[str, Any]:
         if n_t > 1 and fs is None:
             d = np.median(np.diff(tt[0]))
             if not d > 0:
-                raise ValueError(f"{path}: time column {time_col!r} does not increase")
+                raise ImportMappingError(f"{path}: time column {time_col!r} does not increase")
             fs = 1.0 / float(d)
         if all(np.allclose(t, tt[0], rtol=0, atol=1e-9) for t in tt):
             time = tt[0]
     if fs is None:
-        raise ValueError("the sampling rate is not given: set 'sample_rate_hz' in the mapping")
+        raise ImportMappingError(
+            "the sampling rate is not given: set 'sample_rate_hz' in the mapping"
+        )
     if isinstance(fs, str):
-        raise ValueError("'sample_rate_hz' must be a number for CSV files")
+        raise ImportMappingError("'sample_rate_hz' must be a number for CSV files")
     labels = {label: _label_values([r[label] for r in labels_rows]) for label in label_cols}
     return {"signal": signal, "labels": labels, "cropped_from": cropped_from,
             "sample_rate_hz": float(fs), "time": time, "channels": chans, "signal_name": None}
@@ -1096,7 +1194,7 @@ def _import_csv_wide(
         prefixes = sorted({m.group(1) for c in cols if (m := re.fullmatch(r"(.+)_(\d+)", c))
                            and c not in label_cols.values()})
         if not prefixes:
-            raise ValueError(f"{path}: no sample columns named CHANNEL_0, CHANNEL_1, ...")
+            raise ImportMappingError(f"{path}: no sample columns named CHANNEL_0, CHANNEL_1, ...")
         chans = prefixes
     blocks = []
     for ch in chans:
@@ -1104,10 +1202,12 @@ def _import_csv_wide(
             (int(m.group(1)), c) for c in cols if (m := re.fullmatch(re.escape(ch) + r"_(\d+)", c))
         )
         if not idx:
-            raise ValueError(f"{path}: no sample columns {ch}_0, {ch}_1, ... for channel {ch!r}")
+            raise ImportMappingError(
+                f"{path}: no sample columns {ch}_0, {ch}_1, ... for channel {ch!r}"
+            )
         expected = list(range(len(idx)))
         if [i for i, _ in idx] != expected:
-            raise ValueError(
+            raise ImportMappingError(
                 f"{path}: sample columns of channel {ch!r} are not {ch}_0..{ch}_{len(idx) - 1}"
             )
         blocks.append(np.column_stack([_numeric_column(df, c, path) for _, c in idx]))
@@ -1120,19 +1220,19 @@ def _import_csv_wide(
             finite = np.isfinite(r)
             n = int(np.argmin(finite)) if not finite.all() else r.size
             if finite[n:].any():
-                raise ValueError(
+                raise ImportMappingError(
                     f"{nm}: channel {ch!r} has an empty or NaN sample inside the recording"
                 )
             lengths.append(n)
         if len(set(lengths)) != 1:
-            raise ValueError(f"{nm}: channels have different numbers of samples {lengths}")
+            raise ImportMappingError(f"{nm}: channels have different numbers of samples {lengths}")
         recs.append(np.stack([r[: lengths[0]] for r in rec]))
         names.append(nm)
     if not recs:
-        raise ValueError(f"{path}: has no rows")
+        raise ImportMappingError(f"{path}: has no rows")
     signal, cropped_from = _equalise(recs, names, mapping.ragged)
     if mapping.sample_rate_hz is None or isinstance(mapping.sample_rate_hz, str):
-        raise ValueError("the sampling rate is not given: set 'sample_rate_hz' (a number)")
+        raise ImportMappingError("the sampling rate is not given: set 'sample_rate_hz' (a number)")
     labels = {label: _label_values(df[col].tolist()) for label, col in label_cols.items()}
     return {"signal": signal, "labels": labels, "cropped_from": cropped_from,
             "sample_rate_hz": float(mapping.sample_rate_hz), "time": None, "channels": chans,
@@ -1170,7 +1270,7 @@ def import_recording(
 
     Raises
     ------
-    ValueError
+    ImportMappingError
         Naming the field, cell, column or line: missing variable/column,
         non-numeric data, ragged or empty recordings (when not allowed), axis
         sizes that do not match the file, unknown file type, bad mapping.
@@ -1181,7 +1281,7 @@ def import_recording(
     if not path.exists():
         raise FileNotFoundError(f"{path}: no such file")
     if path.is_dir():
-        raise ValueError(f"{path}: is a directory, not a recording file")
+        raise ImportMappingError(f"{path}: is a directory, not a recording file")
     m = mapping if isinstance(mapping, ImportMapping) else load_mapping(mapping)
     fmt = detect_format(path, format if format not in (None, "auto") else m.format)
     _check_keys(m, fmt)
@@ -1196,7 +1296,7 @@ def import_recording(
     n, c, t = signal.shape
     channels = res.get("channels") if m.channels is None else list(m.channels)
     if channels is not None and len(channels) != c:
-        raise ValueError(
+        raise ImportMappingError(
             f"mapping 'channels' names {len(channels)} channel(s) {list(channels)} but the "
             f"recordings have {c} (check 'time_axis')"
         )
@@ -1217,10 +1317,15 @@ def import_recording(
     )
     if res["cropped_from"] is not None:
         attrs["cropped_from_samples"] = res["cropped_from"]
-    return make_dataset(
-        signal, sample_rate_hz=fs, channels=channels, time=time, labels=labels, attrs=attrs,
-        units=m.units,
-    )
+    try:
+        return make_dataset(
+            signal, sample_rate_hz=fs, channels=channels, time=time, labels=labels,
+            attrs=attrs, units=m.units,
+        )
+    except ImportMappingError:
+        raise
+    except ValueError as exc:  # e.g. a reserved label name, a non-increasing time column
+        raise ImportMappingError(f"{path}: {exc}") from None
 
 
 def import_file(
@@ -1249,16 +1354,16 @@ def import_file(
 
     Raises
     ------
-    ValueError
+    ImportMappingError
         If ``out`` is the source file itself, or for any import error.
     """
     from vibrissa.data.netcdf import save_dataset
 
     src, dst = Path(source), Path(out)
     if dst.exists() and src.exists() and os.path.samefile(src, dst):
-        raise ValueError(f"output {dst} is the source file; choose another output path")
+        raise ImportMappingError(f"output {dst} is the source file; choose another output path")
     if dst.is_dir():
-        raise ValueError(f"output {dst} is a directory")
+        raise ImportMappingError(f"output {dst} is a directory")
     ds = import_recording(src, mapping, format=format)
     save_dataset(ds, dst)
     return ds
