@@ -27,7 +27,13 @@ from vibrissa.data import (
     load_mapping,
     select,
 )
-from vibrissa.data.importers import detect_format, parse_axis_option, parse_range
+from vibrissa.data.importers import (
+    ImportMappingError,
+    detect_format,
+    parse_axis_option,
+    parse_range,
+)
+from vibrissa.examples import EXAMPLE_MAPPING, EXAMPLE_RECORDING, example_names, example_path
 
 
 def _check_xy(ds, shape=(4, 3, 5)) -> None:
@@ -475,3 +481,202 @@ def test_matlab_numeric_array_with_trials_last(tmp_path) -> None:
     csv.write_text("trial,x\n0,1\n")
     with pytest.raises(ValueError, match="do not apply to csv"):
         import_recording(csv, {"trial_axes": "last", "sample_rate_hz": 1})
+
+
+# ----------------------------------------------------------------------------- the brief's cases
+
+#: The mapping of the thesis author's full data_XY.mat (4 x 26 x 101 cells of 750 x 2).
+FULL_XY_MAPPING = {
+    "format": "mat",
+    "signal": "data",
+    "cell_axes": [
+        {"name": "set", "values": [1, 2, 3, 4]},
+        {"name": "speed_mm_s", "start": 36, "stop": 216, "num": 26},
+        {"name": "radial_distance_mm", "start": 80, "stop": 180, "num": 101},
+    ],
+    "channels": ["x", "y"],
+    "time_axis": 0,
+    "sample_rate_hz": 1000,
+    "units": "V",
+}
+
+
+def _sha256(path) -> str:
+    import hashlib
+
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def test_full_size_data_xy_grid_with_the_documented_mapping(tmp_path) -> None:
+    # the full 4 x 26 x 101 cell grid, with short cells (4 x 2) to stay fast
+    cells = np.empty((4, 26, 101), dtype=object)
+    for idx in np.ndindex(cells.shape):
+        cells[idx] = np.full((4, 2), float(np.ravel_multi_index(idx, cells.shape)))
+        cells[idx][:, 1] *= -1
+    path = tmp_path / "data_XY.mat"
+    scipy.io.savemat(path, {"data": cells})
+    ds = import_recording(path, FULL_XY_MAPPING)
+    assert ds.sizes == {"trial": 10504, "channel": 2, "time": 4}
+    assert ds["signal"].attrs["units"] == "V"
+    np.testing.assert_allclose(np.unique(ds["speed_mm_s"].values), 36 + 7.2 * np.arange(26))
+    np.testing.assert_array_equal(np.unique(ds["radial_distance_mm"].values),
+                                  np.arange(80.0, 181.0))
+    # trial n is cell n in C order (set, speed, radius), transposed to channels x samples
+    np.testing.assert_array_equal(ds["signal"].values[:, 0, 0], np.arange(10504.0))
+    np.testing.assert_array_equal(ds["signal"].values[:, 1, 3], -np.arange(10504.0))
+    t = np.ravel_multi_index((2, 5, 17), (4, 26, 101))
+    assert (ds["set"].values[t], ds["speed_mm_s"].values[t],
+            ds["radial_distance_mm"].values[t]) == (3, 72.0, 97.0)
+
+
+def test_errors_are_import_mapping_errors(xy_mat, tmp_path) -> None:
+    assert issubclass(ImportMappingError, ValueError)
+    cases = [
+        ({**XY_MAPPING, "signals": "data"}, "unknown mapping key"),
+        ({**XY_MAPPING, "channels": "x,x"}, "repeated"),
+        ({**XY_MAPPING, "sample_rate_hz": True}, "sample_rate_hz"),
+        ({**XY_MAPPING, "cell_axes": "set"}, "cell_axes"),
+        ({**XY_MAPPING, "signal": "nope"}, "no variable 'nope'"),
+        ({**XY_MAPPING, "constants": {"time": 1}}, "reserved"),
+        ({**XY_MAPPING, "cell_axes": [{"name": "set", "values": [1, 2]}, "b", "c"]},
+         r"'set'\) has 2 values but signal 'data' \(a 4 x 3 x 5 cell array\) has 4"),
+    ]
+    for mapping, match in cases:
+        with pytest.raises(ImportMappingError, match=match):
+            import_recording(xy_mat, mapping)
+    xls = tmp_path / "data_XY.xls"
+    xls.write_bytes(b"not a recording")
+    with pytest.raises(ImportMappingError, match="cannot tell the file type"):
+        import_recording(xls, XY_MAPPING)
+
+
+def test_nan_and_inf_say_how_many_and_where(tmp_path) -> None:
+    cells = xy_cells((1, 2, 2))
+    bad = cell_recording(0, 1, 0)
+    bad[10:13, 1] = np.nan  # samples 11-13 (MATLAB rows), channel y
+    bad[400, 0] = -np.inf
+    cells[0, 1, 0] = bad
+    path = tmp_path / "nan.mat"
+    scipy.io.savemat(path, {"data": cells})
+    with pytest.raises(
+        ImportMappingError,
+        match=r"cell data\{1,2,1\} contains 4 NaN or infinite value\(s\) \(3 NaN, 1 infinite\) "
+        r"in 4 of 750 samples; the first \(NaN\) is sample 11 of channel 2",
+    ):
+        import_recording(path, {"signal": "data", "sample_rate_hz": 1000,
+                                "cell_axes": ["a", "b", "c"]})
+    csv = tmp_path / "nan.csv"
+    csv.write_text("trial,x,y\n0,1,2\n0,1,2\n1,1,2\n1,,2\n1,nan,inf\n")
+    with pytest.raises(ImportMappingError, match=r"trial 1 of nan.csv has 3 empty, NaN or "
+                                                 r"infinite .* column 'x' on line 5"):
+        import_recording(csv, {"sample_rate_hz": 10})
+
+
+def test_mat_v73_truncated_or_damaged(tmp_path) -> None:
+    p = write_mat73(tmp_path / "ok.mat", {"data": xy_cells((2, 2, 2))})
+    mapping = {**XY_MAPPING, "cell_axes": ["a", "b", "c"]}
+    assert import_recording(p, mapping).sizes["trial"] == 8
+    blob = p.read_bytes()
+    trunc = tmp_path / "trunc.mat"
+    trunc.write_bytes(blob[: len(blob) // 2])
+    with pytest.raises(ImportMappingError, match=r"trunc.mat: cannot be read as a MATLAB v7.3"):
+        import_recording(trunc, mapping)
+    # damage object headers: every failure is one ImportMappingError naming the file
+    rng = np.random.default_rng(0)
+    failures = 0
+    for _ in range(60):
+        bad = bytearray(blob)
+        o = int(rng.integers(512, len(blob) - 64))
+        bad[o:o + 64] = rng.integers(0, 256, 64, dtype=np.uint8).tobytes()
+        q = tmp_path / "damaged.mat"
+        q.write_bytes(bytes(bad))
+        try:
+            import_recording(q, mapping)
+        except ImportMappingError as exc:
+            failures += 1
+            assert "damaged.mat" in str(exc) or "cell data" in str(exc)
+    assert failures > 0
+
+
+@pytest.mark.parametrize("kind", ["mat5", "mat73", "npz", "csv"])
+def test_source_file_unchanged_by_import_and_failed_import(tmp_path, kind) -> None:
+    if kind == "mat5":
+        path = tmp_path / "r.mat"
+        scipy.io.savemat(path, {"data": xy_cells((1, 2, 2))})
+        mapping = {"signal": "data", "sample_rate_hz": 1000, "cell_axes": ["a", "b", "c"]}
+    elif kind == "mat73":
+        path = write_mat73(tmp_path / "r.mat", {"data": xy_cells((1, 2, 2))})
+        mapping = {"signal": "data", "sample_rate_hz": 1000, "cell_axes": ["a", "b", "c"]}
+    elif kind == "npz":
+        path = tmp_path / "r.npz"
+        np.savez(path, x=np.arange(60.0).reshape(3, 20), s=np.array([1, 2, 3]))
+        mapping = {"signal": "x", "sample_rate_hz": 1000, "labels": {"speed_mm_s": "s"}}
+    else:
+        path = tmp_path / "r.csv"
+        _long_csv(path)
+        mapping = {"labels": ["texture"]}
+    digest, mtime = _sha256(path), os.stat(path).st_mtime_ns
+    out = tmp_path / "out.nc"
+    import_file(path, mapping, out)
+    with pytest.raises(ImportMappingError):
+        import_file(path, {**mapping, "channels": ["a", "b", "c", "d", "e"]}, out)
+    assert _sha256(path) == digest and os.stat(path).st_mtime_ns == mtime
+    assert load_dataset(out).attrs["source_sha256"] == digest
+
+
+def test_failed_import_leaves_existing_output_byte_identical(xy_mat, tmp_path) -> None:
+    out = tmp_path / "xy.nc"
+    out.write_bytes(b"an older dataset")
+    for bad in ({**XY_MAPPING, "signal": "nope"}, {**XY_MAPPING, "ragged": "pad"}):
+        with pytest.raises(ImportMappingError):
+            import_file(xy_mat, bad, out)
+        assert out.read_bytes() == b"an older dataset"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["data_XY.mat", "xy.nc"]
+
+
+# ----------------------------------------------------------------------------- shipped example
+
+
+def test_shipped_example_is_a_data_xy_layout_mat_v5() -> None:
+    assert example_names() == [EXAMPLE_MAPPING, EXAMPLE_RECORDING]
+    path = example_path(EXAMPLE_RECORDING)
+    assert path.stat().st_size < 200_000
+    raw = scipy.io.loadmat(path)
+    assert raw["__header__"].startswith(b"MATLAB 5.0 MAT-file")
+    assert sorted(k for k in raw if not k.startswith("__")) == ["data"]
+    cells = raw["data"]
+    assert cells.dtype == object and cells.shape == (4, 3, 5)
+    for c in cells.flat:
+        assert c.shape == (750, 2) and c.dtype == np.float64
+    with pytest.raises(FileNotFoundError, match="data_XY_small.mat"):
+        example_path("data_XY.mat")
+    with pytest.raises(FileNotFoundError):
+        example_path("../__init__.py")
+
+
+def test_shipped_example_imports_with_its_mapping() -> None:
+    path = example_path(EXAMPLE_RECORDING)
+    digest = _sha256(path)
+    ds = import_recording(path, example_path(EXAMPLE_MAPPING))
+    assert _sha256(path) == digest
+    assert ds.sizes == {"trial": 60, "channel": 2, "time": 750}
+    assert list(ds["channel"].values) == ["x", "y"]
+    assert ds.attrs["sample_rate_hz"] == 1000.0
+    assert "SIMULATED" in ds.attrs["description"]
+    np.testing.assert_allclose(ds["time"].values, -0.375 + np.arange(750) / 1000.0, atol=1e-12)
+    cells = scipy.io.loadmat(path)["data"]
+    sets, speeds, radii = [1, 2, 3, 4], [36.0, 126.0, 216.0], [80.0, 105.0, 130.0, 155.0, 180.0]
+    for trial, (i, j, k) in enumerate(np.ndindex(4, 3, 5)):
+        assert ds["set"].values[trial] == sets[i]
+        assert ds["speed_mm_s"].values[trial] == speeds[j]
+        assert ds["radial_distance_mm"].values[trial] == radii[k]
+        np.testing.assert_array_equal(ds["signal"].values[trial], cells[i, j, k].T)
+    # the labels sit on the right trials physically too: deflection falls with radius
+    # and grows with speed in every set, and peaks at the alignment point t = 0
+    x = ds["signal"].values
+    amp = np.abs(x - x[:, :, :50].mean(axis=2, keepdims=True)).max(axis=(1, 2))
+    amp = amp.reshape(4, 3, 5)
+    assert np.all(np.diff(amp, axis=2) < 0)
+    assert np.all(np.diff(amp, axis=1) > 0)
+    peak = np.abs(x - x[:, :, :50].mean(axis=2, keepdims=True)).max(axis=1).argmax(axis=1)
+    assert np.mean(ds["time"].values[peak] == 0.0) > 0.9
