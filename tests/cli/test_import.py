@@ -10,7 +10,8 @@ import scipy.io
 from typer.testing import CliRunner
 
 from vibrissa.cli import app
-from vibrissa.data import load_dataset
+from vibrissa.data import import_recording, load_dataset
+from vibrissa.examples import EXAMPLE_MAPPING, EXAMPLE_RECORDING, example_path
 
 runner = CliRunner()
 
@@ -198,5 +199,52 @@ def test_csv_import_via_cli(tmp_path) -> None:
 def test_help_documents_the_mapping() -> None:
     res = runner.invoke(app, ["import", "--help"])
     assert res.exit_code == 0
-    for word in ("cell_axes", "time_axis", "data_XY.mat", "--crop", "sample_rate_hz", "wide"):
+    for word in ("cell_axes", "time_axis", "data_XY.mat", "--crop", "sample_rate_hz", "wide",
+                 "format", "data_XY_small.mat", "exit status 2"):
         assert word in res.stdout
+
+
+def test_import_shipped_example_end_to_end(tmp_path) -> None:
+    import hashlib
+
+    src = example_path(EXAMPLE_RECORDING)
+    digest = hashlib.sha256(src.read_bytes()).hexdigest()
+    out = tmp_path / "xy_small.nc"
+    args = ["import", str(src), "--mapping", str(example_path(EXAMPLE_MAPPING)),
+            "--out", str(out), "--format", "mat"]
+    res = runner.invoke(app, args)
+    assert res.exit_code == 0, res.output
+    assert "60 trials x 2 channels (x, y) x 750 samples at 1000 Hz (0.75 s)" in res.stdout
+    assert "set: 1, 2, 3, 4" in res.stdout
+    assert "speed_mm_s: 36.0, 126.0, 216.0" in res.stdout
+    assert "radial_distance_mm: 80.0, 105.0, 130.0, 155.0, 180.0" in res.stdout
+    ds = load_dataset(out)
+    ref = import_recording(src, example_path(EXAMPLE_MAPPING))
+    np.testing.assert_array_equal(ds["signal"].values, ref["signal"].values)
+    for name in ("set", "speed_mm_s", "radial_distance_mm"):
+        np.testing.assert_array_equal(ds[name].values, ref[name].values)
+    cells = scipy.io.loadmat(src)["data"]
+    np.testing.assert_array_equal(ds["signal"].values[17], cells[1, 0, 2].T)
+    assert (int(ds["set"][17]), float(ds["speed_mm_s"][17]),
+            float(ds["radial_distance_mm"][17])) == (2, 36.0, 130.0)
+    assert hashlib.sha256(src.read_bytes()).hexdigest() == digest
+    res = runner.invoke(app, [*args, "--json"])
+    assert res.exit_code == 0, res.output
+    summary = json.loads(res.stdout)
+    assert summary["n_trials"] == 60 and summary["n_timepoints"] == 750
+    assert {k: v["n_values"] for k, v in summary["labels"].items()} == {
+        "set": 4, "speed_mm_s": 3, "radial_distance_mm": 5}
+
+
+def test_existing_dataset_kept_when_import_fails(tmp_path) -> None:
+    out = tmp_path / "xy_small.nc"
+    src, mapping = example_path(EXAMPLE_RECORDING), example_path(EXAMPLE_MAPPING)
+    res = runner.invoke(app, ["import", str(src), "-m", str(mapping), "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    before = out.read_bytes()
+    for extra in (["--channels", "x"], ["--format", "csv"], ["--axis", "set=1:3"]):
+        res = runner.invoke(app, ["import", str(src), "-m", str(mapping), "-o", str(out), *extra])
+        assert res.exit_code == 2, res.output
+        assert res.stderr.startswith("error:") and len(res.stderr.strip().splitlines()) == 1
+        assert out.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["xy_small.nc"]

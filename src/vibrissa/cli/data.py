@@ -20,11 +20,13 @@ _IMPORT_HELP = "\n\n".join(
         "vibrissa import data_XY.mat --out xy.nc --signal data --axis set=1:4 "
         "--axis speed_mm_s=36:7.2:216 --axis radial_distance_mm=80:180 "
         "--channels x,y --sample-rate-hz 1000",
-        'or the same as xy.json: {"signal": "data", "cell_axes": [{"name": "set", '
-        '"values": [1, 2, 3, 4]}, {"name": "speed_mm_s", "start": 36, "stop": 216, '
-        '"num": 26}, {"name": "radial_distance_mm", "start": 80, "step": 1, "stop": 180}], '
-        '"channels": ["x", "y"], "sample_rate_hz": 1000, "time_axis": 0}',
-        "Mapping keys:\n"
+        'or the same as xy.json (--mapping xy.json): {"format": "mat", "signal": "data", '
+        '"cell_axes": [{"name": "set", "values": [1, 2, 3, 4]}, {"name": "speed_mm_s", '
+        '"start": 36, "stop": 216, "num": 26}, {"name": "radial_distance_mm", "start": 80, '
+        '"stop": 180, "num": 101}], "channels": ["x", "y"], "time_axis": 0, '
+        '"sample_rate_hz": 1000, "units": "V"}',
+        "Mapping keys (unknown keys and wrong types are errors):\n"
+        "format: mat | csv | npz (default: from the extension; --format overrides);\n"
         "signal: the variable (struct fields with dots);\n"
         "cell_axes: one per cell dimension (or leading array dimension), MATLAB order, each "
         "with values, start/stop/num, start/step/stop or from (a variable);\n"
@@ -38,7 +40,11 @@ _IMPORT_HELP = "\n\n".join(
         "trial_column, time_column.",
         "Trials are in C order over cell_axes (last axis fastest). Full reference: "
         "python -m pydoc vibrissa.data.importers. The source is only read; the output is "
-        "written atomically.",
+        "written atomically (an existing OUT is left as it was when the import fails). "
+        "Bad input: one line on stderr, exit status 2.",
+        "A small SIMULATED recording in the data_XY layout (4 x 3 x 5 cells) ships with "
+        "vibrissa, with its mapping: vibrissa.examples.example_path('data_XY_small.mat') "
+        "and example_path('data_XY_small.mapping.json').",
     ]
 )
 
