@@ -50,3 +50,46 @@ __all__ = [
     "static_beam_radius_mm",
     "thesis_parameter_grid",
 ]
+
+# chapter 5 (angle, speed and texture; see docs/chapter5.md)
+from vibrissa.classify._chapter5 import (  # noqa: E402
+    CHAPTER5_KEYS,
+    CHAPTER5_TARGETS,
+    TEXTURE_CODES,
+    JointLikelihoodNaiveBayes,
+    SignalTransform,
+    SpeedFirstClassifier,
+    chapter5_classifiers,
+    decode_texture,
+    encode_texture,
+    resonance_hz,
+)
+from vibrissa.classify._rocket import MiniRocketClassifier  # noqa: E402
+from vibrissa.classify._sequential import (  # noqa: E402
+    SequentialEvidenceClassifier,
+    accumulate_evidence,
+    draw_sequences,
+)
+from vibrissa.classify._texture_features import (  # noqa: E402
+    FeaturePolynomialClassifier,
+    chapter5_features,
+)
+
+__all__ += [
+    "CHAPTER5_KEYS",
+    "CHAPTER5_TARGETS",
+    "TEXTURE_CODES",
+    "FeaturePolynomialClassifier",
+    "JointLikelihoodNaiveBayes",
+    "MiniRocketClassifier",
+    "SequentialEvidenceClassifier",
+    "SignalTransform",
+    "SpeedFirstClassifier",
+    "accumulate_evidence",
+    "chapter5_classifiers",
+    "chapter5_features",
+    "decode_texture",
+    "draw_sequences",
+    "encode_texture",
+    "resonance_hz",
+]

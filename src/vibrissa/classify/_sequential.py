@@ -1,0 +1,247 @@
+"""Sequential evidence accumulation over repeated contacts (beyond the thesis, 7.1.2).
+
+A rat touches a surface several times. If contacts are independent given the
+surface, the posterior over a target (e.g. texture) after ``n`` contacts, with a
+flat prior, is proportional to the product of the single-contact posteriors::
+
+    log P(t | x_1 ... x_n) = sum_i log P(t | x_i) + const
+
+:func:`accumulate_evidence` sums the per-contact log posteriors and stops at the
+first contact where the normalised posterior of the best class reaches
+``threshold`` (a sequential decision, Lepora et al. 2012);
+:class:`SequentialEvidenceClassifier` wraps any probabilistic classifier of
+joint classes, marginalises its posterior onto one target column and classifies
+sequences of trials.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from scipy.special import log_softmax, logsumexp
+from sklearn.base import BaseEstimator, ClassifierMixin, clone
+from sklearn.utils.validation import check_is_fitted
+
+__all__ = ["SequentialEvidenceClassifier", "accumulate_evidence", "draw_sequences"]
+
+
+def accumulate_evidence(
+    log_proba: np.ndarray, threshold: float = 0.99
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Sum per-contact log posteriors until the posterior passes ``threshold``.
+
+    Parameters
+    ----------
+    log_proba : ndarray of shape (n_sequences, n_contacts, n_classes)
+        Log posterior (or log-likelihood) of each class for each contact.
+    threshold : float, default=0.99
+        Stop at the first contact at which the best class' normalised posterior
+        is ``>= threshold``; values ``>= 1`` never stop early (all contacts used).
+
+    Returns
+    -------
+    decision : ndarray of shape (n_sequences,)
+        Index of the winning class.
+    n_used : ndarray of shape (n_sequences,)
+        Contacts used (1 ... n_contacts).
+    posterior : ndarray of shape (n_sequences, n_classes)
+        Normalised posterior at the stopping contact.
+    """
+    lp = np.asarray(log_proba, dtype=float)
+    if lp.ndim != 3 or lp.shape[1] < 1 or lp.shape[2] < 1:
+        raise ValueError(
+            f"log_proba must have shape (n_sequences, n_contacts, n_classes), got {lp.shape}"
+        )
+    if np.isnan(lp).any():
+        raise ValueError("log_proba contains NaN")
+    thr = float(threshold)
+    if not 0.0 < thr:
+        raise ValueError(f"threshold must be positive, got {threshold!r}")
+    post = log_softmax(np.cumsum(lp, axis=1), axis=2)  # (n, k, c)
+    best = post.max(axis=2)
+    passed = best >= np.log(thr) if thr < 1 else np.zeros_like(best, dtype=bool)
+    passed[:, -1] = True
+    stop = np.argmax(passed, axis=1)
+    final = post[np.arange(lp.shape[0]), stop]
+    return np.argmax(final, axis=1), stop + 1, np.exp(final)
+
+
+def draw_sequences(
+    labels: Any, n_contacts: int, seed: int | np.random.Generator = 0
+) -> np.ndarray:
+    """Sequences of trials with the same label, one starting at each trial.
+
+    Sequence ``i`` starts with trial ``i`` and continues with ``n_contacts - 1``
+    other trials of the same label drawn at random (without replacement while the
+    class has enough trials, then with).
+
+    Parameters
+    ----------
+    labels : array-like of shape (n_trials,)
+    n_contacts : int
+    seed : int or numpy.random.Generator
+
+    Returns
+    -------
+    ndarray of shape (n_trials, n_contacts)
+        Trial indices.
+    """
+    lab = np.asarray(labels)
+    if (isinstance(n_contacts, bool) or not isinstance(n_contacts, int | np.integer)
+            or n_contacts < 1):
+        raise ValueError(f"n_contacts must be a positive integer, got {n_contacts!r}")
+    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+    out = np.empty((lab.shape[0], int(n_contacts)), dtype=np.intp)
+    for i in range(lab.shape[0]):
+        others = np.flatnonzero(lab == lab[i])
+        others = others[others != i]
+        k = int(n_contacts) - 1
+        if k == 0:
+            rest = np.empty(0, dtype=np.intp)
+        elif others.size == 0:
+            rest = np.full(k, i)
+        else:
+            rest = rng.choice(others, size=k, replace=others.size < k)
+        out[i] = np.concatenate([[i], rest])
+    return out
+
+
+class SequentialEvidenceClassifier(ClassifierMixin, BaseEstimator):
+    """Accumulate one target's posterior over repeated contacts with the same surface.
+
+    Parameters
+    ----------
+    estimator : estimator
+        Probabilistic classifier of joint label rows (``predict_proba``).
+    target_column : int or None, default=2
+        Column of ``y`` accumulated (2: texture code); ``None`` for 1-D ``y``.
+    threshold : float, default=0.99
+        Posterior at which a sequence stops (see :func:`accumulate_evidence`).
+    min_probability : float, default=1e-3
+        Floor of each contact's marginal posterior, so that one over-confident
+        contact (naive Bayes posteriors are nearly one-hot) cannot veto a class.
+
+    Attributes
+    ----------
+    estimator_ : estimator
+    classes_ : ndarray
+        Values of the target column.
+    class_index_ : ndarray of shape (n_joint_classes,)
+        Target value index of each of ``estimator_.classes_``.
+    """
+
+    def __init__(
+        self,
+        estimator: Any,
+        target_column: int | None = 2,
+        threshold: float = 0.99,
+        min_probability: float = 1e-3,
+    ) -> None:
+        self.estimator = estimator
+        self.target_column = target_column
+        self.threshold = threshold
+        self.min_probability = min_probability
+
+    def fit(self, X: Any, y: Any) -> SequentialEvidenceClassifier:
+        """Fit the wrapped classifier on single contacts.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_trials, n_channels, n_timepoints)
+        y : array-like of shape (n_trials, n_targets) or (n_trials,)
+
+        Returns
+        -------
+        self
+        """
+        if not 0 < float(self.min_probability) < 1:
+            raise ValueError(f"min_probability must lie in (0, 1), got {self.min_probability!r}")
+        self.estimator_ = clone(self.estimator).fit(X, y)
+        jc = np.asarray(self.estimator_.classes_)
+        col = jc if self.target_column is None or jc.ndim == 1 else jc[:, int(self.target_column)]
+        self.classes_, inv = np.unique(col, return_inverse=True)
+        self.class_index_ = np.asarray(inv).ravel()
+        return self
+
+    def contact_log_proba(self, X: Any) -> np.ndarray:
+        """Floored log marginal posterior of the target for each single contact.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_trials, n_channels, n_timepoints)
+
+        Returns
+        -------
+        ndarray of shape (n_trials, n_classes)
+            Normalised (rows are log-probabilities).
+        """
+        check_is_fitted(self)
+        p = np.asarray(self.estimator_.predict_proba(X), dtype=float)
+        m = np.zeros((p.shape[0], len(self.classes_)))
+        np.add.at(m.T, self.class_index_, p.T)
+        lm = np.log(np.maximum(m, float(self.min_probability)))
+        return lm - logsumexp(lm, axis=1, keepdims=True)
+
+    def predict_proba(self, X: Any) -> np.ndarray:
+        """Single-contact marginal posterior of the target (floored, normalised).
+
+        Parameters
+        ----------
+        X : array-like of shape (n_trials, n_channels, n_timepoints)
+
+        Returns
+        -------
+        ndarray of shape (n_trials, n_classes)
+        """
+        return np.exp(self.contact_log_proba(X))
+
+    def predict(self, X: Any) -> np.ndarray:
+        """Target value of each single contact.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_trials, n_channels, n_timepoints)
+
+        Returns
+        -------
+        ndarray of shape (n_trials,)
+        """
+        return self.classes_[np.argmax(self.contact_log_proba(X), axis=1)]
+
+    def predict_sequences(
+        self, X: Any, sequences: Any, n_contacts: int | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Classify sequences of contacts with the same (unknown) target value.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_trials, n_channels, n_timepoints)
+            The contacts.
+        sequences : array-like of int, shape (n_sequences, max_contacts)
+            Indices into ``X`` of each sequence's contacts, in order.
+        n_contacts : int, optional
+            Use only the first ``n_contacts`` of each sequence.
+
+        Returns
+        -------
+        predictions : ndarray of shape (n_sequences,)
+        n_used : ndarray of shape (n_sequences,)
+            Contacts used before the posterior passed ``threshold``.
+        """
+        lp = self.contact_log_proba(X)
+        return self.predict_sequences_from_log_proba(lp, sequences, n_contacts)
+
+    def predict_sequences_from_log_proba(
+        self, log_proba: np.ndarray, sequences: Any, n_contacts: int | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """As :meth:`predict_sequences`, from precomputed :meth:`contact_log_proba`."""
+        seq = np.asarray(sequences)
+        if seq.ndim != 2 or seq.dtype.kind not in "iu":
+            raise ValueError("sequences must be a 2-D integer array (n_sequences, n_contacts)")
+        if seq.size and (seq.min() < 0 or seq.max() >= log_proba.shape[0]):
+            raise ValueError("sequences index trials outside X")
+        if n_contacts is not None:
+            seq = seq[:, : int(n_contacts)]
+        dec, used, _ = accumulate_evidence(log_proba[seq], self.threshold)
+        return self.classes_[dec], used
