@@ -52,3 +52,26 @@ __all__ = [
     "write_json",
     "write_report",
 ]
+
+# chapter 5 (angle, speed and texture; see docs/chapter5.md)
+from vibrissa.evaluate.chapter5 import (  # noqa: E402
+    kappa_from_confusion,
+    reproduce_angle_texture,
+    run_chapter5,
+    score_chapter5,
+    split_chapter5,
+)
+from vibrissa.evaluate.chapter5_report import (  # noqa: E402
+    THESIS_CHAPTER5,
+    write_chapter5_report,
+)
+
+__all__ += [
+    "THESIS_CHAPTER5",
+    "kappa_from_confusion",
+    "reproduce_angle_texture",
+    "run_chapter5",
+    "score_chapter5",
+    "split_chapter5",
+    "write_chapter5_report",
+]

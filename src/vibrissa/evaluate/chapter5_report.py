@@ -1,0 +1,285 @@
+"""Chapter-5 report: JSON, figures and Markdown beside the thesis' values (5.4).
+
+:data:`THESIS_CHAPTER5` transcribes Cohen's kappa of every classifier (5.4.1-5.4.5,
+figure 5.15) and the mean and spread of the signed errors (tables 5.1-5.11) from
+Evans (2011). Texture errors there are in texture indices (1-4, order as ours:
+smooth aluminium, P600, P180, P80, i.e. :data:`vibrissa.classify.TEXTURE_CODES`).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from vibrissa._atomic import atomic_write_text
+from vibrissa.evaluate.report import write_json
+
+__all__ = [
+    "THESIS_CHAPTER5",
+    "chapter5_figures",
+    "confusion_figure",
+    "kappa_figure",
+    "markdown_chapter5",
+    "sequential_figure",
+    "write_chapter5_report",
+]
+
+
+def _k(angle, speed, texture, alone, table=None) -> dict[str, Any]:
+    return {"kappa": {"angle": angle, "speed": speed, "texture": texture,
+                      "texture_alone": alone}, "errors": table}
+
+
+def _t(a_mean, a_std, s_mean, s_std, t_mean, t_std) -> dict[str, Any]:
+    return {"angle_deg": {"mean": a_mean, "std": a_std},
+            "speed_mm_s": {"mean": s_mean, "std": s_std},
+            "texture": {"mean": t_mean, "std": t_std}}
+
+
+#: Thesis values (Evans 2011, 5.4). ``kappa``: simultaneous angle, speed, texture and
+#: texture alone (trained per speed-angle combination, 5.3.6); ``errors``: mean and
+#: "Std Err" (a standard deviation) of the signed error, tables 5.1-5.11.
+THESIS_CHAPTER5: dict[str, dict[str, Any]] = {
+    # 5.4.1.1, table 5.1
+    "template_raw": _k(0.27, 0.25, 0.24, 0.24, _t(0.71, 15.6, -2.7, 14.22, -0.0199, 1.23)),
+    # 5.4.1.2, table 5.2 ("Template" of figure 5.15)
+    "template_lowpass": _k(0.30, 0.23, 0.21, 0.24, _t(0.1, 14.8, -0.61, 14.12, -0.01, 1.24)),
+    # 5.4.1.3, table 5.3
+    "template_highpass": _k(0.25, 0.19, 0.30, 0.16, _t(1.9, 17.9, -4.18, 16.85, -0.28, 1.27)),
+    # 5.4.1.4, table 5.4
+    "template_velocity": _k(0.15, 0.08, 0.21, 0.11, _t(-1.19, 20.2, -5.5, 23.9, 0.33, 1.35)),
+    # 5.4.1.5, table 5.5
+    "template_acceleration": _k(0.07, 0.04, 0.0, 0.05, _t(21.3, 25.6, -3.99, 29.5, 0.70, 1.51)),
+    # 5.4.1.6, table 5.6 ("FFT Temp" of figure 5.15)
+    "frequency": _k(0.44, 0.14, 0.46, 0.42, _t(-1.08, 13.8, -2.78, 22.4, 0.14, 1.00)),
+    # 5.4.2, table 5.7: f2 -> angle, f1 -> speed, f3 -> texture ("Feat" of figure 5.15);
+    # "independent of each other": angle 0.3, speed 0.25, texture f3 0.08
+    "feature": _k(0.11, 0.43, 0.06, 0.08, _t(0.17, 18.6, 1.80, 12.12, 0.43, 1.10)),
+    # same with f4 / f5 for texture (angle and speed as "feature")
+    "feature_f4": _k(0.11, 0.43, 0.03, 0.21, _t(0.17, 18.6, 1.80, 12.12, -0.07, 1.22)),
+    "feature_f5": _k(0.11, 0.43, 0.15, 0.27, _t(0.17, 18.6, 1.80, 12.12, 0.05, 1.09)),
+    # 5.4.2.1: f3-f5 combined (texture only reported: kappa 0.12, mean -0.09, std 0.97)
+    "feature_f345": _k(None, None, 0.12, None, _t(None, None, None, None, -0.09, 0.97)),
+    # 5.4.3, table 5.8 (captioned "spectral template" in the thesis, a copy slip)
+    "naive_bayes_raw": _k(0.18, 0.08, 0.11, 0.22, _t(-6.6, 24.5, -5.0, 22.6, 0.13, 1.3)),
+    # 5.4.3.1, table 5.9 ("NBV" of figure 5.15)
+    "naive_bayes_velocity": _k(0.39, 0.18, 0.38, 0.37, _t(-0.9, 15.5, 3.2, 18.8, 0.01, 1.08)),
+    # 5.4.3.2, table 5.10
+    "naive_bayes_acceleration": _k(0.25, 0.12, 0.27, 0.28,
+                                   _t(-2.0, 19.9, -2.64, 24.45, 0.04, 1.24)),
+    # 5.4.5, table 5.11: texture with speed fixed 0.18, with speed and angle fixed 0.18
+    # (the latter is placed under texture_alone; it is not the per-combination training)
+    "combined": _k(0.26, 0.43, 0.18, 0.18, _t(-0.5, 20.1, 1.8, 12.12, 0.09, 1.31)),
+}
+
+_PAR = ("angle", "speed", "texture")
+_UNITS = {"angle_deg": "deg", "speed_mm_s": "mm/s", "texture": "grades"}
+
+
+def _f(x: Any, d: int = 2) -> str:
+    return "-" if x is None else f"{float(x):.{d}f}"
+
+
+def _md(header: list[str], rows: list[list[str]]) -> str:
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(r) + " |" for r in rows]
+    return "\n".join(lines)
+
+
+def markdown_chapter5(results: Mapping[str, Any], figures: Mapping[str, Path] | None = None) -> str:
+    """The Markdown report of :func:`~vibrissa.evaluate.chapter5.run_chapter5` results.
+
+    Parameters
+    ----------
+    results : dict
+    figures : mapping of str to relative path, optional
+        Figure links (``confusion/<name>``, ``kappa``, ``sequential``).
+
+    Returns
+    -------
+    str
+    """
+    meta = results.get("meta", {})
+    sp = meta.get("split", {})
+    out = [
+        "# Chapter 5: surface angle, contact speed and texture (reproduction)",
+        "",
+        f"Trials: {meta.get('n_trials')} ({meta.get('n_channels')} channels x "
+        f"{meta.get('n_timepoints')} samples at {meta.get('sample_rate_hz')} Hz); "
+        f"training sets {sp.get('train_sets')} ({sp.get('n_train')} trials), test sets "
+        f"{sp.get('test_sets')} ({sp.get('n_test')} trials); angles {meta.get('angles_deg')} deg, "
+        f"speeds {meta.get('speeds_mm_s')} mm/s, texture codes {meta.get('texture_codes')}.",
+        "",
+        "## Cohen's kappa (ours / thesis)",
+        "",
+        "Simultaneous classification of angle, speed and texture; *texture alone*: "
+        "trained and tested per speed-angle combination, pooled (5.3.6). Thesis values "
+        "from 5.4.1-5.4.5 and figure 5.15.",
+        "",
+    ]
+    rows = []
+    for name, r in results.get("classifiers", {}).items():
+        th = THESIS_CHAPTER5.get(name, {}).get("kappa", {})
+        k = r.get("kappa", {})
+        rows.append([f"`{name}`"] + [
+            f"{_f(k.get(p))} / {_f(th.get(p))}" for p in (*_PAR, "texture_alone")
+        ] + [f"{r.get('classify_seconds', 0):.2f}"])
+    out.append(_md(["classifier", "angle", "speed", "texture", "texture alone",
+                    "classify s"], rows))
+    out += ["", "## Weighted kappa (linear / quadratic; suggested in 5.5)", ""]
+    rows = []
+    for name, r in results.get("classifiers", {}).items():
+        wk = r.get("weighted_kappa", {})
+        rows.append([f"`{name}`"] + [
+            f"{_f(wk.get(p, {}).get('linear'))} / {_f(wk.get(p, {}).get('quadratic'))}"
+            for p in _PAR])
+    out.append(_md(["classifier", "angle", "speed", "texture"], rows))
+    out += ["", "## Signed error, mean (std) - ours / thesis (tables 5.1-5.11)", ""]
+    rows = []
+    for name, r in results.get("classifiers", {}).items():
+        th = THESIS_CHAPTER5.get(name, {}).get("errors") or {}
+        cells = []
+        for unit in ("angle_deg", "speed_mm_s", "texture"):
+            e = r.get("errors", {}).get(unit, {})
+            t = th.get(unit, {})
+            cells.append(f"{_f(e.get('mean'))} ({_f(e.get('std'))}) / "
+                         f"{_f(t.get('mean'))} ({_f(t.get('std'))})")
+        rows.append([f"`{name}`"] + cells)
+    out.append(_md(["classifier", "angle (deg)", "speed (mm/s)", "texture (grades)"], rows))
+    seq = results.get("sequential") or {}
+    det = results.get("sequential_detail") or {}
+    if seq:
+        out += ["", "## Sequential contacts (beyond the thesis)", "",
+                f"Texture kappa after accumulating the posteriors of `{det.get('base')}` over "
+                f"n contacts with the same surface (stop at posterior "
+                f">= {det.get('threshold')}).", ""]
+        used = det.get("mean_contacts_used", {})
+        out.append(_md(["contacts", "texture kappa", "mean contacts used"],
+                       [[n, _f(k), _f(used.get(n))] for n, k in seq.items()]))
+    if figures:
+        out += ["", "## Figures", ""]
+        out += [f"![{k}]({p.as_posix() if isinstance(p, Path) else p})"
+                for k, p in figures.items()]
+    return "\n".join(out) + "\n"
+
+
+def confusion_figure(entry: Mapping[str, Any], name: str):
+    """Confusion matrices of angle, speed and texture of one classifier (figures 5.3-5.14).
+
+    Parameters
+    ----------
+    entry : dict
+        ``results["classifiers"][name]``.
+    name : str
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    conf = entry["confusion"]
+    keys = [k for k in (*_PAR, "texture_alone") if conf.get(k)]
+    fig = Figure(figsize=(3.2 * len(keys), 3.2), layout="constrained")
+    axes = fig.subplots(1, len(keys), squeeze=False)[0]
+    for ax, k in zip(axes, keys, strict=True):
+        m = np.asarray(conf[k]["matrix"], dtype=float)
+        lab = conf[k]["labels"]
+        ax.imshow(m, cmap="gray", origin="upper")
+        ticks = np.arange(len(lab))
+        ax.set_xticks(ticks, [f"{v:g}" for v in lab], fontsize=7, rotation=90)
+        ax.set_yticks(ticks, [f"{v:g}" for v in lab], fontsize=7)
+        ax.set_xlabel("predicted")
+        ax.set_ylabel("true")
+        ax.set_title(f"{k} (kappa {_f(entry['kappa'].get(k))})", fontsize=9)
+    fig.suptitle(name)
+    return fig
+
+
+def kappa_figure(results: Mapping[str, Any]):
+    """Cohen's kappa of angle, speed and texture per classifier (figure 5.15).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    names = list(results["classifiers"])
+    fig = Figure(figsize=(max(6.0, 0.6 * len(names)), 4.0), layout="constrained")
+    ax = fig.add_subplot()
+    x = np.arange(len(names))
+    for i, (p, colour) in enumerate(zip(_PAR, ("tab:blue", "tab:red", "gold"), strict=True)):
+        v = [results["classifiers"][n]["kappa"].get(p) for n in names]
+        ax.bar(x + (i - 1) * 0.27, [np.nan if a is None else a for a in v], 0.27,
+               color=colour, label=p)
+    ax.set_xticks(x, names, rotation=70, fontsize=8)
+    ax.set_ylabel("Cohen's kappa")
+    ax.axhline(0.2, color="grey", lw=0.8, ls=":")
+    ax.legend()
+    return fig
+
+
+def sequential_figure(results: Mapping[str, Any]):
+    """Texture kappa against the number of contacts (beyond the thesis).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    seq = results.get("sequential") or {}
+    fig = Figure(figsize=(4.5, 3.5), layout="constrained")
+    ax = fig.add_subplot()
+    n = [int(k) for k in seq]
+    ax.plot(n, [np.nan if v is None else v for v in seq.values()], "o-")
+    ax.set_xlabel("contacts with the same surface")
+    ax.set_ylabel("texture kappa")
+    ax.set_ylim(-0.05, 1.05)
+    return fig
+
+
+def chapter5_figures(results: Mapping[str, Any], out_dir: str | os.PathLike[str],
+                     dpi: int = 110) -> dict[str, Path]:
+    """Write every chapter-5 figure as PNG (atomically) and return their paths.
+
+    Returns
+    -------
+    dict of str to pathlib.Path
+        ``confusion/<name>``, ``kappa`` and (if any) ``sequential``.
+    """
+    from vibrissa.evaluate.figures import save_figure
+
+    out = Path(out_dir)
+    paths: dict[str, Path] = {}
+    for name, entry in results["classifiers"].items():
+        paths[f"confusion/{name}"] = save_figure(
+            confusion_figure(entry, name), out / f"confusion_{name}.png", dpi)
+    paths["kappa"] = save_figure(kappa_figure(results), out / "kappa.png", dpi)
+    if results.get("sequential"):
+        paths["sequential"] = save_figure(sequential_figure(results), out / "sequential.png", dpi)
+    return paths
+
+
+def write_chapter5_report(results: Mapping[str, Any], out_dir: str | os.PathLike[str], *,
+                          figures: bool = True, dpi: int = 110) -> dict[str, Path]:
+    """Write ``results.json``, ``report.md`` and ``figures/`` into ``out_dir`` atomically.
+
+    Returns
+    -------
+    dict of str to pathlib.Path
+        ``json``, ``report`` and ``figure:<key>``.
+    """
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    paths = {"json": write_json(results, out / "results.json")}
+    figs = chapter5_figures(results, out / "figures", dpi) if figures else {}
+    rel = {k: p.relative_to(out) for k, p in figs.items()}
+    paths["report"] = atomic_write_text(out / "report.md", markdown_chapter5(results, rel))
+    paths.update({f"figure:{k}": p for k, p in figs.items()})
+    return paths
