@@ -101,3 +101,22 @@ def test_retraction_clears_the_whisker_even_after_a_deep_fast_contact(model, sen
     res = trial(model, sensor, r=130.0, v=216.0)
     tail = res.signal_v[0, -60:] - 2.5  # the last 60 ms of the window
     assert abs(tail.mean()) < 0.1 * res.peak_deflection_v  # back near rest (ringing allowed)
+
+
+def test_mirrored_surface_trial_is_equivalent(model):
+    s4 = HallSensor(calibrated_gain(G), sample_rate_hz=4000)
+    peaks = []
+    for d in (1, -1):
+        res = run_trial(
+            XYStage(),
+            model,
+            s4,
+            SurfaceStimulus("aluminium", 50.0),
+            56.0,
+            d,
+            (0.75, 0.75),
+            np.random.default_rng(2),
+            dt_s=1.25e-4,
+        )
+        peaks.append(res.peak_deflection_v)
+    assert peaks[1] == pytest.approx(peaks[0], rel=0.1)

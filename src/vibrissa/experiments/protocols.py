@@ -11,7 +11,7 @@ combinations numbered as the recorded *sets* 1-4 and each run's contacts
   +/-325 ms about the peak: 10,504 trials.
 * ``angle-texture`` (chapter 5, 5.2): 8 surface angles 10-80 deg x 11 speeds
   6-106 mm/s x 4 textures (aluminium, P600, P180, P80), 2 runs x 2 directions, 4 kHz,
-  +/-750 ms about the peak: 2,816 trials.
+  +/-750 ms about the peak: 1,408 trials (352 combinations x 4 sets).
 """
 
 from __future__ import annotations

@@ -251,8 +251,9 @@ def run_trial(
             if surface is not None
             else make_surface(stimulus.texture, stimulus.surface_seed)
         )
-        contact = SurfaceContact(surf, angle_deg=stimulus.angle_deg)
-        n, u, _ = contact.frame()
+        # geometry worked out for +x; a -x trial meets the mirror-image surface
+        n, u, _ = SurfaceContact(surf, angle_deg=stimulus.angle_deg).frame()
+        contact = SurfaceContact(surf, angle_deg=stimulus.angle_deg, side=direction)
         # the plane starts approach_gap_mm (along x) short of touching the tip, at a
         # random place on the sheet so that each trial meets different grains
         tip = np.array([0.0, 0.0, g.length_m])

@@ -100,6 +100,9 @@ class SurfaceContact:
         Normal penalty stiffness and approach damping.
     presliding_distance_um
         Tangential elastic displacement before a stuck contact slips (um).
+    side
+        +1: the surface faces +x (objects come from -x); -1: the mirror image, facing
+        -x (objects come from +x).
     """
 
     surface: Surface
@@ -108,9 +111,12 @@ class SurfaceContact:
     stiffness_n_m: float = 2.0e4
     damping_n_s_m: float = 0.5
     presliding_distance_um: float = PRESLIDING_DISTANCE_M * 1e6
+    side: int = 1
 
     def __post_init__(self) -> None:
         in_range("angle_deg", self.angle_deg, 0.0, 90.0, "deg")
+        if self.side not in (1, -1):
+            raise ValueError(f"side must be +1 or -1, got {self.side!r}")
         positive("presliding_distance_um", self.presliding_distance_um)
         if self.friction is not None:
             non_negative("friction", self.friction)
@@ -124,8 +130,8 @@ class SurfaceContact:
     def frame(self) -> np.ndarray:
         """Rows: outward normal, in-plane u, in-plane w (= y)."""
         a = math.radians(self.angle_deg)
-        n = np.array([math.cos(a), 0.0, -math.sin(a)])
-        u = np.array([math.sin(a), 0.0, math.cos(a)])
+        n = np.array([self.side * math.cos(a), 0.0, -math.sin(a)])
+        u = np.array([self.side * math.sin(a), 0.0, math.cos(a)])
         w = np.cross(n, u)
         return np.vstack([n, u, w])
 
