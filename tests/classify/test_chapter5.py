@@ -236,3 +236,38 @@ def test_signal_transform_is_a_pipeline_step(data):
         SignalTransform("bandstop").fit(X)
     pipe = _estimators()["template_highpass"]
     assert isinstance(pipe, Pipeline)
+
+
+def test_minirocket_heads_and_parameters(data):
+    """Both heads learn the synthetic targets; posteriors are normalised; bad settings named."""
+    from vibrissa.classify import MiniRocketClassifier
+
+    (X, y), (Xt, yt) = data
+    for head in ("logistic", "ridge"):
+        m = MiniRocketClassifier(pool=4, n_dilations=3, head=head).fit(X, y)
+        p = m.predict_proba(Xt)
+        np.testing.assert_allclose(p.sum(axis=1), 1.0)
+        pred = m.predict(Xt)
+        # speed (amplitude x4) is easy for random-kernel PPV features
+        assert np.mean(pred[:, 1] == yt[:, 1]) >= 0.9, head
+        assert type(m.heads_[1]).__name__ == (
+            "LogisticRegression" if head == "logistic" else "RidgeClassifierCV")
+    for bad, match in ((dict(head="svm"), "head"), (dict(C=0.0), "C"),
+                       (dict(C=float("nan")), "C"), (dict(C=True), "C")):
+        with pytest.raises(ValueError, match=match):
+            MiniRocketClassifier(pool=4, n_dilations=3, **bad).fit(X, y)
+
+
+def test_sequential_from_fitted_equals_fit(data):
+    (X, y), (Xt, yt) = data
+    base = StationaryNaiveBayes(signal="raw", sample_rate_hz=FS)
+    fitted = clone(base).fit(X, y)
+    a = SequentialEvidenceClassifier(base, threshold=0.95).fit(X, y)
+    b = SequentialEvidenceClassifier.from_fitted(fitted, threshold=0.95)
+    assert b.estimator_ is fitted
+    np.testing.assert_array_equal(a.classes_, b.classes_)
+    np.testing.assert_allclose(a.contact_log_proba(Xt), b.contact_log_proba(Xt))
+    with pytest.raises(NotFittedError):
+        SequentialEvidenceClassifier.from_fitted(clone(base))
+    with pytest.raises(ValueError, match="min_probability"):
+        SequentialEvidenceClassifier.from_fitted(fitted, min_probability=1.0)

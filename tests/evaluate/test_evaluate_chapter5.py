@@ -125,6 +125,20 @@ def test_run_chapter5_json_contract(dataset, tmp_path):
     assert "naive_bayes_velocity" in md and "0.39" in md  # thesis value beside ours
     fig = confusion_figure(res["classifiers"]["minirocket"], "minirocket")
     assert len(fig.axes) == 4
+    notes = "## How our numbers differ\n\nmeasured text"
+    md = write_chapter5_report(res, tmp_path / "n", figures=True, notes=notes)["report"]
+    text = md.read_text()
+    assert "measured text" in text
+    assert text.index("measured text") < text.index("## Figures")
+    assert (tmp_path / "n" / "figures" / "sequential.png").stat().st_size > 0
+
+
+def test_shipped_chapter5_notes_are_packaged():
+    from importlib.resources import files
+
+    notes = (files("vibrissa.evaluate") / "chapter5_notes.md").read_text()
+    assert notes.startswith("## How our numbers differ")
+    assert "grain" in notes.lower()
 
 
 def test_run_chapter5_errors(dataset):

@@ -501,6 +501,7 @@ CHAPTER5_KEYS = (
     "naive_bayes_velocity",
     "naive_bayes_acceleration",
     "combined",
+    "naive_bayes_velocity_robust",
     "joint_likelihood_nb",
     "minirocket",
 )
@@ -510,7 +511,7 @@ def chapter5_classifiers(
     sample_rate_hz: float, whisker: Mapping[str, Any] | str | None = None,
     notch_hz: float | None = None,
 ) -> dict[str, BaseEstimator]:
-    """Unfitted estimators of chapter 5 (5.3.1-5.3.5) and three additions beyond it.
+    """Unfitted estimators of chapter 5 (5.3.1-5.3.5) and four additions beyond it.
 
     Parameters
     ----------
@@ -577,6 +578,8 @@ def chapter5_classifiers(
             estimator=StationaryNaiveBayes(signal="velocity", sample_rate_hz=fs),
             speed_column=1, sample_rate_hz=fs,
         ),
+        "naive_bayes_velocity_robust": StationaryNaiveBayes(
+            signal="velocity", sample_rate_hz=fs, value_range="robust"),
         "joint_likelihood_nb": JointLikelihoodNaiveBayes(
             template_signal=SignalTransform("lowpass", sample_rate_hz=fs, downsample=lp_down),
             sample_rate_hz=fs,

@@ -5,10 +5,23 @@ the 84 kernels of length 9 with weights ``-1`` everywhere and ``2`` at three
 positions, applied at exponentially spaced dilations to each channel; each
 (kernel, dilation, channel) gives ``n_biases`` features, the proportion of
 positive values (PPV) of the convolution output above biases drawn from the
-quantiles of the output on a random training trial. A ridge classifier with
-cross-validated regularisation (:class:`sklearn.linear_model.RidgeClassifierCV`)
-is fitted per target column (angle, speed, texture) and the joint score of a
-class is the sum of each target's log-softmax decision values.
+quantiles of the output on a random training trial. A linear head is fitted per
+target column (angle, speed, texture) and the joint score of a class is the sum
+of each target's log posterior:
+
+* ``head="logistic"`` (default): multinomial logistic regression
+  (:class:`sklearn.linear_model.LogisticRegression`, L2 penalty ``C``) - calibrated
+  posteriors, which evidence accumulation over contacts needs;
+* ``head="ridge"``: the ridge classifier of the MiniRocket paper
+  (:class:`sklearn.linear_model.RidgeClassifierCV`, leave-one-out choice of the
+  penalty), posteriors the log-softmax of its decision values (uncalibrated).
+
+On the full chapter-5 grid (seed 0) the logistic head raised single-contact texture
+kappa from 0.56 to 0.66 and the 10-contact sequential kappa from 0.87 to 0.98;
+``C = 0.01`` was chosen by 3-fold cross-validation on the *training* run (log loss
+0.84, 0.75, 0.69, 0.67, 0.72 and accuracy 0.64, 0.67, 0.72, 0.72, 0.71 for C = 0.001,
+0.003, 0.01, 0.03, 0.1; 0.01 is within 0.02 of the best log loss and twice as fast
+to fit as 0.03).
 
 Implemented in numpy, vectorised: with weights ``-1`` and ``2`` the convolution
 is ``-sum_j x_j + 3 (x_a + x_b + x_c)``, so the shared sum is computed once per
@@ -24,7 +37,7 @@ from typing import Any
 
 import numpy as np
 from scipy.special import log_softmax
-from sklearn.linear_model import RidgeClassifierCV
+from sklearn.linear_model import LogisticRegression, RidgeClassifierCV
 
 from vibrissa.classify._base import TrialClassifier
 
@@ -57,7 +70,7 @@ def _conv_stack(Z: np.ndarray, d: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 class MiniRocketClassifier(TrialClassifier):
-    """MiniRocket-style random-convolution features + per-target ridge classifiers.
+    """MiniRocket-style random-convolution features + per-target linear classifiers.
 
     Parameters
     ----------
@@ -68,8 +81,12 @@ class MiniRocketClassifier(TrialClassifier):
     n_biases : int, default=2
         Biases (quantiles of one training trial's output) per kernel, dilation and
         channel.
+    head : {"logistic", "ridge"}, default="logistic"
+        Linear classifier fitted per target (see the module docstring).
+    C : float, default=0.01
+        Inverse L2 penalty of the logistic head (features are standardised).
     alphas : tuple of float, default=logspace(-2, 4, 7)
-        Ridge penalties tried by leave-one-out cross-validation.
+        Ridge penalties tried by leave-one-out cross-validation (``head="ridge"``).
     random_state : int, default=0
         Seed of the bias draws.
     chunk_size : int, default=128
@@ -81,8 +98,8 @@ class MiniRocketClassifier(TrialClassifier):
     biases_ : ndarray of shape (n_dilations, 84, n_channels, n_biases)
     feature_mean_, feature_scale_ : ndarray
         Standardisation of the PPV features.
-    ridges_ : list of RidgeClassifierCV
-        One per target column.
+    heads_ : list of LogisticRegression or RidgeClassifierCV
+        One per target column (``None`` for a column with a single value).
     target_index_ : ndarray of shape (n_classes, n_targets)
         Index of each joint class' value in each ridge's ``classes_``.
     classes_, n_channels_, n_timepoints_, n_features_in_
@@ -93,6 +110,8 @@ class MiniRocketClassifier(TrialClassifier):
         pool: int = 8,
         n_dilations: int = 6,
         n_biases: int = 2,
+        head: str = "logistic",
+        C: float = 0.01,
         alphas: tuple[float, ...] = (1e-2, 1e-1, 1.0, 1e1, 1e2, 1e3, 1e4),
         random_state: int = 0,
         chunk_size: int = 128,
@@ -100,6 +119,8 @@ class MiniRocketClassifier(TrialClassifier):
         self.pool = pool
         self.n_dilations = n_dilations
         self.n_biases = n_biases
+        self.head = head
+        self.C = C
         self.alphas = alphas
         self.random_state = random_state
         self.chunk_size = chunk_size
@@ -114,6 +135,12 @@ class MiniRocketClassifier(TrialClassifier):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < 1:
                 raise ValueError(f"{name} must be a positive integer, got {v!r}")
+        if self.head not in ("logistic", "ridge"):
+            raise ValueError(f"head must be 'logistic' or 'ridge', got {self.head!r}")
+        c = self.C
+        if (isinstance(c, bool) or not isinstance(c, int | float | np.number)
+                or not np.isfinite(c) or c <= 0):
+            raise ValueError(f"C must be a positive finite number, got {c!r}")
 
     def _ppv(self, Z: np.ndarray) -> np.ndarray:
         """PPV features of pooled trials ``Z`` (n, c, t), shape (n, n_features)."""
@@ -170,34 +197,41 @@ class MiniRocketClassifier(TrialClassifier):
         self.feature_scale_ = np.where(sd > 0, sd, 1.0).astype(np.float32)
         F = (F - self.feature_mean_) / self.feature_scale_
         cls = self.classes_ if self.classes_.ndim == 2 else self.classes_[:, None]
-        self.ridges_, idx = [], []
+        self.heads_, idx = [], []
         for k in range(cls.shape[1]):
             col = cls[:, k]
             values, inv = np.unique(col, return_inverse=True)
             if len(values) == 1:
-                self.ridges_.append(None)
+                self.heads_.append(None)
                 idx.append(np.zeros(len(col), dtype=np.intp))
                 continue
-            r = RidgeClassifierCV(alphas=np.asarray(self.alphas, dtype=float))
-            r.fit(F, inv.ravel()[y_idx])
-            self.ridges_.append(r)
+            if self.head == "ridge":
+                h = RidgeClassifierCV(alphas=np.asarray(self.alphas, dtype=float))
+            else:
+                h = LogisticRegression(C=float(self.C), max_iter=2000)
+            h.fit(F, inv.ravel()[y_idx])
+            self.heads_.append(h)
             idx.append(np.asarray(inv).ravel())
         self.target_index_ = np.column_stack(idx)
 
     def _joint_scores(self, X: np.ndarray) -> np.ndarray:
         F = self._features(X)
         scores = np.zeros((X.shape[0], len(self.classes_)))
-        for k, r in enumerate(self.ridges_):
-            if r is None:
+        for k, h in enumerate(self.heads_):
+            if h is None:
                 continue
-            dec = np.asarray(r.decision_function(F), dtype=float)
-            if dec.ndim == 1:  # binary: decision for class 1
-                dec = np.column_stack([-dec, dec]) / 2.0
-            scores += log_softmax(dec, axis=1)[:, self.target_index_[:, k]]
+            if isinstance(h, LogisticRegression):
+                lp = np.asarray(h.predict_log_proba(F), dtype=float)
+            else:
+                dec = np.asarray(h.decision_function(F), dtype=float)
+                if dec.ndim == 1:  # binary: decision for class 1
+                    dec = np.column_stack([-dec, dec]) / 2.0
+                lp = log_softmax(dec, axis=1)
+            scores += lp[:, self.target_index_[:, k]]
         return scores
 
     def transform(self, X: Any) -> np.ndarray:
-        """Standardised PPV features of trials (the input of the ridge classifiers).
+        """Standardised PPV features of trials (the input of the linear heads).
 
         Parameters
         ----------

@@ -155,9 +155,34 @@ class SequentialEvidenceClassifier(ClassifierMixin, BaseEstimator):
         -------
         self
         """
+        return self._adopt(clone(self.estimator).fit(X, y))
+
+    @classmethod
+    def from_fitted(
+        cls, estimator: Any, target_column: int | None = 2, threshold: float = 0.99,
+        min_probability: float = 1e-3,
+    ) -> SequentialEvidenceClassifier:
+        """Wrap an already fitted classifier without refitting it.
+
+        Parameters
+        ----------
+        estimator : estimator
+            Fitted probabilistic classifier of joint label rows (used as is, not copied).
+        target_column, threshold, min_probability
+            As in the constructor.
+
+        Returns
+        -------
+        SequentialEvidenceClassifier
+            Fitted.
+        """
+        check_is_fitted(estimator)
+        return cls(estimator, target_column, threshold, min_probability)._adopt(estimator)
+
+    def _adopt(self, fitted: Any) -> SequentialEvidenceClassifier:
         if not 0 < float(self.min_probability) < 1:
             raise ValueError(f"min_probability must lie in (0, 1), got {self.min_probability!r}")
-        self.estimator_ = clone(self.estimator).fit(X, y)
+        self.estimator_ = fitted
         jc = np.asarray(self.estimator_.classes_)
         col = jc if self.target_column is None or jc.ndim == 1 else jc[:, int(self.target_column)]
         self.classes_, inv = np.unique(col, return_inverse=True)

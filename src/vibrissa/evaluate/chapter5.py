@@ -288,13 +288,12 @@ def texture_alone_predictions(
 
 
 def _sequential_curve(
-    estimator: Any, X_tr: np.ndarray, y_tr: np.ndarray, X_te: np.ndarray, y_te: np.ndarray,
+    fitted: Any, X_te: np.ndarray, y_te: np.ndarray,
     contacts: Sequence[int], seed: int, threshold: float,
 ) -> dict[str, Any]:
     from vibrissa.classify import SequentialEvidenceClassifier, draw_sequences
 
-    seq = SequentialEvidenceClassifier(estimator, target_column=2, threshold=threshold)
-    seq.fit(X_tr, y_tr)
+    seq = SequentialEvidenceClassifier.from_fitted(fitted, target_column=2, threshold=threshold)
     lp = seq.contact_log_proba(X_te)
     seqs = draw_sequences(y_te[:, 2], max(contacts), np.random.default_rng([int(seed), 5]))
     kappas, used = {}, {}
@@ -376,6 +375,7 @@ def run_chapter5(
     prog = _Progress(progress, len(classifiers) * (2 if texture_alone else 1) + int(do_seq))
     results: dict[str, Any] = {}
     preds: dict[str, Any] = {}
+    seq_fitted: Any = None
     for name, est0 in classifiers.items():
         est = clone(est0)
         t0 = time.perf_counter()
@@ -387,6 +387,8 @@ def run_chapter5(
         p = np.asarray(est.predict(X_te), dtype=float)
         t2 = time.perf_counter()
         prog.step(f"{name}: simultaneous")
+        if do_seq and name == sequential_base:
+            seq_fitted = est  # the sequential curve reuses this fit
         sc = score_chapter5(y_te, p)
         ta, ta_s = None, None
         if texture_alone:
@@ -426,8 +428,7 @@ def run_chapter5(
     sequential: dict[str, Any] = {}
     detail: dict[str, Any] | None = None
     if do_seq:
-        detail = _sequential_curve(classifiers[sequential_base], X_tr, y_tr, X_te, y_te,
-                                   cts, int(seed), threshold)
+        detail = _sequential_curve(seq_fitted, X_te, y_te, cts, int(seed), threshold)
         detail.update(base=sequential_base, threshold=float(threshold))
         sequential = dict(detail["kappa"])
         prog.step("sequential contacts")
@@ -524,5 +525,7 @@ def reproduce_angle_texture(
         generate_seconds=round(t_gen, 3),
         evaluate_seconds=round(time.perf_counter() - t1, 3),
     )
-    write_chapter5_report(results, out, figures=figures)
+    notes_path = Path(__file__).with_name("chapter5_notes.md")
+    notes = notes_path.read_text() if notes_path.exists() and not quick else None
+    write_chapter5_report(results, out, figures=figures, notes=notes)
     return results

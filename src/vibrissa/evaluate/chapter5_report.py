@@ -90,7 +90,8 @@ def _md(header: list[str], rows: list[list[str]]) -> str:
     return "\n".join(lines)
 
 
-def markdown_chapter5(results: Mapping[str, Any], figures: Mapping[str, Path] | None = None) -> str:
+def markdown_chapter5(results: Mapping[str, Any], figures: Mapping[str, Path] | None = None,
+                      notes: str | None = None) -> str:
     """The Markdown report of :func:`~vibrissa.evaluate.chapter5.run_chapter5` results.
 
     Parameters
@@ -98,6 +99,9 @@ def markdown_chapter5(results: Mapping[str, Any], figures: Mapping[str, Path] | 
     results : dict
     figures : mapping of str to relative path, optional
         Figure links (``confusion/<name>``, ``kappa``, ``sequential``).
+    notes : str, optional
+        Markdown appended before the figures (the shipped ``chapter5_notes.md`` on
+        the full grid).
 
     Returns
     -------
@@ -160,6 +164,8 @@ def markdown_chapter5(results: Mapping[str, Any], figures: Mapping[str, Path] | 
         used = det.get("mean_contacts_used", {})
         out.append(_md(["contacts", "texture kappa", "mean contacts used"],
                        [[n, _f(k), _f(used.get(n))] for n, k in seq.items()]))
+    if notes:
+        out += ["", notes.strip()]
     if figures:
         out += ["", "## Figures", ""]
         out += [f"![{k}]({p.as_posix() if isinstance(p, Path) else p})"
@@ -237,7 +243,15 @@ def sequential_figure(results: Mapping[str, Any]):
     fig = Figure(figsize=(4.5, 3.5), layout="constrained")
     ax = fig.add_subplot()
     n = [int(k) for k in seq]
-    ax.plot(n, [np.nan if v is None else v for v in seq.values()], "o-")
+    ax.plot(n, [np.nan if v is None else v for v in seq.values()], "o-",
+            label=f"accumulated ({(results.get('sequential_detail') or {}).get('base', '')})")
+    single = {k: v["kappa"].get("texture") for k, v in results.get("classifiers", {}).items()
+              if v.get("kappa", {}).get("texture") is not None}
+    if single:
+        best = max(single, key=single.__getitem__)
+        ax.axhline(single[best], color="grey", ls="--", lw=0.8,
+                   label=f"best single contact ({best})")
+    ax.legend(fontsize=7, loc="lower right")
     ax.set_xlabel("contacts with the same surface")
     ax.set_ylabel("texture kappa")
     ax.set_ylim(-0.05, 1.05)
@@ -267,8 +281,11 @@ def chapter5_figures(results: Mapping[str, Any], out_dir: str | os.PathLike[str]
 
 
 def write_chapter5_report(results: Mapping[str, Any], out_dir: str | os.PathLike[str], *,
-                          figures: bool = True, dpi: int = 110) -> dict[str, Path]:
+                          figures: bool = True, dpi: int = 110,
+                          notes: str | None = None) -> dict[str, Path]:
     """Write ``results.json``, ``report.md`` and ``figures/`` into ``out_dir`` atomically.
+
+    ``notes`` (Markdown) is appended to the report before the figures.
 
     Returns
     -------
@@ -280,6 +297,6 @@ def write_chapter5_report(results: Mapping[str, Any], out_dir: str | os.PathLike
     paths = {"json": write_json(results, out / "results.json")}
     figs = chapter5_figures(results, out / "figures", dpi) if figures else {}
     rel = {k: p.relative_to(out) for k, p in figs.items()}
-    paths["report"] = atomic_write_text(out / "report.md", markdown_chapter5(results, rel))
+    paths["report"] = atomic_write_text(out / "report.md", markdown_chapter5(results, rel, notes))
     paths.update({f"figure:{k}": p for k, p in figs.items()})
     return paths
