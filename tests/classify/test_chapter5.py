@@ -252,6 +252,10 @@ def test_minirocket_heads_and_parameters(data):
         assert np.mean(pred[:, 1] == yt[:, 1]) >= 0.9, head
         assert type(m.heads_[1]).__name__ == (
             "LogisticRegression" if head == "logistic" else "RidgeClassifierCV")
+    for col in (2, 1):  # 3 textures (multinomial), 2 speeds (binary)
+        m = MiniRocketClassifier(pool=4, n_dilations=3).fit(X, y[:, col])
+        np.testing.assert_allclose(
+            m.predict_proba(Xt), m.heads_[0].predict_proba(m.transform(Xt)), atol=1e-6)
     for bad, match in ((dict(head="svm"), "head"), (dict(C=0.0), "C"),
                        (dict(C=float("nan")), "C"), (dict(C=True), "C")):
         with pytest.raises(ValueError, match=match):

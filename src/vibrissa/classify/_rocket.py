@@ -220,13 +220,14 @@ class MiniRocketClassifier(TrialClassifier):
         for k, h in enumerate(self.heads_):
             if h is None:
                 continue
-            if isinstance(h, LogisticRegression):
-                lp = np.asarray(h.predict_log_proba(F), dtype=float)
-            else:
-                dec = np.asarray(h.decision_function(F), dtype=float)
-                if dec.ndim == 1:  # binary: decision for class 1
-                    dec = np.column_stack([-dec, dec]) / 2.0
-                lp = log_softmax(dec, axis=1)
+            # log-softmax of the decision values: the logistic head's log posterior
+            # without the underflow of log(predict_proba)
+            dec = np.asarray(h.decision_function(F), dtype=float)
+            if dec.ndim == 1:  # binary: decision value of class 1
+                dec = (np.column_stack([np.zeros_like(dec), dec])
+                       if isinstance(h, LogisticRegression)
+                       else np.column_stack([-dec, dec]) / 2.0)
+            lp = log_softmax(dec, axis=1)
             scores += lp[:, self.target_index_[:, k]]
         return scores
 
