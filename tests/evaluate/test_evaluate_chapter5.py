@@ -125,6 +125,8 @@ def test_run_chapter5_json_contract(dataset, tmp_path):
     assert "naive_bayes_velocity" in md and "0.39" in md  # thesis value beside ours
     fig = confusion_figure(res["classifiers"]["minirocket"], "minirocket")
     assert len(fig.axes) == 4
+    tex_ax = [a for a in fig.axes if a.get_title().startswith("texture (")][0]
+    assert [t.get_text() for t in tex_ax.get_xticklabels()] == ["aluminium", "p600", "p180"]
     notes = "## How our numbers differ\n\nmeasured text"
     md = write_chapter5_report(res, tmp_path / "n", figures=True, notes=notes)["report"]
     text = md.read_text()

@@ -197,13 +197,26 @@ def confusion_figure(entry: Mapping[str, Any], name: str):
         lab = conf[k]["labels"]
         ax.imshow(m, cmap="gray", origin="upper")
         ticks = np.arange(len(lab))
-        ax.set_xticks(ticks, [f"{v:g}" for v in lab], fontsize=7, rotation=90)
-        ax.set_yticks(ticks, [f"{v:g}" for v in lab], fontsize=7)
+        names = [_tick_label(k, v) for v in lab]
+        ax.set_xticks(ticks, names, fontsize=7, rotation=90)
+        ax.set_yticks(ticks, names, fontsize=7)
         ax.set_xlabel("predicted")
         ax.set_ylabel("true")
         ax.set_title(f"{k} (kappa {_f(entry['kappa'].get(k))})", fontsize=9)
     fig.suptitle(name)
     return fig
+
+
+def _tick_label(parameter: str, value: float) -> str:
+    """Texture codes as names (``p180``), other labels as numbers."""
+    if parameter.startswith("texture"):
+        from vibrissa.classify import decode_texture
+
+        try:
+            return str(decode_texture([value])[0])
+        except ValueError:
+            pass
+    return f"{value:g}"
 
 
 def kappa_figure(results: Mapping[str, Any]):
