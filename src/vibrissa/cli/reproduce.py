@@ -179,6 +179,7 @@ def angle_texture(
         "quick": quick,
         "out": str(out),
         "report": str(out / "report.md"),
+        "meta": res["meta"],
         "classifiers": {
             k: {"kappa": v["kappa"], "classify_seconds": v["classify_seconds"]}
             for k, v in res["classifiers"].items()

@@ -506,10 +506,10 @@ def reproduce_angle_texture(
     from vibrissa.classify import chapter5_classifiers, resonance_hz
     from vibrissa.data import whisker_params
     from vibrissa.evaluate.chapter5_report import write_chapter5_report
-    from vibrissa.evaluate.reproduce import cached_dataset
+    from vibrissa.evaluate.reproduce import cached_dataset, check_job_arguments
     from vibrissa.experiments.protocols import get_protocol
 
-    out = Path(out_dir)
+    out = check_job_arguments(out_dir, seed, workers)
     out.mkdir(parents=True, exist_ok=True)
     protocol = get_protocol("angle-texture", quick=quick, seed=seed)
     t0 = time.perf_counter()

@@ -14,13 +14,42 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from vibrissa.data import DatasetFileError, load_dataset, whisker_params
 from vibrissa.experiments.generate import generate
 from vibrissa.experiments.protocols import Protocol, get_protocol
 
-__all__ = ["cached_dataset", "reproduce_radial_distance"]
+__all__ = ["cached_dataset", "check_job_arguments", "reproduce_radial_distance"]
 
 Progress = Callable[[str, int, int], None]
+
+
+def check_job_arguments(out_dir: str | os.PathLike[str], seed: object,
+                        workers: object = None, **counts: object) -> Path:
+    """Check a reproduction's arguments before any work is done; return ``out_dir``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument: ``seed`` not a non-negative integer, ``workers`` or any
+        of ``counts`` (e.g. ``n_seeds``) not a positive integer, ``out_dir`` an existing
+        file.
+    """
+    def integer(v: object) -> bool:
+        return isinstance(v, int | np.integer) and not isinstance(v, bool)
+
+    if not integer(seed) or int(seed) < 0:  # type: ignore[call-overload]
+        raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
+    for name, v in {"workers": workers, **counts}.items():
+        if v is None and name == "workers":
+            continue
+        if not integer(v) or int(v) < 1:  # type: ignore[call-overload]
+            raise ValueError(f"{name} must be a positive integer, got {v!r}")
+    out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"output directory {str(out)!r} is an existing file")
+    return out
 
 
 def cached_dataset(protocol: Protocol, data_dir: Path, progress: Progress | None = None,
@@ -73,7 +102,7 @@ def reproduce_radial_distance(
     from vibrissa.evaluate.protocol import run_chapter4
     from vibrissa.evaluate.report import write_report
 
-    out = Path(out_dir)
+    out = check_job_arguments(out_dir, seed, workers, n_seeds=n_seeds)
     out.mkdir(parents=True, exist_ok=True)
     protocol = get_protocol("radial-distance", quick=quick, seed=seed)
     t0 = time.perf_counter()
