@@ -33,7 +33,6 @@ import math
 import os
 import time
 from collections.abc import Callable, Mapping, Sequence
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -506,7 +505,7 @@ def reproduce_angle_texture(
     from vibrissa.classify import chapter5_classifiers, resonance_hz
     from vibrissa.data import whisker_params
     from vibrissa.evaluate.chapter5_report import write_chapter5_report
-    from vibrissa.evaluate.reproduce import cached_dataset, check_job_arguments
+    from vibrissa.evaluate.reproduce import cached_dataset, check_job_arguments, shipped_notes
     from vibrissa.experiments.protocols import get_protocol
 
     out = check_job_arguments(out_dir, seed, workers)
@@ -525,7 +524,6 @@ def reproduce_angle_texture(
         generate_seconds=round(t_gen, 3),
         evaluate_seconds=round(time.perf_counter() - t1, 3),
     )
-    notes_path = Path(__file__).with_name("chapter5_notes.md")
-    notes = notes_path.read_text() if notes_path.exists() and not quick else None
-    write_chapter5_report(results, out, figures=figures, notes=notes)
+    write_chapter5_report(results, out, figures=figures,
+                          notes=shipped_notes("chapter5_notes.md", quick))
     return results

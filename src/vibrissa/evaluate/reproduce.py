@@ -20,7 +20,7 @@ from vibrissa.data import DatasetFileError, load_dataset, whisker_params
 from vibrissa.experiments.generate import generate
 from vibrissa.experiments.protocols import Protocol, get_protocol
 
-__all__ = ["cached_dataset", "check_job_arguments", "reproduce_radial_distance"]
+__all__ = ["cached_dataset", "check_job_arguments", "reproduce_radial_distance", "shipped_notes"]
 
 Progress = Callable[[str, int, int], None]
 
@@ -50,6 +50,12 @@ def check_job_arguments(out_dir: str | os.PathLike[str], seed: object,
     if out.exists() and not out.is_dir():
         raise ValueError(f"output directory {str(out)!r} is an existing file")
     return out
+
+
+def shipped_notes(filename: str, quick: bool) -> str | None:
+    """The package's measured notes for a full-grid report (``None`` on a quick grid)."""
+    path = Path(__file__).with_name(filename)
+    return path.read_text() if path.exists() and not quick else None
 
 
 def cached_dataset(protocol: Protocol, data_dir: Path, progress: Progress | None = None,
@@ -121,7 +127,6 @@ def reproduce_radial_distance(
         evaluate_seconds=round(t_eval, 3),
         saturated_fraction=float(ds["saturated"].mean()) if "saturated" in ds.coords else None,
     )
-    notes_path = Path(__file__).with_name("chapter4_notes.md")
-    notes = notes_path.read_text() if notes_path.exists() and not quick else None
+    notes = shipped_notes("chapter4_notes.md", quick)
     write_report(results, out, notes=notes, figures=figures, dataset=ds if figures else None)
     return results
