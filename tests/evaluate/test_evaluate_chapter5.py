@@ -141,6 +141,12 @@ def test_shipped_chapter5_notes_are_packaged():
     notes = (files("vibrissa.evaluate") / "chapter5_notes.md").read_text()
     assert notes.startswith("## How our numbers differ")
     assert "grain" in notes.lower()
+    from vibrissa.evaluate.reproduce import shipped_notes
+
+    assert shipped_notes("chapter5_notes.md", quick=False) == notes
+    assert shipped_notes("chapter4_notes.md", quick=False).startswith("## How our numbers")
+    assert shipped_notes("chapter5_notes.md", quick=True) is None  # not for the quick grid
+    assert shipped_notes("no_such_notes.md", quick=False) is None
 
 
 def test_run_chapter5_errors(dataset):
