@@ -10,11 +10,22 @@ names: ``sample_rate_hz``, ``cutoff_hz``, ``threshold_v``, ``sigma_s``.
   (Gaussian-derivative kernels, thesis 4.3.5);
 - :func:`remove_baseline` (2.5 V Hall rest level or pre-contact mean);
 - spectra: :func:`magnitude_spectrum`, :func:`spectrum_frequencies` (eq. 4.3);
+- the thesis author's own preprocessing (:mod:`._causal`):
+  :func:`causal_gaussian_velocity`, :func:`causal_lowpass`, :func:`onset_index`,
+  :func:`peak_index`, :func:`cut_windows`;
 - chapter-4 features: :func:`peak_magnitude` (f1, eq. 4.5) and
   :func:`contact_duration` (f2, eqs. 4.6-4.8).
 """
 
 from vibrissa.signal._baseline import HALL_REST_V, remove_baseline
+from vibrissa.signal._causal import (
+    causal_gaussian_kernel,
+    causal_gaussian_velocity,
+    causal_lowpass,
+    cut_windows,
+    onset_index,
+    peak_index,
+)
 from vibrissa.signal._derivatives import DEFAULT_SIGMA_SAMPLES, acceleration, smooth, velocity
 from vibrissa.signal._features import contact_duration, peak_magnitude
 from vibrissa.signal._filters import bandpass, highpass, lowpass, notch
@@ -25,11 +36,17 @@ __all__ = [
     "HALL_REST_V",
     "acceleration",
     "bandpass",
+    "causal_gaussian_kernel",
+    "causal_gaussian_velocity",
+    "causal_lowpass",
+    "cut_windows",
     "contact_duration",
     "highpass",
     "lowpass",
     "magnitude_spectrum",
     "notch",
+    "onset_index",
+    "peak_index",
     "peak_magnitude",
     "remove_baseline",
     "smooth",
