@@ -22,7 +22,12 @@ WHISKER = {
     "follicle_stiffness_nm_per_rad": 0.1,
     "hall_gain_v": 12.0,
 }
-ESTIMATORS = chapter4_classifiers(FS, WHISKER)
+# the estimators themselves (the line-up wraps each in a window Pipeline; the thesis
+# presets' Pipelines are tested in test_thesis_presets.py)
+ESTIMATORS = {
+    k: v.steps[-1][1]
+    for k, v in chapter4_classifiers(FS, WHISKER, preset="vibrissa").items()
+}
 # one parameter per estimator for GridSearchCV
 GRID = {
     "static_beam_measured": {"latency_s": [0.2, 0.3]},
@@ -50,10 +55,12 @@ def _est(key: str):
 
 
 def test_factory_keys_and_types() -> None:
-    ests = chapter4_classifiers(1000.0, WHISKER)
-    assert tuple(ests) == CHAPTER4_KEYS
-    assert ests["static_beam_fitted"].fit_parameters is True
-    assert ests["naive_bayes_velocity"].signal == "velocity"
+    for preset in ("thesis", "vibrissa"):
+        ests = chapter4_classifiers(1000.0, WHISKER, preset=preset)
+        assert tuple(ests) == CHAPTER4_KEYS
+        assert all(isinstance(e, Pipeline) for e in ests.values())
+        assert ests["static_beam_fitted"][-1].fit_parameters is True
+    assert ESTIMATORS["naive_bayes_velocity"].signal == "velocity"
     with pytest.raises(ValueError, match="sample_rate_hz"):
         chapter4_classifiers(0.0, WHISKER)
 

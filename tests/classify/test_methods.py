@@ -227,7 +227,7 @@ def test_naive_bayes_posterior_is_sum_of_sample_log_likelihoods(signal: str, tri
 def test_naive_bayes_likelihoods_are_normalised_histograms(trials) -> None:
     X, y = trials
     est = StationaryNaiveBayes(
-        signal="raw", n_bins=10, smoothing_sigma=0.0, likelihood_floor=1e-300
+        signal="raw", n_bins=10, value_range=None, smoothing_sigma=0.0, likelihood_floor=1e-300
     ).fit(X, y)
     k = 2
     members = np.all(y == est.classes_[k], axis=1)

@@ -11,12 +11,19 @@ distinct row a joint class (e.g. radial distance and speed), see
 :class:`TimeTemplateClassifier`           low-passed signal templates, 4.3.3
 :class:`FeatureRegressionClassifier`      f1/f2 + polynomial regression, 4.3.4
 :class:`StationaryNaiveBayes`             stationary naive Bayes, 4.3.5
-:func:`chapter4_classifiers`              the chapter-4 line-up
+:class:`RecordingWindow`                  filter whole recordings, cut onset/peak window
+:func:`chapter4_classifiers`              the chapter-4 line-up (thesis presets)
 ========================================  ==================================
 """
 
 from vibrissa.classify._base import TrialClassifier
-from vibrissa.classify._chapter4 import CHAPTER4_KEYS, chapter4_classifiers
+from vibrissa.classify._chapter4 import (
+    CHAPTER4_KEYS,
+    CHAPTER4_ONE_SET,
+    chapter4_classifiers,
+    onset_window,
+    peak_window,
+)
 from vibrissa.classify._feature import (
     FeatureRegressionClassifier,
     contact_features,
@@ -32,9 +39,14 @@ from vibrissa.classify._static_beam import (
     thesis_parameter_grid,
 )
 from vibrissa.classify._template import TimeTemplateClassifier, nearest_template_scores
+from vibrissa.classify._windows import RecordingWindow
 
 __all__ = [
     "CHAPTER4_KEYS",
+    "CHAPTER4_ONE_SET",
+    "RecordingWindow",
+    "onset_window",
+    "peak_window",
     "DEFAULT_SPEED_MM_S",
     "FeatureRegressionClassifier",
     "FrequencyTemplateClassifier",

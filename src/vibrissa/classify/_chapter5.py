@@ -28,7 +28,7 @@ from typing import Any, Literal
 import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin, clone
 from sklearn.pipeline import Pipeline
-from sklearn.utils.validation import check_array, check_is_fitted
+from sklearn.utils.validation import check_is_fitted
 
 from vibrissa import signal as vsig
 from vibrissa._validate import positive
@@ -37,6 +37,7 @@ from vibrissa.classify._naive_bayes import StationaryNaiveBayes
 from vibrissa.classify._spectral import FrequencyTemplateClassifier
 from vibrissa.classify._template import TimeTemplateClassifier, nearest_template_scores
 from vibrissa.classify._texture_features import FeaturePolynomialClassifier
+from vibrissa.classify._windows import trials_3d
 from vibrissa.whisker.surfaces import TEXTURES
 
 __all__ = [
@@ -120,7 +121,7 @@ def resonance_hz(whisker: Mapping[str, Any] | str) -> float:
     return positive("natural_frequencies_hz[0]", float(f[0]))
 
 
-_KINDS = ("raw", "lowpass", "highpass", "velocity", "acceleration")
+_KINDS = ("raw", "lowpass", "highpass", "velocity", "acceleration", "causal_velocity")
 
 
 class SignalTransform(TransformerMixin, BaseEstimator):
@@ -134,7 +135,10 @@ class SignalTransform(TransformerMixin, BaseEstimator):
         ``lowpass``: Butterworth ``lowpass_order`` at ``lowpass_hz`` (thesis: 3rd
         order, 20 Hz); ``highpass``: order ``highpass_order`` at ``highpass_hz``
         (10th order, 35 Hz); ``velocity``/``acceleration``: Gaussian-smoothed
-        first/second derivative (:func:`vibrissa.signal.velocity`).
+        first/second derivative (:func:`vibrissa.signal.velocity`);
+        ``causal_velocity``: the thesis author's naive-Bayes velocity (first
+        difference and a causal 101-tap Gaussian of sigma 15 samples,
+        :func:`vibrissa.signal.causal_gaussian_velocity`; 4.3.5 and docs/methods.md).
     sample_rate_hz : float, default=4000.0
         Sampling rate of the input, Hz.
     notch_hz : float or None, default=None
@@ -203,16 +207,7 @@ class SignalTransform(TransformerMixin, BaseEstimator):
 
     @staticmethod
     def _as3d(X: Any) -> np.ndarray:
-        arr = np.asarray(X) if isinstance(X, list | tuple) else X
-        nd = getattr(arr, "ndim", None)
-        if nd not in (2, 3):
-            raise ValueError(
-                f"X must have shape (n_trials, n_channels, n_timepoints) or (n_trials, "
-                f"n_timepoints), got {nd}-D input"
-            )
-        a = check_array(arr, allow_nd=True, dtype=np.float64, ensure_all_finite=True,
-                        input_name="X")
-        return a if a.ndim == 3 else a[:, None, :]
+        return trials_3d(X)
 
     def transform(self, X: Any) -> np.ndarray:
         """Filter (and optionally notch and downsample) every trial along time.
@@ -237,6 +232,8 @@ class SignalTransform(TransformerMixin, BaseEstimator):
             X = vsig.velocity(X, fs, sigma_samples=self.derivative_sigma_samples)
         elif self.kind == "acceleration":
             X = vsig.acceleration(X, fs, sigma_samples=self.derivative_sigma_samples)
+        elif self.kind == "causal_velocity":
+            X = vsig.causal_gaussian_velocity(X, fs)
         if self.notch_hz is not None:
             X = vsig.notch(X, self.notch_hz, fs, quality=self.notch_quality)
         if self.downsample > 1:
@@ -538,6 +535,8 @@ def chapter5_classifiers(
         notch_hz = resonance_hz(whisker)
     f0 = positive("notch_hz", notch_hz)
     lp_down = max(1, int(fs // 200))  # 20 Hz low-pass -> 200 Hz samples
+    nb_thesis = dict(n_bins=500, smoothing_sigma=1.0, smoothing_radius_bins=10,
+                     likelihood_floor=float(np.finfo(float).eps), sample_rate_hz=fs)
 
     def tmpl(kind: str, notch: float | None = None, down: int = 1) -> Pipeline:
         return Pipeline([
@@ -566,11 +565,21 @@ def chapter5_classifiers(
         "feature_f4": feat(("f4",)),
         "feature_f5": feat(("f5",)),
         "feature_f345": feat(("f3", "f4", "f5"), degree=4),
-        "naive_bayes_raw": StationaryNaiveBayes(signal="raw", sample_rate_hz=fs),
-        "naive_bayes_velocity": StationaryNaiveBayes(signal="velocity", sample_rate_hz=fs),
+        # 5.3.4: "the methodology remains principally the same" as 4.3.5, so the
+        # chapter-4 author's settings (docs/methods.md): 500 bins, sigma 1 bin
+        # truncated at 10, log(l + eps); raw over rest +/- 2.5 V (the text's range),
+        # velocity over +/-0.1 V per sample; acceleration (no code, no range given)
+        # over the training data's full range (the text's 4.3.5 reading)
+        "naive_bayes_raw": StationaryNaiveBayes(
+            signal="raw", value_range=(0.0, 5.0), **nb_thesis),
+        "naive_bayes_velocity": Pipeline([
+            ("signal", SignalTransform("causal_velocity", sample_rate_hz=fs)),
+            ("naive_bayes", StationaryNaiveBayes(
+                signal="raw", value_range=(-0.1 * fs, 0.1 * fs), **nb_thesis)),
+        ]),
         "naive_bayes_acceleration": Pipeline([
             ("signal", SignalTransform("acceleration", sample_rate_hz=fs)),
-            ("naive_bayes", StationaryNaiveBayes(signal="raw", sample_rate_hz=fs)),
+            ("naive_bayes", StationaryNaiveBayes(signal="raw", value_range=None, **nb_thesis)),
         ]),
         "combined": SpeedFirstClassifier(
             speed_estimator=FeaturePolynomialClassifier(

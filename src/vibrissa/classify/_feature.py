@@ -10,7 +10,12 @@ from sklearn.utils.validation import check_is_fitted
 from vibrissa import signal as vsig
 from vibrissa.classify._base import TrialClassifier, target_column
 
-__all__ = ["FeatureRegressionClassifier", "contact_features", "polynomial_powers"]
+__all__ = [
+    "FeatureRegressionClassifier",
+    "contact_features",
+    "moving_average_shrinking",
+    "polynomial_powers",
+]
 
 
 def contact_features(
@@ -50,6 +55,30 @@ def contact_features(
         x, sample_rate_hz, threshold_v=threshold_v, rest_v=rest_v, mode=duration_mode
     )
     return np.column_stack([f1, f2])
+
+
+def moving_average_shrinking(x: np.ndarray, span: int) -> np.ndarray:
+    """Moving average of odd ``span`` whose window shrinks to fit at the ends.
+
+    MATLAB's ``smooth(x, span)``: ``y[i]`` is the mean of ``x[i-k:i+k+1]`` with
+    ``k = min((span - 1) // 2, i, n - 1 - i)`` (an even span is reduced by one).
+
+    Parameters
+    ----------
+    x : ndarray of shape (n,)
+    span : int
+
+    Returns
+    -------
+    ndarray of shape (n,)
+    """
+    x = np.asarray(x, dtype=float)
+    n = x.size
+    half = (int(span) - 1) // 2
+    i = np.arange(n)
+    k = np.minimum(half, np.minimum(i, n - 1 - i))
+    c = np.concatenate([[0.0], np.cumsum(x)])
+    return (c[i + k + 1] - c[i - k]) / (2 * k + 1)
 
 
 def polynomial_powers(degree: int) -> np.ndarray:
@@ -97,7 +126,17 @@ class FeatureRegressionClassifier(TrialClassifier):
         Sensor rest output subtracted before the features, V.
     duration_mode : {"first", "peak"}, default="first"
         ``"first"``: eqs. 4.6-4.7 literally; ``"peak"``: the supra-threshold run
-        containing the peak.
+        containing the peak (what the author's code measured).
+    duration_smoothing_span : int, default=1
+        Training only: moving average of ``f2`` over this many neighbouring
+        training trials, ordered by label (last column of ``y`` slowest, e.g.
+        speed, then radial distance), with the span shrinking at the ends as
+        MATLAB's ``smooth``. The author's code smoothed its training widths with
+        ``smooth`` (span 5) in exactly that order; 1 disables it.
+    min_duration_s : float or None, default=None
+        Training only, after the smoothing: an ``f2`` below this is replaced by the
+        previous trial's (in the same order). The author's code did this below
+        350 samples (0.35 s at 1 kHz); ``None`` disables it.
 
     Attributes
     ----------
@@ -128,6 +167,8 @@ class FeatureRegressionClassifier(TrialClassifier):
         channel: int = 0,
         rest_v: float | None = 2.5,
         duration_mode: Literal["first", "peak"] = "first",
+        duration_smoothing_span: int = 1,
+        min_duration_s: float | None = None,
     ) -> None:
         self.sample_rate_hz = sample_rate_hz
         self.threshold_v = threshold_v
@@ -135,6 +176,8 @@ class FeatureRegressionClassifier(TrialClassifier):
         self.channel = channel
         self.rest_v = rest_v
         self.duration_mode = duration_mode
+        self.duration_smoothing_span = duration_smoothing_span
+        self.min_duration_s = min_duration_s
 
     def __sklearn_tags__(self):  # noqa: D105
         tags = super().__sklearn_tags__()
@@ -154,9 +197,30 @@ class FeatureRegressionClassifier(TrialClassifier):
             duration_mode=self.duration_mode,
         )
 
-    def _design(self, X: np.ndarray) -> np.ndarray:
-        z = (self._features(X) - self.feature_mean_) / self.feature_scale_
+    def _design(self, X: np.ndarray, features: np.ndarray | None = None) -> np.ndarray:
+        f = self._features(X) if features is None else features
+        z = (f - self.feature_mean_) / self.feature_scale_
         return np.prod(z[:, None, :] ** self.powers_[None, :, :], axis=2)
+
+    def _training_durations(self, f2: np.ndarray, labels: np.ndarray) -> np.ndarray:
+        """The author's training-time treatment of ``f2`` (smoothing, floor), in label order."""
+        span = self.duration_smoothing_span
+        if isinstance(span, bool) or not isinstance(span, int | np.integer) or span < 1:
+            raise ValueError(f"duration_smoothing_span must be a positive integer, got {span!r}")
+        floor = self.min_duration_s
+        if floor is not None and not (np.isfinite(floor) and floor >= 0):
+            raise ValueError(f"min_duration_s must be >= 0 or None, got {floor!r}")
+        if span == 1 and floor is None:
+            return f2
+        order = np.lexsort(labels.T) if labels.ndim == 2 else np.argsort(labels, kind="stable")
+        g = moving_average_shrinking(f2[order], int(span))
+        if floor is not None:
+            for i in range(1, g.size):
+                if g[i] < floor:
+                    g[i] = g[i - 1]
+        out = np.empty_like(f2)
+        out[order] = g
+        return out
 
     def _class_values(self) -> np.ndarray:
         cv = self.classes_ if self.classes_.ndim == 2 else self.classes_[:, None]
@@ -168,11 +232,12 @@ class FeatureRegressionClassifier(TrialClassifier):
             raise ValueError(f"degree must be a non-negative integer, got {deg!r}")
         cv = self._class_values()
         f = self._features(X)
+        f[:, 1] = self._training_durations(f[:, 1], cv[y_idx])
         scale = f.std(axis=0)
         self.feature_mean_ = f.mean(axis=0)
         self.feature_scale_ = np.where(scale > 0, scale, 1.0)
         self.powers_ = polynomial_powers(int(deg))
-        A = self._design(X)
+        A = self._design(X, f)
         Y = cv[y_idx]
         coef, *_ = np.linalg.lstsq(A, Y, rcond=None)
         self.coef_ = coef.T

@@ -38,6 +38,17 @@ class FrequencyTemplateClassifier(_NearestTemplate):
         Every training spectrum, or the mean spectrum of each joint class.
     chunk_size : int, default=512
         Test trials per matrix product.
+    spectrum : {"magnitude", "abs_real"}, default="magnitude"
+        ``|X(k)|`` (the text, 4.3.2) or ``|Re X(k)|`` (what the author's code
+        computed, ``abs(real(fft(x)))``).
+    one_sided : bool, default=True
+        Bins 0 to Nyquist (``numpy.fft.rfft``); ``False``: all ``N`` bins of the
+        full DFT, as MATLAB's ``fft`` returns them (each mirrored bin counts twice
+        in the distance).
+    zero_dc : bool, default=False
+        Set bin 0 to zero (the author's code did).
+    distance : {"sse", "l1"}, default="sse"
+        Sum of squared errors (eq. 4.4) or of absolute errors (the author's code).
 
     Attributes
     ----------
@@ -56,6 +67,10 @@ class FrequencyTemplateClassifier(_NearestTemplate):
         max_frequency_hz: float | None = None,
         templates: Literal["all", "mean"] = "all",
         chunk_size: int = 512,
+        spectrum: Literal["magnitude", "abs_real"] = "magnitude",
+        one_sided: bool = True,
+        zero_dc: bool = False,
+        distance: Literal["sse", "l1"] = "sse",
     ) -> None:
         self.sample_rate_hz = sample_rate_hz
         self.cutoff_hz = cutoff_hz
@@ -63,13 +78,31 @@ class FrequencyTemplateClassifier(_NearestTemplate):
         self.max_frequency_hz = max_frequency_hz
         self.templates = templates
         self.chunk_size = chunk_size
+        self.spectrum = spectrum
+        self.one_sided = one_sided
+        self.zero_dc = zero_dc
+        self.distance = distance
 
     def _features(self, X: np.ndarray) -> np.ndarray:
+        if self.spectrum not in ("magnitude", "abs_real"):
+            raise ValueError(f"spectrum must be 'magnitude' or 'abs_real', got {self.spectrum!r}")
         if self.cutoff_hz is not None:
             X = vsig.lowpass(X, self.cutoff_hz, self.sample_rate_hz, order=self.filter_order)
-        spec = vsig.magnitude_spectrum(X)
+        if self.spectrum == "magnitude" and self.one_sided:
+            spec = vsig.magnitude_spectrum(X)
+        else:
+            dft = np.fft.rfft(X, axis=-1) if self.one_sided else np.fft.fft(X, axis=-1)
+            spec = np.abs(dft.real) if self.spectrum == "abs_real" else np.abs(dft)
+        if self.zero_dc:
+            spec = spec.copy()
+            spec[..., 0] = 0.0
         if self.max_frequency_hz is not None:
-            freqs = vsig.spectrum_frequencies(X.shape[-1], self.sample_rate_hz)
+            n = X.shape[-1]
+            freqs = (
+                vsig.spectrum_frequencies(n, self.sample_rate_hz)
+                if self.one_sided
+                else np.abs(np.fft.fftfreq(n, 1.0 / self.sample_rate_hz))
+            )
             keep = freqs <= float(self.max_frequency_hz)
             if not keep.any() or self.max_frequency_hz <= 0:
                 raise ValueError(

@@ -9,13 +9,19 @@ import numpy as np
 from vibrissa import signal as vsig
 from vibrissa.classify._base import TrialClassifier
 
-__all__ = ["TimeTemplateClassifier", "nearest_template_scores"]
+__all__ = ["TimeTemplateClassifier", "nearest_template_l1", "nearest_template_scores"]
 
 
 def _check_positive_int(name: str, value: object) -> int:
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
         raise ValueError(f"{name} must be a positive integer, got {value!r}")
     return int(value)
+
+
+def _check_distance(distance: object) -> str:
+    if distance not in ("sse", "l1"):
+        raise ValueError(f"distance must be 'sse' or 'l1', got {distance!r}")
+    return str(distance)
 
 
 def _check_templates(templates: object) -> str:
@@ -34,6 +40,15 @@ def build_templates(
     sums = np.zeros((n_classes, F.shape[1]))
     np.add.at(sums, y_idx, F)
     return sums / counts[:, None], np.arange(n_classes)
+
+
+def _grouped_by_class(
+    T: np.ndarray, t_class: np.ndarray, n_classes: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Templates sorted by class and the first row of each class (for ``reduceat``)."""
+    order = np.argsort(t_class, kind="stable")
+    starts = np.searchsorted(t_class[order], np.arange(n_classes))
+    return np.ascontiguousarray(T[order]), starts
 
 
 def nearest_template_scores(
@@ -65,15 +80,41 @@ def nearest_template_scores(
     ndarray of shape (n, n_classes)
         Minimum SSE over each class' templates.
     """
-    order = np.argsort(t_class, kind="stable")
-    T = T[order]
-    starts = np.searchsorted(t_class[order], np.arange(n_classes))
+    T, starts = _grouped_by_class(T, t_class, n_classes)
     t_sq = np.einsum("ij,ij->i", T, T)
     out = np.empty((F.shape[0], n_classes))
     for s in range(0, F.shape[0], chunk_size):
         a = F[s : s + chunk_size]
         d = np.einsum("ij,ij->i", a, a)[:, None] + t_sq[None, :] - 2.0 * (a @ T.T)
         np.maximum(d, 0.0, out=d)
+        out[s : s + chunk_size] = (
+            d if len(T) == n_classes else np.minimum.reduceat(d, starts, axis=1)
+        )
+    return out
+
+
+def nearest_template_l1(
+    F: np.ndarray,
+    T: np.ndarray,
+    t_class: np.ndarray,
+    n_classes: int,
+    chunk_size: int = 512,
+) -> np.ndarray:
+    """Smallest sum of absolute errors from each row of ``F`` to each class' templates.
+
+    The thesis author's template code compared signals by ``sum(abs(T - I))``
+    (where the text's eq. 4.4 squares the errors). Computed with
+    :func:`scipy.spatial.distance.cdist` (``cityblock``) in chunks of ``chunk_size``
+    rows, so memory stays at ``chunk_size x n_templates`` floats.
+
+    Parameters and return value as :func:`nearest_template_scores`.
+    """
+    from scipy.spatial.distance import cdist
+
+    T, starts = _grouped_by_class(T, t_class, n_classes)
+    out = np.empty((F.shape[0], n_classes))
+    for s in range(0, F.shape[0], chunk_size):
+        d = cdist(F[s : s + chunk_size], T, metric="cityblock")
         out[s : s + chunk_size] = (
             d if len(T) == n_classes else np.minimum.reduceat(d, starts, axis=1)
         )
@@ -88,23 +129,26 @@ class _NearestTemplate(TrialClassifier):
 
     def _fit(self, X: np.ndarray, y: object, y_idx: np.ndarray) -> None:
         _check_templates(self.templates)
+        _check_distance(self.distance)
         _check_positive_int("chunk_size", self.chunk_size)
         F = self._features(X)
         self.center_ = F.mean(axis=0)
         F = F - self.center_
-        # Normaliser of the scores: SSE per feature relative to the training variance.
-        var = float(np.mean(F * F))
-        self.sse_scale_ = F.shape[1] * (var if var > 0 else 1.0)
+        # Normaliser of the scores: the distance per feature relative to the training
+        # spread (variance for SSE, mean absolute deviation for L1).
+        spread = float(np.mean(F * F)) if self.distance == "sse" else float(np.mean(np.abs(F)))
+        self.sse_scale_ = F.shape[1] * (spread if spread > 0 else 1.0)
         self.templates_, self.template_class_ = build_templates(
             F, y_idx, len(self.classes_), self.templates
         )
 
     def _joint_scores(self, X: np.ndarray) -> np.ndarray:
         F = self._features(X) - self.center_
-        sse = nearest_template_scores(
+        nearest = nearest_template_scores if self.distance == "sse" else nearest_template_l1
+        dist = nearest(
             F, self.templates_, self.template_class_, len(self.classes_), self.chunk_size
         )
-        return -sse / self.sse_scale_
+        return -dist / self.sse_scale_
 
 
 class TimeTemplateClassifier(_NearestTemplate):
@@ -128,6 +172,9 @@ class TimeTemplateClassifier(_NearestTemplate):
     templates : {"all", "mean"}, default="all"
         ``"all"`` stores every training trial as a template (nearest neighbour,
         as in the thesis); ``"mean"`` stores one mean template per joint class.
+    distance : {"sse", "l1"}, default="sse"
+        Sum of squared errors (the text's eq. 4.4) or sum of absolute errors (what
+        the thesis author's code computed; see ``docs/methods.md``).
     chunk_size : int, default=512
         Test trials compared per matrix product (bounds memory).
 
@@ -143,7 +190,8 @@ class TimeTemplateClassifier(_NearestTemplate):
         Mean filtered training trial, subtracted from inputs and templates (the SSE
         does not change; it keeps ``|a|^2 + |b|^2 - 2 a.b`` numerically accurate).
     sse_scale_ : float
-        Divisor of the SSE in the scores (``n_features x`` mean training variance).
+        Divisor of the distance in the scores (``n_features x`` mean training
+        variance for SSE, mean absolute deviation for L1).
     n_channels_, n_timepoints_, n_features_in_ : int
 
     Notes
@@ -160,12 +208,14 @@ class TimeTemplateClassifier(_NearestTemplate):
         filter_order: int = 4,
         templates: Literal["all", "mean"] = "all",
         chunk_size: int = 512,
+        distance: Literal["sse", "l1"] = "sse",
     ) -> None:
         self.sample_rate_hz = sample_rate_hz
         self.cutoff_hz = cutoff_hz
         self.filter_order = filter_order
         self.templates = templates
         self.chunk_size = chunk_size
+        self.distance = distance
 
     def _features(self, X: np.ndarray) -> np.ndarray:
         if self.cutoff_hz is not None:
