@@ -242,3 +242,51 @@ def test_rich_progress_is_advanced(ds) -> None:
         protocol.run_chapter4(ds, {"c": Centroid()}, fractions=(0.5,), n_seeds=1, progress=prog)
         task = prog.tasks[0]
         assert task.completed == task.total == 2
+
+
+# ------------------------------------------------------- the author's split (issue 10)
+class CountTrials(Centroid):
+    """Centroid that records how many trials it was fitted on."""
+
+    def fit(self, X, y):
+        self.n_fit_ = len(X)
+        return super().fit(X, y)
+
+
+def test_pooled_training_sets_and_per_classifier_sets(ds) -> None:
+    split = protocol.split_sets(ds, train_set=[1, 2, 3], test_set=0)
+    assert split.train_set == [1, 2, 3] and split.test_set == 0
+    assert len(split.train_index) == 3 * len(RADII) * len(SPEEDS)
+    assert not set(split.train_index) & set(split.test_index)
+    with pytest.raises(ValueError, match="also a training set"):
+        protocol.split_sets(ds, train_set=[0, 1], test_set=0)
+    with pytest.raises(ValueError, match="repeats"):
+        protocol.split_sets(ds, train_set=[1, 1], test_set=0)
+    res = protocol.run_chapter4(
+        ds, {"pooled": CountTrials(), "one": CountTrials()}, fractions=(0.5,), n_seeds=2,
+        train_set=[1, 2, 3], test_set=0, classifier_train_sets={"one": [2]},
+    )
+    n_grid = len(RADII) * len(SPEEDS)
+    assert res["classifiers"]["pooled"]["n_train"] == 3 * n_grid
+    assert res["classifiers"]["one"]["n_train"] == n_grid
+    assert res["classifiers"]["one"]["train_sets"] == [2]
+    # a reduced set keeps whole classes: all three trials of each kept class
+    half = res["training_fractions"]["0.5"]
+    assert half["pooled"]["n_train"] == 3 * round(0.5 * n_grid)
+    assert half["one"]["n_train"] == round(0.5 * n_grid)
+    with pytest.raises(ValueError, match="subset"):
+        protocol.run_chapter4(ds, {"one": Centroid()}, fractions=(), train_set=[1, 2],
+                              test_set=0, classifier_train_sets={"one": [3]})
+    with pytest.raises(ValueError, match="unknown"):
+        protocol.run_chapter4(ds, {"one": Centroid()}, fractions=(), train_set=[1, 2],
+                              test_set=0, classifier_train_sets={"two": [1]})
+
+
+def test_subsample_combinations_keeps_the_same_classes_for_one_and_three_sets() -> None:
+    y1 = np.array([[r, s] for s in SPEEDS for r in RADII], dtype=float)
+    y3 = np.concatenate([y1, y1, y1])
+    a = protocol.subsample_combinations(y1, 0.5, [0, 1])
+    b = protocol.subsample_combinations(y3, 0.5, [0, 1])
+    kept1 = {tuple(r) for r in y1[a]}
+    kept3 = {tuple(r) for r in y3[b]}
+    assert kept1 == kept3 and len(b) == 3 * len(a)

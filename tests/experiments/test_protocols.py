@@ -11,7 +11,7 @@ def test_thesis_grids():
     assert p4.radial_distances_mm[0] == 80 and p4.radial_distances_mm[-1] == 180
     assert p4.speeds_mm_s[0] == 36 and p4.speeds_mm_s[-1] == 216
     assert p4.n_trials == 10504
-    assert p4.sample_rate_hz == 1000 and p4.window_s == (0.325, 0.325)
+    assert p4.sample_rate_hz == 1000 and p4.window_s == (0.6, 0.7)
     p5 = get_protocol("angle-texture")
     assert p5.angles_deg == (10, 20, 30, 40, 50, 60, 70, 80)
     assert len(p5.speeds_mm_s) == 11 and p5.speeds_mm_s[0] == 6 and p5.speeds_mm_s[-1] == 106

@@ -46,6 +46,7 @@ __all__ = [
     "run_chapter4",
     "score_predictions",
     "split_sets",
+    "subsample_combinations",
     "subsample_indices",
 ]
 
@@ -211,26 +212,43 @@ def split_sets(
     seed : int, default=0
         Seed of the random draw (two distinct sets, without replacement).
     train_set, test_set : optional
-        Explicit set values; both or neither.
+        Explicit set values; both or neither. ``train_set`` may be a list of set
+        values, pooled for training (the thesis author's naive Bayes trained on
+        sets 2-4 and tested on set 1).
     require_complete : bool, default=True
         Passed to :func:`check_dataset`.
 
     Returns
     -------
     Split
-        The assignment; the two sets never share a trial.
+        The assignment; training and test sets never share a trial.
     """
     groups = check_dataset(ds, require_complete=require_complete)
     names = list(groups)
     if (train_set is None) != (test_set is None):
         raise ValueError("give both train_set and test_set, or neither")
     if train_set is not None:
-        for label, s in (("train_set", train_set), ("test_set", test_set)):
-            if s not in groups:
-                raise ValueError(f"{label}={s!r} is not a set of the dataset (sets: {names})")
-        if train_set == test_set:
-            raise ValueError(f"train_set and test_set must differ, both are {train_set!r}")
+        pooled = list(train_set) if isinstance(train_set, list | tuple) else [train_set]
+        if not pooled:
+            raise ValueError("train_set must name at least one set")
+        for label, vals in (("train_set", pooled), ("test_set", [test_set])):
+            for s in vals:
+                if s not in groups:
+                    raise ValueError(
+                        f"{label}={s!r} is not a set of the dataset (sets: {names})"
+                    )
+        if test_set in pooled:
+            raise ValueError(
+                f"train_set and test_set must differ: test_set {test_set!r} is also a "
+                "training set"
+            )
+        if len(set(pooled)) != len(pooled):
+            raise ValueError(f"train_set repeats a set: {pooled}")
         used_seed = None
+        if len(pooled) > 1:
+            idx = np.sort(np.concatenate([groups[s] for s in pooled]))
+            return Split(pooled, test_set, idx, groups[test_set], used_seed)
+        train_set = pooled[0]
     else:
         rng = np.random.default_rng(seed)
         i, j = rng.choice(len(names), size=2, replace=False)
@@ -278,6 +296,35 @@ def subsample_indices(
     perm = rng.permutation(n)
     k = min(n, max(1, int(round(f * n))))
     return np.sort(perm[:k])
+
+
+def subsample_combinations(
+    y: np.ndarray, fraction: float, seed: int | Sequence[int] | np.random.Generator
+) -> np.ndarray:
+    """Positions of a reduced training set drawn by class: all trials of a subset of classes.
+
+    The thesis permuted the 2,626 (speed, radial distance) combinations and kept the
+    first ``fraction x N`` of them, with every recorded trial of each kept
+    combination (4.3; the author's naive Bayes kept all three training trials of a
+    class). With one trial per class this is :func:`subsample_indices`.
+
+    Parameters
+    ----------
+    y : numpy.ndarray of shape (n_trials, n_targets)
+        Labels of the full training set; each distinct row is one class.
+    fraction, seed
+        As for :func:`subsample_indices` (the permutation is over classes).
+
+    Returns
+    -------
+    numpy.ndarray
+        Sorted trial positions.
+    """
+    _, inverse = np.unique(np.round(np.asarray(y, dtype=float), 6), axis=0,
+                           return_inverse=True)
+    inverse = np.asarray(inverse).ravel()
+    keep = subsample_indices(int(inverse.max()) + 1, fraction, seed)
+    return np.flatnonzero(np.isin(inverse, keep))
 
 
 def fraction_key(fraction: float) -> str:
@@ -359,6 +406,8 @@ def score_predictions(
 
 def _fitted_parameters(est: Any) -> dict[str, float]:
     """Scalar fitted physical parameters an estimator exposes (e.g. the static beam's)."""
+    if hasattr(est, "steps"):  # a Pipeline: the final estimator holds them
+        est = est.steps[-1][1]
     names = (
         "youngs_modulus_gpa_", "base_radius_mm_", "length_mm_", "moment_scale_",
         "protraction_mm_", "training_error_mm_",
@@ -528,6 +577,7 @@ def run_chapter4(
     radius_only: Collection[str] | None = None,
     require_complete: bool = True,
     keep_predictions: bool = True,
+    classifier_train_sets: Mapping[str, Sequence[Any]] | None = None,
 ) -> dict[str, Any]:
     """Run the thesis' chapter-4 evaluation (4.2-4.4) and return JSON-ready results.
 
@@ -550,7 +600,12 @@ def run_chapter4(
         Called as ``progress(done, total, description)`` after every fit, or a
         rich ``Progress`` on which one task is added and advanced.
     train_set, test_set : optional
-        Explicit set values instead of the random assignment.
+        Explicit set values instead of the random assignment; ``train_set`` may be
+        a list of sets pooled for training.
+    classifier_train_sets : mapping of str to list, optional
+        Classifiers trained on only some of the training sets (e.g. the thesis
+        author's template, frequency and feature code kept one of its three
+        training sets); each list must be a subset of ``train_set``.
     radius_only : collection of str, optional
         Names of classifiers that estimate radial distance only; default: names
         starting with ``static_beam`` and any whose predicted speeds are all NaN.
@@ -614,8 +669,24 @@ def run_chapter4(
     X, y = dataset_arrays(ds)
     if not np.all(np.isfinite(X)):
         raise ValueError("dataset 'signal' contains NaN or infinite values")
-    X_tr, y_tr = X[split.train_index], y[split.train_index]
     X_te, y_te = X[split.test_index], y[split.test_index]
+    set_vals = np.asarray(ds["set"].values)
+    pooled = split.train_set if isinstance(split.train_set, list) else [split.train_set]
+    own_sets = dict(classifier_train_sets or {})
+    unknown = sorted(set(own_sets) - set(classifiers))
+    if unknown:
+        raise ValueError(f"classifier_train_sets names unknown classifier(s) {unknown}")
+    train_index: dict[str, np.ndarray] = {}
+    for name in classifiers:
+        sets_k = list(own_sets.get(name, pooled))
+        bad = [s_ for s_ in sets_k if s_ not in pooled]
+        if bad or not sets_k:
+            raise ValueError(
+                f"classifier_train_sets[{name!r}] = {sets_k} must be a non-empty subset of "
+                f"the training sets {pooled}"
+            )
+        keep = np.isin(set_vals[split.train_index], sets_k)
+        train_index[name] = split.train_index[keep]
 
     ro_names = None if radius_only is None else set(radius_only)
 
@@ -630,9 +701,11 @@ def run_chapter4(
     results: dict[str, Any] = {}
     preds: dict[str, Any] = {}
     for name, est in classifiers.items():
+        X_tr, y_tr = X[train_index[name]], y[train_index[name]]
         r = fit_and_score(name, est, X_tr, y_tr, X_te, y_te, radius_only=ro(name),
                           keep_predictions=True)
         y_pred = r.pop("y_pred")
+        r["train_sets"] = [_py(v) for v in own_sets.get(name, pooled)]
         results[name] = r
         preds[name] = {
             "radius_mm": y_pred[:, 0].tolist(),
@@ -641,18 +714,24 @@ def run_chapter4(
         prog.step(f"{name}: full training set")
 
     fractions_out: dict[str, Any] = {}
-    n_tr = X_tr.shape[0]
-    subsets = [
-        [subsample_indices(n_tr, f, np.random.default_rng([int(seed), k])) for f in fr]
-        for k in range(int(n_seeds))
-    ]
+    # one permutation of the classes per repeat, shared by every classifier and
+    # fraction (the 5 % subset is the head of the 10 % subset, as in the thesis)
+    subsets = {
+        name: [
+            [subsample_combinations(y[train_index[name]], f,
+                                    np.random.default_rng([int(seed), k])) for f in fr]
+            for k in range(int(n_seeds))
+        ]
+        for name in classifiers
+    }
     for i, f in enumerate(fr):
         key = fraction_key(f)
         fractions_out[key] = {}
         for name, est in classifiers.items():
+            X_tr, y_tr = X[train_index[name]], y[train_index[name]]
             runs = []
             for k in range(int(n_seeds)):
-                idx = subsets[k][i]
+                idx = subsets[name][k][i]
                 prog.step(f"{name}: {f:g} of training set, seed {k}")
                 if min(len(np.unique(y_tr[idx, c])) for c in range(y_tr.shape[1])) < 2:
                     # too small a subset of a small grid to train on: recorded as skipped

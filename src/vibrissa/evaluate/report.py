@@ -420,8 +420,8 @@ def markdown_report(
         "of the per-trial errors (the thesis' \"Std Err\"); reduced training sets average "
         f"over {meta.get('n_seeds', '?')} random subsets.",
         "",
-        f"- trials: {meta.get('n_trials', '?')}, sets {meta.get('sets', '?')}; training set "
-        f"{split.get('train_set', '?')} ({split.get('n_train', '?')} trials), test set "
+        f"- trials: {meta.get('n_trials', '?')}, sets {meta.get('sets', '?')}; training "
+        f"set(s) {split.get('train_set', '?')} ({split.get('n_train', '?')} trials), test set "
         f"{split.get('test_set', '?')} ({split.get('n_test', '?')} trials), seed "
         f"{meta.get('seed', '?')}",
         f"- grid: {len(meta.get('radii_mm', []))} radial distances x "
@@ -505,6 +505,22 @@ def markdown_report(
         out += [tn["table_4_7"], ""]
     if "comparison" in figures:
         out += [f"![Mean error per classifier (cf. figure 4.12)]({figures['comparison']})", ""]
+    own = {n: e.get("train_sets") for n, e in cl.items() if e.get("train_sets") is not None}
+    if own:
+        out += ["Training sets per classifier (the split of the thesis author's code; "
+                "see docs/methods.md): "
+                + "; ".join(f"{n}: {v}" for n, v in own.items()) + ".", ""]
+    other = results.get("other_split")
+    if other:
+        out += [f"### The other split: {other.get('description', '')}", ""]
+        rows = []
+        for name, entry in other.get("classifiers", {}).items():
+            main = cl.get(name, {})
+            rows.append([name,
+                         _f(_get(entry, "speed_mm_s", "std")), _f(_get(main, "speed_mm_s", "std")),
+                         _f(_get(entry, "radius_mm", "std")), _f(_get(main, "radius_mm", "std"))])
+        out += [_md_table(["classifier", "speed std (one set)", "speed std (main)",
+                           "radius std (one set)", "radius std (main)"], rows), ""]
 
     # kappa and exact hits (not in the thesis)
     out += ["## Exact hits and Cohen's kappa (full training set; not reported in the thesis)",

@@ -289,6 +289,16 @@ class Protocol:
 PROTOCOL_NAMES = ("radial-distance", "angle-texture")
 
 
+#: Chapter-4 recording kept per trial, s before and after the peak. The thesis' own
+#: +/-325 ms window about the peak (4.2) is cut from it by the classifiers that use it;
+#: the author's analysis code instead cut 750 samples starting 100 samples before x
+#: first exceeds 0.1 V, after filtering the velocity with a causal 101-tap FIR (see
+#: docs/methods.md). The onset precedes the peak by at most the loop latency plus
+#: braking (< 0.4 s), so 0.6 s before the peak holds that window and the filter's
+#: 100-sample warm-up; 0.7 s after the peak holds the window's end.
+RADIAL_DISTANCE_WINDOW_S = (0.6, 0.7)
+
+
 def _radial_distance(quick: bool) -> Protocol:
     if quick:
         return Protocol(
@@ -296,9 +306,11 @@ def _radial_distance(quick: bool) -> Protocol:
             radial_distances_mm=parse_grid("80:180:25"),
             speeds_mm_s=parse_grid("36:216:#4"),
             hall_calibration_mm=(80.0, 60.0),
+            window_s=RADIAL_DISTANCE_WINDOW_S,
         )
     return Protocol(
         name="radial-distance",
+        window_s=RADIAL_DISTANCE_WINDOW_S,
         radial_distances_mm=parse_grid("80:180:1"),
         speeds_mm_s=parse_grid("36:216:#26"),
         # The Hall IC is re-programmable "to best suit the current experiment" (3.2.3);
