@@ -141,7 +141,7 @@ def test_json_csv_and_report_written(results, ds, tmp_path) -> None:
 
 def test_markdown_without_figures_has_placeholder(results) -> None:
     md = report.markdown_report(results)
-    assert "<!-- explanatory text goes here -->" in md
+    assert "goes here" not in md and "docs/methods.md" in md
     assert "![" not in md
 
 

@@ -158,7 +158,9 @@ class SignalTransform(TransformerMixin, BaseEstimator):
 
     def __init__(
         self,
-        kind: Literal["raw", "lowpass", "highpass", "velocity", "acceleration"] = "raw",
+        kind: Literal[
+            "raw", "lowpass", "highpass", "velocity", "acceleration", "causal_velocity"
+        ] = "raw",
         sample_rate_hz: float = 4000.0,
         notch_hz: float | None = None,
         notch_quality: float = 5.0,

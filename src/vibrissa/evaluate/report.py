@@ -541,7 +541,10 @@ def markdown_report(
         out += [tn["kappa"], ""]
 
     out += ["## Discussion", ""]
-    out += [notes.strip() if notes else "<!-- explanatory text goes here -->", ""]
+    out += [notes.strip() if notes else (
+        "The measured explanation of the differences from the thesis is written for the "
+        "full grid only (a quick grid is too coarse to measure them); the settings of "
+        "every method and their sources are in docs/methods.md."), ""]
     return "\n".join(out)
 
 
