@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 
 from vibrissa._validate import in_range, non_negative, positive
+from vibrissa.experiments.streams import ORDER, stream
 from vibrissa.robots.xy_stage import XYStage
 from vibrissa.whisker.geometry import PRESETS, preset
 from vibrissa.whisker.surfaces import TEXTURES
@@ -252,7 +253,7 @@ class Protocol:
         (seeded), which fixes each trial's ``order`` in the session.
         """
         grid = self.grid()
-        rng = np.random.default_rng(np.random.SeedSequence([self.seed, 7]))
+        rng = np.random.default_rng(stream(self.seed, ORDER))
         nd = len(self.directions)
         per_run = len(grid) * nd
         specs: list[TrialSpec] = []

@@ -1,8 +1,9 @@
 """Simulate a protocol's trials: the unit of work of a (parallel) generation.
 
 :func:`simulate_trials` runs any subset of a protocol's trials and returns plain
-arrays. Every trial draws from its own random stream, seeded by
-``(protocol.seed, trial index)``, so results do not depend on how trials are
+arrays. Every trial draws from its own random stream, the SeedSequence spawn
+key ``(TRIALS, trial index)`` of the protocol's seed
+(:mod:`vibrissa.experiments.streams`), so results do not depend on how trials are
 split into chunks, which process runs them, or in which order: the same seed
 gives the same bytes.
 """
@@ -16,22 +17,30 @@ from typing import Any
 import numpy as np
 
 from vibrissa.experiments.protocols import Protocol, TrialSpec
+from vibrissa.experiments.streams import SURFACES, TRIALS, stream
 from vibrissa.robots.xy_stage import PoleStimulus, SurfaceStimulus, run_trial
 from vibrissa.whisker.geometry import WhiskerGeometry, preset
 from vibrissa.whisker.hall import HallSensor, calibrated_gain
 from vibrissa.whisker.rod import RodModel
-from vibrissa.whisker.surfaces import Surface, make_surface
+from vibrissa.whisker.surfaces import TEXTURES, Surface, make_surface
 
 __all__ = ["TRIAL_DIAGNOSTICS", "n_samples", "simulate_trials", "whisker_attrs"]
 
 #: Per-trial quantities recorded besides the signal.
 TRIAL_DIAGNOSTICS = (
-    "latency_s",
+    "contact_onset_s",
     "threshold_time_s",
+    "retract_start_s",
+    "contact_end_s",
+    "latency_s",
     "contact_duration_s",
+    "slipped_off",
     "saturated",
     "peak_deflection_v",
 )
+
+#: Diagnostics that are flags (stored as bool).
+_BOOL_DIAGNOSTICS = ("slipped_off", "saturated")
 
 _DRIFT_LEVELS = 20
 
@@ -74,8 +83,9 @@ def _sensor(protocol: Protocol) -> HallSensor:
 @lru_cache(maxsize=16)
 def _surface(texture: str, seed: int) -> Surface:
     # one physical sheet per texture for the whole session
-    code = sum(ord(c) for c in texture)
-    return make_surface(texture, seed=np.random.default_rng([seed, code]))
+    return make_surface(
+        texture, seed=np.random.default_rng(stream(seed, SURFACES, list(TEXTURES).index(texture)))
+    )
 
 
 def whisker_attrs(protocol: Protocol) -> dict[str, Any]:
@@ -113,17 +123,16 @@ def simulate_trials(protocol: Protocol, indices: Sequence[int]) -> dict[str, np.
     out: dict[str, np.ndarray] = {
         "index": idx,
         "signal": np.empty((idx.size, 2, ns)),
-        "latency_s": np.empty(idx.size),
-        "threshold_time_s": np.empty(idx.size),
-        "contact_duration_s": np.empty(idx.size),
-        "saturated": np.empty(idx.size, dtype=bool),
-        "peak_deflection_v": np.empty(idx.size),
+        **{
+            name: np.empty(idx.size, dtype=bool if name in _BOOL_DIAGNOSTICS else float)
+            for name in TRIAL_DIAGNOSTICS
+        },
     }
     sensor = _sensor(protocol)
     n_total = len(specs)
     for k, i in enumerate(idx):
         spec = specs[int(i)]
-        rng = np.random.default_rng(np.random.SeedSequence([protocol.seed, 11, int(i)]))
+        rng = np.random.default_rng(stream(protocol.seed, TRIALS, int(i)))
         drift = 0.0
         if protocol.drift_fraction:
             level = round(spec.order / max(n_total - 1, 1) * _DRIFT_LEVELS) / _DRIFT_LEVELS
@@ -148,9 +157,6 @@ def simulate_trials(protocol: Protocol, indices: Sequence[int]) -> dict[str, np.
             surface=surface,
         )
         out["signal"][k] = res.signal_v
-        out["latency_s"][k] = res.latency_s
-        out["threshold_time_s"][k] = res.threshold_time_s
-        out["contact_duration_s"][k] = res.contact_duration_s
-        out["saturated"][k] = res.saturated
-        out["peak_deflection_v"][k] = res.peak_deflection_v
+        for name in TRIAL_DIAGNOSTICS:
+            out[name][k] = getattr(res, name)
     return out
