@@ -42,14 +42,42 @@ def test_trial_is_aligned_to_its_peak_and_has_the_window(model, sensor):
     assert int(np.argmax(dev)) == 325
     assert res.signal_v[0, 325] > 2.5  # +x deflection raises the x output
     assert abs(res.signal_v[0, 0] - 2.5) < 0.1 * dev.max()  # contact just begun at -325 ms
-    assert 0.28 <= res.latency_s <= 0.32
+    lat = XYStage().latency
+    assert abs(res.latency_s - lat.latency_s) <= lat.duty_cycle_s / 2
+
+
+def test_events_are_ordered_and_the_retraction_follows_the_threshold_by_the_latency(
+    model, sensor
+):
+    res = trial(model, sensor, r=120.0, v=72.0, seed=5)
+    assert res.contact_onset_s < res.threshold_time_s < res.retract_start_s < 0.0
+    assert 0.0 < res.contact_end_s  # the peak comes while the stage brakes and returns
+    # the command takes effect exactly one drawn latency after the crossing
+    assert res.retract_start_s - res.threshold_time_s == pytest.approx(res.latency_s, abs=1e-9)
+    assert res.mi_latency_s == pytest.approx(res.retract_start_s - res.contact_onset_s)
+    assert not res.slipped_off and not res.saturated
+    # the recorded signal crosses the threshold where the event says (one sample)
+    x = res.signal_v[0] - 2.5
+    k = int(np.argmax(x >= XYStage().threshold_v))
+    assert abs((k - res.peak_index) / 1000 - res.threshold_time_s) <= 1.5e-3
+
+
+def test_contact_near_the_tip_at_speed_slips_off_before_the_retraction(model, sensor):
+    res = trial(model, sensor, r=183.0, v=216.0, seed=1)
+    assert res.slipped_off
+    # the MI contact ended while the stage was still advancing
+    stage = XYStage()
+    assert res.contact_end_s < res.retract_start_s + 216.0 / stage.acceleration_mm_s2
 
 
 def test_retraction_follows_the_threshold_after_the_latency(model, sensor):
     slow = trial(model, sensor, v=40.0)
     fast = trial(model, sensor, v=200.0)
     assert np.isfinite(slow.threshold_time_s) and np.isfinite(fast.threshold_time_s)
-    assert fast.threshold_time_s < slow.threshold_time_s  # threshold is reached sooner
+    # the threshold is reached sooner after first contact
+    assert (fast.threshold_time_s - fast.contact_onset_s) < (
+        slow.threshold_time_s - slow.contact_onset_s
+    )
     # the object keeps advancing for the latency: faster means a deeper, longer contact
     assert fast.peak_deflection_v > slow.peak_deflection_v
     assert fast.contact_duration_s > slow.contact_duration_s

@@ -102,22 +102,33 @@ def decode_texture(codes: Any) -> np.ndarray:
 
 
 def resonance_hz(whisker: Mapping[str, Any] | str) -> float:
-    """First natural frequency of the whisker, Hz (the notch frequency of 5.3.1).
+    """The whisker's resonance in chapter-5 recordings, Hz (the notch frequency of 5.3.1).
+
+    The thesis notches "the resonant frequency of the whisker", 30 Hz, found by
+    inspecting the FFT of recordings in which the surface holds the whisker's tip.
+    That is the first mode of the tip-pinned whisker (``docs/physics.md``): the key
+    ``tip_pinned_frequency_hz`` when the whisker attribute has it (simulated
+    datasets), else the first free natural frequency ``natural_frequencies_hz[0]``
+    (e.g. imported recordings whose mapping gives only that).
 
     Parameters
     ----------
     whisker : dict or str
-        The Dataset attribute ``whisker`` (JSON or parsed), with key
-        ``natural_frequencies_hz``.
+        The Dataset attribute ``whisker`` (JSON or parsed).
 
     Returns
     -------
     float
     """
     w = json.loads(whisker) if isinstance(whisker, str) else dict(whisker)
+    if w.get("tip_pinned_frequency_hz"):
+        return positive("tip_pinned_frequency_hz", float(w["tip_pinned_frequency_hz"]))
     f = w.get("natural_frequencies_hz")
     if not f:
-        raise ValueError("whisker parameters lack 'natural_frequencies_hz' (the notch frequency)")
+        raise ValueError(
+            "whisker parameters lack 'tip_pinned_frequency_hz' and 'natural_frequencies_hz' "
+            "(the notch frequency)"
+        )
     return positive("natural_frequencies_hz[0]", float(f[0]))
 
 

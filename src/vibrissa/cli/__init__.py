@@ -10,7 +10,7 @@ from __future__ import annotations
 import typer
 
 from vibrissa import __version__
-from vibrissa.cli import bench, data, generate, plot, reproduce, whisker
+from vibrissa.cli import bench, data, generate, identify, plot, reproduce, whisker
 
 app = typer.Typer(
     name="vibrissa",
@@ -37,7 +37,7 @@ def _root(
     """Whisker-based tactile sensing toolkit."""
 
 
-for _module in (whisker, bench, generate, data, plot, reproduce):
+for _module in (whisker, bench, generate, data, plot, reproduce, identify):
     _module.register(app)
 
 

@@ -45,6 +45,11 @@ def radial_distance(
     n_seeds: int = typer.Option(5, "--n-seeds", help="Repeats of each reduced training set."),
     workers: int = typer.Option(None, "--workers", help="Generation processes (default all)."),
     figures: bool = typer.Option(True, "--figures/--no-figures", help="Draw the figures."),
+    baseline: Path = typer.Option(
+        None, "--baseline",
+        help="An earlier run's results.json (or a compact one, e.g. docs/runs/...): the "
+        "report shows its numbers as 'before' beside the thesis' and this run's.",
+    ),
 ) -> None:
     """Chapter 4: radial distance and speed from one whisker deflection, five classifiers.
 
@@ -57,8 +62,11 @@ def radial_distance(
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
     from rich.table import Table
 
+    from vibrissa.evaluate.baseline import load_baseline
     from vibrissa.evaluate.report import THESIS_CHAPTER4
     from vibrissa.evaluate.reproduce import reproduce_radial_distance
+
+    before = load_baseline(baseline) if baseline is not None else None
 
     console = Console(stderr=json_out)
     show = os.environ.get("CI") is None
@@ -80,7 +88,7 @@ def radial_distance(
 
         res = reproduce_radial_distance(
             out, quick=quick, seed=seed, n_seeds=n_seeds, workers=workers,
-            progress=progress, figures=figures,
+            progress=progress, figures=figures, baseline=before,
         )  # fmt: skip
     summary = {
         "chapter": 4,
@@ -143,6 +151,11 @@ def angle_texture(
     seed: int = typer.Option(0, "--seed", help="Seed of the simulated session and splits."),
     workers: int = typer.Option(None, "--workers", help="Generation processes (default all)."),
     figures: bool = typer.Option(True, "--figures/--no-figures", help="Draw the figures."),
+    baseline: Path = typer.Option(
+        None, "--baseline",
+        help="An earlier run's results.json (or a compact one, e.g. docs/runs/...): the "
+        "report shows its numbers as 'before' beside the thesis' and this run's.",
+    ),
 ) -> None:
     """Chapter 5: surface angle, contact speed and texture, simultaneously.
 
@@ -155,7 +168,10 @@ def angle_texture(
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
     from rich.table import Table
 
+    from vibrissa.evaluate.baseline import load_baseline
     from vibrissa.evaluate.chapter5 import reproduce_angle_texture
+
+    before = load_baseline(baseline) if baseline is not None else None
 
     console = Console(stderr=json_out)
     with Progress(
@@ -171,7 +187,8 @@ def angle_texture(
             bar.update(tasks[stage], completed=done, total=total)
 
         res = reproduce_angle_texture(
-            out, quick=quick, seed=seed, progress=progress, workers=workers, figures=figures
+            out, quick=quick, seed=seed, progress=progress, workers=workers, figures=figures,
+            baseline=before,
         )
     summary = {
         "chapter": 5,

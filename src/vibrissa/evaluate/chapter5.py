@@ -475,6 +475,7 @@ def reproduce_angle_texture(
     *,
     workers: int | None = None,
     figures: bool = True,
+    baseline: Mapping[str, Any] | None = None,
 ) -> dict[str, Any]:
     """Chapter 5 end to end; returns the results (also written to ``out_dir``).
 
@@ -494,6 +495,8 @@ def reproduce_angle_texture(
         Processes for dataset generation (default: all cores).
     figures : bool, default=True
         Draw the confusion matrices, the kappa comparison and the sequential curve.
+    baseline : dict, optional
+        An earlier run's results: the report adds thesis / before / this run kappas.
 
     Returns
     -------
@@ -525,5 +528,5 @@ def reproduce_angle_texture(
         evaluate_seconds=round(time.perf_counter() - t1, 3),
     )
     write_chapter5_report(results, out, figures=figures,
-                          notes=shipped_notes("chapter5_notes.md", quick))
+                          notes=shipped_notes("chapter5_notes.md", quick), baseline=baseline)
     return results

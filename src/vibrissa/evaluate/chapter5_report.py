@@ -91,7 +91,8 @@ def _md(header: list[str], rows: list[list[str]]) -> str:
 
 
 def markdown_chapter5(results: Mapping[str, Any], figures: Mapping[str, Path] | None = None,
-                      notes: str | None = None) -> str:
+                      notes: str | None = None,
+                      baseline: Mapping[str, Any] | None = None) -> str:
     """The Markdown report of :func:`~vibrissa.evaluate.chapter5.run_chapter5` results.
 
     Parameters
@@ -102,6 +103,9 @@ def markdown_chapter5(results: Mapping[str, Any], figures: Mapping[str, Path] | 
     notes : str, optional
         Markdown appended before the figures (the shipped ``chapter5_notes.md`` on
         the full grid).
+    baseline : dict, optional
+        An earlier run's results (:func:`vibrissa.evaluate.baseline.load_baseline`):
+        adds a table of kappas thesis / before / this run (figure 5.15).
 
     Returns
     -------
@@ -134,6 +138,19 @@ def markdown_chapter5(results: Mapping[str, Any], figures: Mapping[str, Path] | 
         ] + [f"{r.get('classify_seconds', 0):.2f}"])
     out.append(_md(["classifier", "angle", "speed", "texture", "texture alone",
                     "classify s"], rows))
+    if baseline is not None:
+        out += ["", "## Cohen's kappa: thesis / before / this run (figure 5.15)", "",
+                f"*before*: {baseline.get('meta', {}).get('label', 'an earlier run')}.", ""]
+        rows = []
+        old = baseline.get("classifiers", {})
+        for name, r in results.get("classifiers", {}).items():
+            th = THESIS_CHAPTER5.get(name, {}).get("kappa", {})
+            kb = old.get(name, {}).get("kappa", {})
+            k = r.get("kappa", {})
+            rows.append([f"`{name}`"] + [
+                f"{_f(th.get(p))} / {_f(kb.get(p))} / {_f(k.get(p))}"
+                for p in (*_PAR, "texture_alone")])
+        out.append(_md(["classifier", "angle", "speed", "texture", "texture alone"], rows))
     out += ["", "## Weighted kappa (linear / quadratic; suggested in 5.5)", ""]
     rows = []
     for name, r in results.get("classifiers", {}).items():
@@ -295,10 +312,12 @@ def chapter5_figures(results: Mapping[str, Any], out_dir: str | os.PathLike[str]
 
 def write_chapter5_report(results: Mapping[str, Any], out_dir: str | os.PathLike[str], *,
                           figures: bool = True, dpi: int = 110,
-                          notes: str | None = None) -> dict[str, Path]:
+                          notes: str | None = None,
+                          baseline: Mapping[str, Any] | None = None) -> dict[str, Path]:
     """Write ``results.json``, ``report.md`` and ``figures/`` into ``out_dir`` atomically.
 
-    ``notes`` (Markdown) is appended to the report before the figures.
+    ``notes`` (Markdown) is appended to the report before the figures; ``baseline``
+    (an earlier run's results) adds a thesis / before / this run table.
 
     Returns
     -------
@@ -310,6 +329,7 @@ def write_chapter5_report(results: Mapping[str, Any], out_dir: str | os.PathLike
     paths = {"json": write_json(results, out / "results.json")}
     figs = chapter5_figures(results, out / "figures", dpi) if figures else {}
     rel = {k: p.relative_to(out) for k, p in figs.items()}
-    paths["report"] = atomic_write_text(out / "report.md", markdown_chapter5(results, rel, notes))
+    text = markdown_chapter5(results, rel, notes, baseline)
+    paths["report"] = atomic_write_text(out / "report.md", text)
     paths.update({f"figure:{k}": p for k, p in figs.items()})
     return paths

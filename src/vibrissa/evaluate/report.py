@@ -383,6 +383,7 @@ def markdown_report(
     notes: str | None = None,
     table_notes: Mapping[str, str] | None = None,
     title: str = "Chapter 4 reproduction: radial distance and speed from whisker deflections",
+    baseline: Mapping[str, Any] | None = None,
 ) -> str:
     """Markdown report putting our tables 4.1-4.7 beside the thesis' values.
 
@@ -402,6 +403,9 @@ def markdown_report(
         ``"static_beam"``, ``"kappa"``.
     title : str
         First heading.
+    baseline : dict, optional
+        An earlier run's results (:func:`vibrissa.evaluate.baseline.load_baseline`);
+        table 4.7 then shows its values as "before" beside ours.
 
     Returns
     -------
@@ -495,10 +499,19 @@ def markdown_report(
         rows.append([name, "ours",
                      _f(_get(entry, "speed_mm_s", "mean")), _f(_get(entry, "speed_mm_s", "std")),
                      _f(_get(entry, "radius_mm", "mean")), _f(_get(entry, "radius_mm", "std"))])
+        before = (baseline or {}).get("classifiers", {}).get(name)
+        if before is not None:
+            rows.append([name, "before",
+                         _f(_get(before, "speed_mm_s", "mean")),
+                         _f(_get(before, "speed_mm_s", "std")),
+                         _f(_get(before, "radius_mm", "mean")),
+                         _f(_get(before, "radius_mm", "std"))])
         if th is not None:
             rows.append([name, "thesis 4.7", _f(_get(th, "speed_mm_s", "mean")),
                          _f(_get(th, "speed_mm_s", "std")), _f(_get(th, "radius_mm", "mean")),
                          _f(_get(th, "radius_mm", "std"))])
+    if baseline is not None:
+        out += [f"*before*: {baseline.get('meta', {}).get('label', 'an earlier run')}.", ""]
     out += [_md_table(["classifier", "source", "speed mean", "speed std", "radius mean",
                        "radius std"], rows), ""]
     if "table_4_7" in tn:
@@ -557,6 +570,7 @@ def write_report(
     figures: bool = True,
     dataset: Any = None,
     dpi: int = 110,
+    baseline: Mapping[str, Any] | None = None,
 ) -> dict[str, Path]:
     """Write results JSON, CSVs, figures and the Markdown report into ``out_dir``.
 
@@ -575,6 +589,8 @@ def write_report(
         figure 4.1) from it.
     dpi : int, default=110
         Figure resolution.
+    baseline : dict, optional
+        An earlier run's results, shown as "before" (see :func:`markdown_report`).
 
     Returns
     -------
@@ -601,7 +617,8 @@ def write_report(
             figs["dataset/contours"] = vfig.save_figure(
                 ax[0].figure, out / "figures" / "contours.png", dpi)
     rel = {k: p.relative_to(out) for k, p in figs.items()}
-    text = markdown_report(results, figures=rel, notes=notes, table_notes=table_notes)
+    text = markdown_report(results, figures=rel, notes=notes, table_notes=table_notes,
+                           baseline=baseline)
     paths["report"] = atomic_write_text(out / "report.md", text)
     paths.update({f"figure:{k}": p for k, p in figs.items()})
     return paths

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -91,6 +91,7 @@ def reproduce_radial_distance(
     workers: int | None = None,
     progress: Progress | None = None,
     figures: bool = True,
+    baseline: Mapping[str, Any] | None = None,
 ) -> dict[str, Any]:
     """Chapter 4 end to end; returns the results (also written to ``out_dir``).
 
@@ -110,6 +111,8 @@ def reproduce_radial_distance(
         ``progress(stage, done, total)``, stage is ``"generate"`` or ``"evaluate"``.
     figures
         Draw the figures.
+    baseline
+        An earlier run's results, shown as "before" in table 4.7 of the report.
     """
     from vibrissa.classify import CHAPTER4_ONE_SET, chapter4_classifiers
     from vibrissa.evaluate.protocol import run_chapter4
@@ -157,5 +160,6 @@ def reproduce_radial_distance(
         saturated_fraction=float(ds["saturated"].mean()) if "saturated" in ds.coords else None,
     )
     notes = shipped_notes("chapter4_notes.md", quick)
-    write_report(results, out, notes=notes, figures=figures, dataset=ds if figures else None)
+    write_report(results, out, notes=notes, figures=figures, dataset=ds if figures else None,
+                 baseline=baseline)
     return results

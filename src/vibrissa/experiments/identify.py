@@ -22,7 +22,6 @@ from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
-import scipy.linalg
 import scipy.signal
 
 from vibrissa.experiments import runner
@@ -98,28 +97,9 @@ def _plain(x: Any) -> Any:
 
 # --------------------------------------------------------------------------- mechanics
 def pinned_frequencies_hz(model: RodModel, at_mm: float, n_modes: int = 3) -> np.ndarray:
-    """Bending frequencies (Hz) of the whisker with its point ``at_mm`` pinned.
-
-    The linearised whisker (one bending plane, follicle spring included) with the
-    lateral displacement of the material point ``at_mm`` held at zero, as by an
-    object pressed against it (a pole at that radial distance, or a surface under
-    the tip). The constraint is imposed exactly, by projecting onto its null space.
-    """
-    K = model.stiffness_matrix()
-    nodes = np.array([i for i in range(model.n_nodes) if model.free[i]])
-    idx = 3 * nodes
-    Kx = K[np.ix_(idx, idx)]
-    Kx = 0.5 * (Kx + Kx.T)
-    M = np.diag(model.mass[nodes])
-    j, u = model.locate(at_mm)
-    c = np.zeros(nodes.size)
-    where = {int(n): k for k, n in enumerate(nodes)}
-    if j in where:
-        c[where[j]] += 1.0 - u
-    c[where[j + 1]] += u
-    Z = scipy.linalg.null_space(c[None, :])
-    w2 = scipy.linalg.eigh(Z.T @ Kx @ Z, Z.T @ M @ Z, eigvals_only=True)
-    return np.sqrt(np.clip(w2[:n_modes], 0.0, None)) / (2 * math.pi)
+    """Bending frequencies (Hz) with the point ``at_mm`` pinned; see
+    :meth:`vibrissa.whisker.rod.RodModel.pinned_frequencies_hz`."""
+    return model.pinned_frequencies_hz(at_mm, n_modes)
 
 
 def spectral_peak_hz(

@@ -102,6 +102,12 @@ def whisker_attrs(protocol: Protocol) -> dict[str, Any]:
         natural_frequencies_hz=_model(protocol.whisker, protocol.n_elements, 0.0)
         .natural_frequencies_hz[:3]
         .tolist(),
+        # the resonance of chapter-5 recordings (tip held by the surface; 5.3.1)
+        tip_pinned_frequency_hz=float(
+            _model(protocol.whisker, protocol.n_elements, 0.0).pinned_frequencies_hz(
+                g.length_mm, 1
+            )[0]
+        ),
     )
     return d
 

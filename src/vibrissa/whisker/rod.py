@@ -240,6 +240,31 @@ class RodModel:
         w, _ = self._plane_modes()
         return w / (2 * math.pi)
 
+    def pinned_frequencies_hz(self, at_mm: float, n_modes: int = 3) -> np.ndarray:
+        """Bending frequencies (Hz) of the whisker with its point ``at_mm`` pinned.
+
+        The linearised whisker (one bending plane, follicle spring included) with
+        the lateral displacement of the material point ``at_mm`` held at zero, as by
+        an object pressed against it: a pole at that radial distance, or a surface
+        under the tip (``at_mm`` = the length). The constraint is imposed exactly, by
+        projecting onto its null space.
+        """
+        K = self.stiffness_matrix()
+        nodes = np.array([i for i in range(self.n_nodes) if self.free[i]])
+        idx = 3 * nodes
+        Kx = K[np.ix_(idx, idx)]
+        Kx = 0.5 * (Kx + Kx.T)
+        M = np.diag(self.mass[nodes])
+        j, u = self.locate(at_mm)
+        c = np.zeros(nodes.size)
+        where = {int(n): k for k, n in enumerate(nodes)}
+        if j in where:
+            c[where[j]] += 1.0 - u
+        c[where[j + 1]] += u
+        Z = scipy.linalg.null_space(c[None, :])
+        w2 = scipy.linalg.eigh(Z.T @ Kx @ Z, Z.T @ M @ Z, eigvals_only=True)
+        return np.sqrt(np.clip(w2[:n_modes], 0.0, None)) / (2 * math.pi)
+
     def _plane_matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Shaft stiffness, follicle stiffness and mass in one bending plane (free DOFs)."""
         K = self.stiffness_matrix()
