@@ -33,7 +33,7 @@ def register(app: typer.Typer) -> None:
         """Measure the thesis' physical observables on the simulated whisker and XY robot.
 
         Simulates single trials with the chapter-4 and chapter-5 protocols' settings
-        (about 300 trials, ~20 s; --quick: ~40) and prints, for each statement the
+        (about 160 trials, ~20 s; --quick: about 35) and prints, for each statement the
         thesis makes about its hardware (resonance 5.3.1, loop latency 3.3.2,
         closest usable contact, tip zone and speed limit 4.2, ringing 3.3 / 5.4,
         durations 4.3.4 / 5.5), the thesis' value, ours, the tolerance and whether
