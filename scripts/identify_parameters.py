@@ -7,8 +7,8 @@ statement of the thesis (see ``docs/physics.md``, "Parameters and their sources"
    the surface is the 30 Hz resonance of 5.3.1;
 2. the MI loop's fixed delay: the median time from first contact to the start of
    the retraction over a 6 x 6 chapter-4 grid is the ~300 ms of 3.3.2 (the
-   threshold crossing comes 2-200 ms after first contact, depending on radius and
-   speed, so the delay is iterated to a fixed point).
+   threshold crossing comes after first contact by a delay that depends on radius
+   and speed, so the delay is iterated to a fixed point).
 
 The script prints the values; they are written into ``vibrissa.whisker.geometry``
 and ``vibrissa.robots.xy_stage`` by hand, with this script named as their source.

@@ -19,7 +19,8 @@ Modelled here:
   therefore seen at a uniformly distributed phase of the duty cycle: latency from
   the crossing = ``latency_s - duty_cycle_s / 2 + U(0, duty_cycle_s)``. The thesis
   counts the loop's latency "from initial contact" (~300 ms, 3.3.2); the threshold
-  is crossed 2-200 ms after first contact (sooner for close, fast contacts), so the
+  is crossed some 6-106 ms after first contact (5-95 % over a 6 x 6 grid, sooner
+  for close, fast contacts; ``vibrissa identify``, ``mi_latency_ms``), so the
   pipeline delay, 272 ms, is identified as the value that makes the median time
   from first contact to retraction 300 ms over the chapter-4 grid
   (``scripts/identify_parameters.py``). The duty cycle, 15.625 ms, is the default
