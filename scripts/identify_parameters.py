@@ -26,7 +26,6 @@ import dataclasses
 import numpy as np
 import scipy.optimize
 
-from vibrissa.experiments.identify import pinned_frequencies_hz
 from vibrissa.experiments.protocols import get_protocol
 from vibrissa.robots.xy_stage import LatencyModel, PoleStimulus, run_trial
 from vibrissa.whisker.geometry import preset
@@ -42,7 +41,7 @@ def follicle_stiffness() -> float:
 
     def f(kf: float) -> float:
         m = RodModel(g.replace(follicle_stiffness_nm_per_rad=kf), 28)
-        return float(pinned_frequencies_hz(m, g.length_mm)[0]) - RESONANCE_HZ
+        return float(m.pinned_frequencies_hz(g.length_mm)[0]) - RESONANCE_HZ
 
     return float(scipy.optimize.brentq(f, 0.005, 5.0, xtol=1e-5))
 

@@ -7,7 +7,6 @@ import pytest
 
 from vibrissa.experiments.identify import (
     identify,
-    pinned_frequencies_hz,
     ring_ratio,
     spectral_peak_hz,
 )
@@ -24,7 +23,7 @@ def test_tip_pinned_uniform_cantilever_matches_beam_theory():
     EI = g.bending_stiffness_base_nm2
     rho_a = g.density_kg_m3 * math.pi * 1e-6
     scale = math.sqrt(EI / (rho_a * g.length_m**4)) / (2 * math.pi)
-    f = pinned_frequencies_hz(model, g.length_mm, 2)
+    f = model.pinned_frequencies_hz(g.length_mm, 2)
     for got, bl in zip(f, (3.92660231, 7.06858275), strict=True):
         assert got == pytest.approx(bl**2 * scale, rel=0.015)
 
@@ -33,8 +32,8 @@ def test_pinning_raises_the_first_mode_and_a_softer_follicle_lowers_it():
     g = WhiskerGeometry(name="xy-robot")
     soft = RodModel(g.replace(follicle_stiffness_nm_per_rad=0.02), 28)
     stiff = RodModel(g.replace(follicle_stiffness_nm_per_rad=0.2), 28)
-    assert pinned_frequencies_hz(soft, 185.0)[0] > soft.natural_frequencies_hz[0]
-    assert pinned_frequencies_hz(soft, 185.0)[0] < pinned_frequencies_hz(stiff, 185.0)[0]
+    assert soft.pinned_frequencies_hz(185.0)[0] > soft.natural_frequencies_hz[0]
+    assert soft.pinned_frequencies_hz(185.0)[0] < stiff.pinned_frequencies_hz(185.0)[0]
 
 
 def test_spectral_peak_finds_a_resonance_beside_a_large_slow_pulse():

@@ -34,7 +34,6 @@ from vibrissa.whisker.rod import RodModel
 __all__ = [
     "Observable",
     "identify",
-    "pinned_frequencies_hz",
     "ring_ratio",
     "spectral_peak_hz",
 ]
@@ -96,12 +95,6 @@ def _plain(x: Any) -> Any:
 
 
 # --------------------------------------------------------------------------- mechanics
-def pinned_frequencies_hz(model: RodModel, at_mm: float, n_modes: int = 3) -> np.ndarray:
-    """Bending frequencies (Hz) with the point ``at_mm`` pinned; see
-    :meth:`vibrissa.whisker.rod.RodModel.pinned_frequencies_hz`."""
-    return model.pinned_frequencies_hz(at_mm, n_modes)
-
-
 def spectral_peak_hz(
     signals: np.ndarray, fs: float, band_hz: tuple[float, float] = (8.0, 150.0)
 ) -> float:
@@ -269,7 +262,8 @@ def identify(quick: bool = False, progress: Progress | None = None) -> list[Obse
 
     # -- resonance ------------------------------------------------------------
     free = float(model.natural_frequencies_hz[0])
-    tip = float(pinned_frequencies_hz(model, model.geometry.length_mm)[0])
+    tip_modes = model.pinned_frequencies_hz(model.geometry.length_mm)
+    tip = float(tip_modes[0])
     rigid = float(RodModel(model.geometry, model.n_elements, rigid_follicle=True)
                   .natural_frequencies_hz[0])
     surf = _surface_trials(p5, pl.surface_points, 3, progress)
@@ -284,10 +278,9 @@ def identify(quick: bool = False, progress: Progress | None = None) -> list[Obse
         "present after the 35 Hz high-pass (5.3.1)",
         30.0, tip, "Hz", "within 10 %", abs(tip - 30.0) <= 3.0,
         {"free_first_mode_hz": free, "rigid_follicle_free_first_mode_hz": rigid,
-         "tip_pinned_first_modes_hz": pinned_frequencies_hz(model, model.geometry.length_mm)
-         .tolist(),
+         "tip_pinned_first_modes_hz": tip_modes.tolist(),
          "pinned_first_mode_by_radius_hz": {
-             str(int(r)): float(pinned_frequencies_hz(model, r)[0])
+             str(int(r)): float(model.pinned_frequencies_hz(r)[0])
              for r in (80.0, 100.0, 130.0, 160.0, 180.0)},
          "chapter5_fft_peak_hz": fft_peak, "n_chapter5_trials": len(surf)},
     ))
