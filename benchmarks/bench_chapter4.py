@@ -23,7 +23,7 @@ from pathlib import Path
 from vibrissa._atomic import atomic_write_text
 from vibrissa.classify import chapter4_classifiers
 from vibrissa.data import load_dataset, whisker_params
-from vibrissa.evaluate.protocol import run_chapter4
+from vibrissa.evaluate.chapter4 import run_chapter4
 
 
 def main() -> None:

@@ -5,7 +5,7 @@ Usage::
     .venv/bin/python benchmarks/bench_chapter5.py [--quick] [--workers N]
         [--out benchmarks/results/chapter5.json] [--keep DIR]
 
-Runs :func:`vibrissa.evaluate.chapter5.reproduce_angle_texture` from scratch in a
+Runs ``run_experiment("angle-texture")`` (:mod:`vibrissa.reproduce`) from scratch in a
 temporary directory (dataset generation, numba start-up, every classifier, texture
 alone, the sequential curve and the figures), then records:
 
@@ -32,7 +32,7 @@ import time
 from pathlib import Path
 
 from vibrissa._atomic import atomic_write_text
-from vibrissa.evaluate.chapter5 import reproduce_angle_texture
+from vibrissa.reproduce import run_experiment
 
 CLASSIFY_BUDGET_S = 5.0
 REPRODUCTION_BUDGET_S = 600.0
@@ -49,9 +49,9 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         where = Path(args.keep) if args.keep else Path(tmp) / "angle-texture"
         t0 = time.perf_counter()
-        res = reproduce_angle_texture(where, quick=args.quick, workers=args.workers)
+        res = run_experiment("angle-texture", where, quick=args.quick, workers=args.workers)
         wall = time.perf_counter() - t0
-    if res["meta"].get("dataset_reused"):
+    if res["meta"]["dataset"]["reused"]:
         raise SystemExit(f"{where} already held the dataset; use an empty --keep directory")
     classifiers = {
         name: {
@@ -71,8 +71,8 @@ def main() -> None:
         "n_test": res["meta"]["split"]["n_test"],
         "workers": args.workers or os.cpu_count(),
         "reproduction_wall_seconds": round(wall, 1),
-        "generate_seconds": res["meta"].get("generate_seconds"),
-        "evaluate_seconds": res["meta"].get("evaluate_seconds"),
+        "generate_seconds": res["meta"]["wall_seconds"]["generate"],
+        "evaluate_seconds": res["meta"]["wall_seconds"]["evaluate"],
         "slowest_classifier": slowest,
         "slowest_classify_seconds": classifiers[slowest]["classify_seconds"],
         "budgets": {"classify_seconds": CLASSIFY_BUDGET_S,

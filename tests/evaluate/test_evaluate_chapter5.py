@@ -15,7 +15,6 @@ from vibrissa.classify import (
 )
 from vibrissa.evaluate import metrics
 from vibrissa.evaluate.chapter5 import (
-    kappa_from_confusion,
     run_chapter5,
     score_chapter5,
     split_chapter5,
@@ -23,8 +22,12 @@ from vibrissa.evaluate.chapter5 import (
 from vibrissa.evaluate.chapter5_report import (
     THESIS_CHAPTER5,
     confusion_figure,
-    write_chapter5_report,
+    discussion,
+    kappa_figure,
+    markdown_chapter5,
+    write_outputs,
 )
+from vibrissa.evaluate.metrics import kappa_from_confusion
 
 FS = 4000.0
 
@@ -119,34 +122,31 @@ def test_run_chapter5_json_contract(dataset, tmp_path):
     text = json.dumps(res, allow_nan=False)
     back = json.loads(text)
     assert back["sequential"].keys() == res["sequential"].keys()
-    paths = write_chapter5_report(res, tmp_path, figures=False)
-    assert json.loads(paths["json"].read_text())["protocol"] == "evans2011_chapter5"
-    md = paths["report"].read_text()
+    assert res["meta"]["evaluation"] == "evans2011_chapter5"
+    assert set(res["parameters"]) == {"angle", "speed", "texture"}
+    md = markdown_chapter5(res)
     assert "naive_bayes_velocity" in md and "0.39" in md  # thesis value beside ours
-    fig = confusion_figure(res["classifiers"]["minirocket"], "minirocket")
-    assert len(fig.axes) == 4
-    tex_ax = [a for a in fig.axes if a.get_title().startswith("texture (")][0]
+    assert "## Discussion" in md and discussion(res) in md
+    axs = confusion_figure(res["classifiers"]["minirocket"], "minirocket")
+    assert len(axs) == 4 and all(a.get_xlabel().startswith("predicted") for a in axs)
+    tex_ax = [a for a in axs if a.get_title().startswith("texture (")][0]
     assert [t.get_text() for t in tex_ax.get_xticklabels()] == ["aluminium", "p600", "p180"]
-    notes = "## How our numbers differ\n\nmeasured text"
-    md = write_chapter5_report(res, tmp_path / "n", figures=True, notes=notes)["report"]
-    text = md.read_text()
-    assert "measured text" in text
-    assert text.index("measured text") < text.index("## Figures")
+    kax = kappa_figure(res)
+    assert len(kax) == 3 and all("kappa" in a.get_ylabel() for a in kax)
+    # thesis bars drawn beside ours where the thesis reports the method
+    labels = {t.get_label() for t in kax[0].containers}
+    assert labels == {"this run", "thesis (fig. 5.15, 5.4)"}
+    figs = write_outputs(res, tmp_path / "n", figures=True)
     assert (tmp_path / "n" / "figures" / "sequential.png").stat().st_size > 0
+    assert set(figs) >= {"kappa", "sequential", "confusion/minirocket"}
 
 
-def test_shipped_chapter5_notes_are_packaged():
-    from importlib.resources import files
-
-    notes = (files("vibrissa.evaluate") / "chapter5_notes.md").read_text()
-    assert notes.startswith("## How our numbers differ")
-    assert "grain" in notes.lower()
-    from vibrissa.evaluate.reproduce import shipped_notes
-
-    assert shipped_notes("chapter5_notes.md", quick=False) == notes
-    assert shipped_notes("chapter4_notes.md", quick=False).startswith("## How our numbers")
-    assert shipped_notes("chapter5_notes.md", quick=True) is None  # not for the quick grid
-    assert shipped_notes("no_such_notes.md", quick=False) is None
+def test_discussion_is_computed_from_the_results(dataset):
+    res = run_chapter5(dataset, {"nb": StationaryNaiveBayes()}, seed=0,
+                       texture_alone=False, sequential_base=None)
+    text = discussion(res)
+    k = res["classifiers"]["nb"]["kappa"]["speed"]
+    assert f"best kappa {k:.2f} (`nb`)" in text
 
 
 def test_run_chapter5_errors(dataset):

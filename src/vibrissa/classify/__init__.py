@@ -16,7 +16,7 @@ distinct row a joint class (e.g. radial distance and speed), see
 ========================================  ==================================
 """
 
-from vibrissa.classify._base import TrialClassifier
+from vibrissa.classify._base import EstimatorTags, TrialClassifier, estimator_tags
 from vibrissa.classify._chapter4 import (
     CHAPTER4_KEYS,
     CHAPTER4_ONE_SET,
@@ -53,7 +53,9 @@ __all__ = [
     "StaticBeamClassifier",
     "StationaryNaiveBayes",
     "TimeTemplateClassifier",
+    "EstimatorTags",
     "TrialClassifier",
+    "estimator_tags",
     "base_moment_nm",
     "chapter4_classifiers",
     "contact_features",

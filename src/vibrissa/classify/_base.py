@@ -16,6 +16,7 @@ always agree.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -23,7 +24,39 @@ from scipy.special import softmax
 from sklearn.base import BaseEstimator, ClassifierMixin
 from sklearn.utils.validation import check_array, check_is_fitted, validate_data
 
-__all__ = ["TrialClassifier", "nearest_values", "target_column"]
+__all__ = ["EstimatorTags", "TrialClassifier", "estimator_tags", "nearest_values", "target_column"]
+
+
+@dataclass(frozen=True)
+class EstimatorTags:
+    """What a vibrissa estimator can do, beyond scikit-learn's own tags.
+
+    Attributes
+    ----------
+    estimated_targets : tuple of int or None
+        Columns of ``y`` the estimator estimates; its predictions in the other
+        columns are NaN. ``None``: every column (the default). The static beam
+        equation estimates radial distance only (thesis 4.3.1): ``(0,)``.
+    """
+
+    estimated_targets: tuple[int, ...] | None = None
+
+    def estimates_only(self, *columns: int) -> bool:
+        """True when the estimator estimates exactly these columns of ``y``."""
+        return self.estimated_targets is not None and tuple(self.estimated_targets) == columns
+
+
+def estimator_tags(estimator: Any) -> EstimatorTags:
+    """The :class:`EstimatorTags` of an estimator (of a Pipeline: of its final step).
+
+    An estimator declares its tags with a method ``__vibrissa_tags__()`` returning
+    :class:`EstimatorTags`; one without it gets the defaults.
+    """
+    est = estimator
+    while hasattr(est, "steps"):
+        est = est.steps[-1][1]
+    declare = getattr(est, "__vibrissa_tags__", None)
+    return declare() if callable(declare) else EstimatorTags()
 
 
 def target_column(y: np.ndarray, column: int, name: str) -> np.ndarray:

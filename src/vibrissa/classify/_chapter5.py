@@ -21,7 +21,6 @@ is the one place the code is defined; use :func:`encode_texture` /
 
 from __future__ import annotations
 
-import json
 from collections.abc import Mapping
 from typing import Any, Literal
 
@@ -38,7 +37,7 @@ from vibrissa.classify._spectral import FrequencyTemplateClassifier
 from vibrissa.classify._template import TimeTemplateClassifier, nearest_template_scores
 from vibrissa.classify._texture_features import FeaturePolynomialClassifier
 from vibrissa.classify._windows import trials_3d
-from vibrissa.whisker.surfaces import TEXTURES
+from vibrissa.data.schema import TEXTURE_CODES, decode_texture, encode_texture, parse_whisker
 
 __all__ = [
     "CHAPTER5_KEYS",
@@ -56,50 +55,6 @@ __all__ = [
 
 #: Columns of the chapter-5 label rows ``y``.
 CHAPTER5_TARGETS = ("angle_deg", "speed_mm_s", "texture")
-
-#: Texture name -> integer code used in ``y`` (ordered smooth to coarse by grain size).
-TEXTURE_CODES: dict[str, int] = {
-    name: i for i, name in enumerate(sorted(TEXTURES, key=lambda n: TEXTURES[n].grain_diameter_um))
-}
-
-
-def encode_texture(names: Any) -> np.ndarray:
-    """Integer codes (:data:`TEXTURE_CODES`) of texture names.
-
-    Parameters
-    ----------
-    names : array-like of str
-
-    Returns
-    -------
-    ndarray of int
-    """
-    arr = np.asarray(names).astype(str)
-    unknown = sorted(set(arr.ravel().tolist()) - set(TEXTURE_CODES))
-    if unknown:
-        raise ValueError(f"unknown texture(s) {unknown}; known: {list(TEXTURE_CODES)}")
-    if not arr.size:
-        return np.zeros(arr.shape, dtype=int)
-    return np.vectorize(TEXTURE_CODES.__getitem__, otypes=[int])(arr)
-
-
-def decode_texture(codes: Any) -> np.ndarray:
-    """Texture names of integer codes (inverse of :func:`encode_texture`).
-
-    Parameters
-    ----------
-    codes : array-like of int (floats holding integers are accepted)
-
-    Returns
-    -------
-    ndarray of str
-    """
-    names = np.array(list(TEXTURE_CODES))
-    c = np.asarray(codes, dtype=float)
-    if not np.all((c == np.round(c)) & (c >= 0) & (c < len(names))):
-        raise ValueError(f"texture codes must be integers in [0, {len(names) - 1}]")
-    return names[c.astype(int)]
-
 
 def resonance_hz(whisker: Mapping[str, Any] | str) -> float:
     """The whisker's resonance in chapter-5 recordings, Hz (the notch frequency of 5.3.1).
@@ -120,7 +75,7 @@ def resonance_hz(whisker: Mapping[str, Any] | str) -> float:
     -------
     float
     """
-    w = json.loads(whisker) if isinstance(whisker, str) else dict(whisker)
+    w = parse_whisker(whisker)
     if w.get("tip_pinned_frequency_hz"):
         return positive("tip_pinned_frequency_hz", float(w["tip_pinned_frequency_hz"]))
     f = w.get("natural_frequencies_hz")

@@ -7,12 +7,12 @@ from typing import Literal
 import numpy as np
 
 from vibrissa import signal as vsig
-from vibrissa.classify._template import _NearestTemplate
+from vibrissa.classify._template import NearestTemplate
 
 __all__ = ["FrequencyTemplateClassifier"]
 
 
-class FrequencyTemplateClassifier(_NearestTemplate):
+class FrequencyTemplateClassifier(NearestTemplate):
     """Nearest template on DFT magnitude spectra (thesis 4.3.2, eq. 4.3).
 
     The method of 4.3.3 with an extra preprocessing step: each (low-pass

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Mapping
 from typing import Any
@@ -11,7 +10,13 @@ import numpy as np
 from sklearn.utils.validation import check_is_fitted
 
 from vibrissa import signal as vsig
-from vibrissa.classify._base import TrialClassifier, nearest_values, target_column
+from vibrissa.classify._base import (
+    EstimatorTags,
+    TrialClassifier,
+    nearest_values,
+    target_column,
+)
+from vibrissa.data.schema import parse_whisker
 
 __all__ = [
     "DEFAULT_SPEED_MM_S",
@@ -63,10 +68,7 @@ def _whisker_dict(whisker: Any) -> dict[str, Any]:
             f"keys {list(_REQUIRED_KEYS)} and optionally 'hall_offset_v'"
         )
     if isinstance(whisker, str):
-        try:
-            whisker = json.loads(whisker)
-        except json.JSONDecodeError as err:
-            raise ValueError(f"whisker is not valid JSON: {err}") from None
+        whisker = parse_whisker(whisker)
     if not isinstance(whisker, Mapping):
         raise TypeError(f"whisker must be a dict or JSON string, got {type(whisker).__name__}")
     missing = [k for k in _REQUIRED_KEYS if k not in whisker]
@@ -238,6 +240,10 @@ class StaticBeamClassifier(TrialClassifier):
         self.speed_column = speed_column
         self.speed_mm_s = speed_mm_s
         self.latency_s = latency_s
+
+    def __vibrissa_tags__(self) -> EstimatorTags:
+        """Radial distance only (column ``radius_column`` of ``y``; thesis 4.3.1)."""
+        return EstimatorTags(estimated_targets=(int(self.radius_column),))
 
     def __sklearn_tags__(self):  # noqa: D105
         tags = super().__sklearn_tags__()

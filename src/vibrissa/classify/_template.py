@@ -121,7 +121,7 @@ def nearest_template_l1(
     return out
 
 
-class _NearestTemplate(TrialClassifier):
+class NearestTemplate(TrialClassifier):
     """Nearest template on a per-trial feature vector (shared by time and spectral templates)."""
 
     def _features(self, X: np.ndarray) -> np.ndarray:  # pragma: no cover - abstract
@@ -151,7 +151,7 @@ class _NearestTemplate(TrialClassifier):
         return -dist / self.sse_scale_
 
 
-class TimeTemplateClassifier(_NearestTemplate):
+class TimeTemplateClassifier(NearestTemplate):
     """Template classifier on low-pass filtered signals (thesis 4.3.3, eq. 4.4).
 
     Each input trial is low-pass filtered (zero-phase Butterworth) and compared

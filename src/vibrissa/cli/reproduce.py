@@ -1,31 +1,29 @@
-"""`vibrissa reproduce ...`: the thesis' chapters end to end (the main job)."""
+"""`vibrissa reproduce NAME` and `vibrissa reproduce --list`: the thesis' experiments end to end.
+
+One command per registered experiment (:mod:`vibrissa.reproduce`), all with the
+same options plus the experiment's own.
+"""
 
 from __future__ import annotations
 
+import inspect
 import os
+import shlex
+import sys
 from pathlib import Path
+from typing import Any
 
 import typer
 
 from vibrissa.cli._common import echo_json, user_errors
+from vibrissa.reproduce import Experiment, experiments
 
 reproduce_app = typer.Typer(
-    help="Reproduce a thesis chapter end to end: simulate the data, run every classifier "
-    "and the evaluation protocol, write tables, figures and a report.",
-    no_args_is_help=True,
+    help="Reproduce a thesis experiment end to end: simulate the data, run every classifier "
+    "and the evaluation protocol, write results.json, tables, figures and a report "
+    "(report.md and a self-contained report.html).",
+    invoke_without_command=True,
 )
-
-_CONTRACT_KEYS = ("radius_mm", "speed_mm_s", "classify_seconds")
-
-
-def _summary(entry: dict | None) -> dict | None:
-    if entry is None:
-        return None
-    out = {}
-    for k in _CONTRACT_KEYS:
-        v = entry.get(k)
-        out[k] = {"mean": v["mean"], "std": v["std"]} if isinstance(v, dict) else v
-    return out
 
 
 def register(app: typer.Typer) -> None:
@@ -33,192 +31,122 @@ def register(app: typer.Typer) -> None:
     app.add_typer(reproduce_app, name="reproduce")
 
 
-@reproduce_app.command("radial-distance")
-@user_errors
-def radial_distance(
-    quick: bool = typer.Option(False, "--quick", help="Small grid: about a minute."),
-    json_out: bool = typer.Option(False, "--json", help="Print the results as one JSON object."),
-    out: Path = typer.Option(
-        Path("vibrissa-out/radial-distance"), "--out", help="Output directory (report, data)."
-    ),
-    seed: int = typer.Option(0, "--seed", help="Seed of the simulated session and splits."),
-    n_seeds: int = typer.Option(5, "--n-seeds", help="Repeats of each reduced training set."),
-    workers: int = typer.Option(None, "--workers", help="Generation processes (default all)."),
-    figures: bool = typer.Option(True, "--figures/--no-figures", help="Draw the figures."),
-    baseline: Path = typer.Option(
-        None, "--baseline",
-        help="An earlier run's results.json (or a compact one, e.g. docs/runs/...): the "
-        "report shows its numbers as 'before' beside the thesis' and this run's.",
-    ),
+@reproduce_app.callback()
+def _group(
+    ctx: typer.Context,
+    list_: bool = typer.Option(False, "--list", help="List the experiments and exit."),
+    json_out: bool = typer.Option(False, "--json", help="With --list: print JSON."),
 ) -> None:
-    """Chapter 4: radial distance and speed from one whisker deflection, five classifiers.
-
-    Generates (or reuses) the XY-robot dataset (101 radial distances x 26 speeds x 4
-    sets; --quick: 5 x 4 x 4), evaluates the static beam, frequency, template, feature
-    and naive Bayes classifiers with full and reduced training sets, and writes
-    report.md, results.json, results.csv and figures/ into --out.
-    """
-    from rich.console import Console
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-    from rich.table import Table
-
-    from vibrissa.evaluate.baseline import load_baseline
-    from vibrissa.evaluate.report import THESIS_CHAPTER4
-    from vibrissa.evaluate.reproduce import reproduce_radial_distance
-
-    before = load_baseline(baseline) if baseline is not None else None
-
-    console = Console(stderr=json_out)
-    show = os.environ.get("CI") is None
-    with Progress(
-        TextColumn("[bold]{task.description}"),
-        BarColumn(),
-        TextColumn("{task.completed}/{task.total}"),
-        TimeElapsedColumn(),
-        console=console,
-        disable=not show,
-    ) as bar:
-        tasks: dict[str, int] = {}
-
-        def progress(stage: str, done: int, total: int) -> None:
-            if stage not in tasks:
-                label = "simulating trials" if stage == "generate" else "evaluating classifiers"
-                tasks[stage] = bar.add_task(label, total=total)
-            bar.update(tasks[stage], completed=done, total=total)
-
-        res = reproduce_radial_distance(
-            out, quick=quick, seed=seed, n_seeds=n_seeds, workers=workers,
-            progress=progress, figures=figures, baseline=before,
-        )  # fmt: skip
-    summary = {
-        "chapter": 4,
-        "protocol": "radial-distance",
-        "quick": quick,
-        "out": str(out),
-        "report": str(out / "report.md"),
-        "meta": res["meta"],
-        "classifiers": {k: _summary(v) for k, v in res["classifiers"].items()},
-        "training_fractions": {
-            frac: {k: _summary(v) for k, v in per.items()}
-            for frac, per in res["training_fractions"].items()
-        },
-    }
-    if json_out:
-        echo_json(summary)
+    """Reproduce a thesis experiment end to end (``--list`` shows them)."""
+    if ctx.invoked_subcommand is not None:
         return
-    thesis = THESIS_CHAPTER4.get("table_4_7", {})
-    table = Table(title="Table 4.7: signed error, full training set (ours | thesis)")
-    for col in (
-        "classifier",
-        "radius mean",
-        "radius std",
-        "speed mean",
-        "speed std",
-        "classify s",
-        "thesis radius std",
-        "thesis speed std",
-    ):
-        table.add_column(col, justify="right" if col != "classifier" else "left")
-
-    def f(x: object) -> str:
-        return "-" if x is None else f"{x:.2f}"
-
-    thesis_name = {
-        "static_beam_measured": "static_beam",
-        "naive_bayes_velocity": "naive_bayes",
-    }
-    for name, e in summary["classifiers"].items():
-        th = thesis.get(thesis_name.get(name, name)) or {}
-        sp = e["speed_mm_s"]
-        table.add_row(
-            name, f(e["radius_mm"]["mean"]), f(e["radius_mm"]["std"]),
-            f(sp["mean"] if sp else None), f(sp["std"] if sp else None),
-            f(e["classify_seconds"]),
-            f((th.get("radius_mm") or {}).get("std")), f((th.get("speed_mm_s") or {}).get("std")),
-        )  # fmt: skip
-    Console().print(table)
-    typer.echo(f"report: {out / 'report.md'}")
+    if not list_:
+        typer.echo(ctx.get_help())
+        raise typer.Exit()
+    entries = [e.listing() for e in experiments().values()]
+    if json_out:
+        echo_json({"experiments": entries})
+        raise typer.Exit()
+    for e in entries:
+        t = e["trials"]
+        typer.echo(f"{e['name']:<16} chapter {e['chapter']}  {t['quick']:>5} trials quick, "
+                   f"{t['full']:>6} full  {e['description']}")
+    raise typer.Exit()
 
 
-@reproduce_app.command("angle-texture")
-@user_errors
-def angle_texture(
-    quick: bool = typer.Option(False, "--quick", help="Small grid: under a minute."),
-    json_out: bool = typer.Option(False, "--json", help="Print the results as one JSON object."),
-    out: Path = typer.Option(
-        Path("vibrissa-out/angle-texture"), "--out", help="Output directory (report, data)."
-    ),
-    seed: int = typer.Option(0, "--seed", help="Seed of the simulated session and splits."),
-    workers: int = typer.Option(None, "--workers", help="Generation processes (default all)."),
-    figures: bool = typer.Option(True, "--figures/--no-figures", help="Draw the figures."),
-    baseline: Path = typer.Option(
-        None, "--baseline",
-        help="An earlier run's results.json (or a compact one, e.g. docs/runs/...): the "
-        "report shows its numbers as 'before' beside the thesis' and this run's.",
-    ),
-) -> None:
-    """Chapter 5: surface angle, contact speed and texture, simultaneously.
-
-    Generates (or reuses) the angle-texture dataset (8 angles x 11 speeds x 4 textures x
-    4 sets at 4 kHz; --quick: 3 x 3 x 4 x 4), runs the chapter-5 classifiers and the
-    extensions (joint-likelihood naive Bayes, MiniRocket, sequential evidence over
-    contacts) and writes report.md, results.json and figures/ into --out.
-    """
+def _run(exp: Experiment, quick: bool, json_out: bool, out: Path, seed: int,
+         workers: int | None, figures: bool, baseline: Path | None, **options: Any) -> None:
     from rich.console import Console
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-    from rich.table import Table
 
     from vibrissa.evaluate.baseline import load_baseline
-    from vibrissa.evaluate.chapter5 import reproduce_angle_texture
+    from vibrissa.reproduce import check_job_arguments, run_experiment
 
+    check_job_arguments(out, seed, workers)
+    opts = {o.name: o.check(options[o.name]) for o in exp.options}
     before = load_baseline(baseline) if baseline is not None else None
-
-    console = Console(stderr=json_out)
+    console = Console(stderr=True)
+    n = exp.n_trials(quick)
+    console.print(f"{exp.name}: {n} trials ({'quick' if quick else 'full'} grid), seed {seed} "
+                  f"-> {out}", highlight=False)
+    labels = {"generate": "simulating trials", "evaluate": "evaluating classifiers"}
     with Progress(
         TextColumn("[bold]{task.description}"), BarColumn(),
         TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
         console=console, disable=os.environ.get("CI") is not None,
-    ) as bar:  # fmt: skip
-        tasks: dict[str, int] = {}
+    ) as bar:
+        tasks: dict[str, Any] = {}
 
         def progress(stage: str, done: int, total: int) -> None:
             if stage not in tasks:
-                tasks[stage] = bar.add_task(stage, total=total)
+                tasks[stage] = bar.add_task(labels.get(stage, stage), total=total)
             bar.update(tasks[stage], completed=done, total=total)
 
-        res = reproduce_angle_texture(
-            out, quick=quick, seed=seed, progress=progress, workers=workers, figures=figures,
-            baseline=before,
+        res = run_experiment(
+            exp.name, out, quick=quick, seed=seed, workers=workers, progress=progress,
+            figures=figures, baseline=before,
+            command=shlex.join(["vibrissa", *sys.argv[1:]]), **opts,
         )
     summary = {
-        "chapter": 5,
-        "protocol": "angle-texture",
+        "experiment": exp.name,
+        "chapter": exp.chapter,
+        "protocol": exp.name,
         "quick": quick,
         "out": str(out),
         "report": str(out / "report.md"),
+        "report_html": str(out / "report.html"),
         "meta": res["meta"],
-        "classifiers": {
-            k: {"kappa": v["kappa"], "classify_seconds": v["classify_seconds"]}
-            for k, v in res["classifiers"].items()
-        },
-        "sequential": res["sequential"],
+        **exp.summary(res),
     }
     if json_out:
         echo_json(summary)
         return
-    table = Table(title="Cohen's kappa (simultaneous; texture alone)")
-    for col in ("classifier", "angle", "speed", "texture", "texture alone", "classify s"):
-        table.add_column(col, justify="left" if col == "classifier" else "right")
-    for name, e in summary["classifiers"].items():
-        k = e["kappa"]
-        table.add_row(name, *(f"{k[p]:.2f}" if k.get(p) is not None else "-"
-                              for p in ("angle", "speed", "texture", "texture_alone")),
-                      f"{e['classify_seconds']:.2f}")  # fmt: skip
-    Console().print(table)
-    typer.echo(
-        "sequential texture kappa: "
-        + ", ".join(
-            f"{n} contacts {v:.2f}" for n, v in summary["sequential"].items() if v is not None
-        )
+    table = exp.console_table(summary)
+    if table is not None:
+        Console().print(table)
+    typer.echo(f"report: {out / 'report.md'} and {out / 'report.html'}")
+
+
+def _command(exp: Experiment) -> Any:
+    """A typer command for ``exp``: the common options plus the experiment's own."""
+
+    def command(**kwargs: Any) -> None:
+        _run(exp, **kwargs)
+
+    Opt = inspect.Parameter.KEYWORD_ONLY
+    quick_n, full_n = exp.n_trials(True), exp.n_trials(False)
+    params = [
+        inspect.Parameter("quick", Opt, annotation=bool, default=typer.Option(
+            False, "--quick", help=f"Small grid: {quick_n} trials instead of {full_n}.")),
+        inspect.Parameter("json_out", Opt, annotation=bool, default=typer.Option(
+            False, "--json", help="Print the results summary as one JSON object.")),
+        inspect.Parameter("out", Opt, annotation=Path, default=typer.Option(
+            Path(f"vibrissa-out/{exp.name}"), "--out",
+            help="Output directory (report, results, figures, data).")),
+        inspect.Parameter("seed", Opt, annotation=int, default=typer.Option(
+            0, "--seed", help="Seed of the simulated session and of the evaluation.")),
+        inspect.Parameter("workers", Opt, annotation=int, default=typer.Option(
+            None, "--workers", help="Generation processes (default: all cores).")),
+        inspect.Parameter("figures", Opt, annotation=bool, default=typer.Option(
+            True, "--figures/--no-figures", help="Draw the figures.")),
+        inspect.Parameter("baseline", Opt, annotation=Path, default=typer.Option(
+            None, "--baseline",
+            help="An earlier run's results.json (or a compact one, e.g. docs/runs/...): the "
+            "report shows its numbers as 'before' beside the thesis' and this run's.")),
+    ]
+    for o in exp.options:
+        params.append(inspect.Parameter(o.name, Opt, annotation=int, default=typer.Option(
+            o.default, o.flag, help=o.help)))
+    command.__signature__ = inspect.Signature(params)  # type: ignore[attr-defined]
+    command.__name__ = exp.name.replace("-", "_")
+    command.__doc__ = (
+        f"Chapter {exp.chapter}: {exp.description}.\n\n"
+        f"Generates (or reuses) the simulated dataset ({full_n} trials; --quick: {quick_n}), "
+        "runs the classifiers and the evaluation, and writes results.json, report.md, "
+        "report.html and figures/ into --out."
     )
-    typer.echo(f"report: {out / 'report.md'}")
+    return user_errors(command)
+
+
+for _exp in experiments().values():
+    reproduce_app.command(_exp.name)(_command(_exp))

@@ -19,9 +19,11 @@ from vibrissa.data.importers import (
     load_mapping,
 )
 from vibrissa.data.netcdf import DatasetFileError, checksum, load_dataset, save_dataset
+from vibrissa.data.schema import TEXTURE_CODES, decode_texture, encode_texture, parse_whisker
 
 __all__ = [
     "KNOWN_LABELS",
+    "TEXTURE_CODES",
     "DatasetFileError",
     "ImportMapping",
     "ImportMappingError",
@@ -29,12 +31,15 @@ __all__ = [
     "attr_value",
     "checksum",
     "concat_datasets",
+    "decode_texture",
+    "encode_texture",
     "import_file",
     "import_recording",
     "label_names",
     "load_dataset",
     "load_mapping",
     "make_dataset",
+    "parse_whisker",
     "save_dataset",
     "select",
     "validate_dataset",

@@ -24,6 +24,7 @@ import numpy as np
 import xarray as xr
 
 from vibrissa import __version__
+from vibrissa.data.schema import parse_whisker
 
 __all__ = [
     "KNOWN_LABELS",
@@ -394,12 +395,4 @@ def concat_datasets(datasets: Sequence[xr.Dataset]) -> xr.Dataset:
 
 def whisker_params(ds: xr.Dataset) -> dict[str, Any]:
     """The ``whisker`` attribute parsed from JSON ({} if absent)."""
-    w = ds.attrs.get("whisker")
-    if not w:
-        return {}
-    if isinstance(w, dict):
-        return w
-    try:
-        return json.loads(w)
-    except ValueError as exc:
-        raise ValueError(f"attribute 'whisker' is not valid JSON: {exc}") from None
+    return parse_whisker(ds.attrs.get("whisker"), name="attribute 'whisker'")

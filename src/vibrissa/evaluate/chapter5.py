@@ -20,8 +20,8 @@ evidence of 1, 2, 3, 5 and 10 contacts with the same surface
 
 JSON contract (fixed; more keys may be added)::
 
-    {"protocol": "evans2011_chapter5",
-     "meta": {...},
+    {"meta": {"evaluation": "evans2011_chapter5", ...},
+     "parameters": {"angle": {...}, "speed": {...}, "texture": {...}},
      "classifiers": {name: {"kappa": {"angle", "speed", "texture", "texture_alone"},
                             "classify_seconds": t, ...}},
      "sequential": {"1": k, "2": k, "3": k, "5": k, "10": k}}
@@ -29,26 +29,24 @@ JSON contract (fixed; more keys may be added)::
 
 from __future__ import annotations
 
-import math
-import os
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
 import xarray as xr
 from sklearn.base import clone
 
+from vibrissa.data.schema import TEXTURE_CODES, encode_texture
 from vibrissa.evaluate import metrics
-from vibrissa.evaluate.protocol import Split, _Progress, _py
+from vibrissa.evaluate.chapter4 import Split
+from vibrissa.evaluate.loop import Progress, fit_predict, json_value
 
 __all__ = [
     "CONTACTS",
     "PARAMETERS5",
     "chapter5_arrays",
     "check_chapter5_dataset",
-    "kappa_from_confusion",
-    "reproduce_angle_texture",
     "run_chapter5",
     "score_chapter5",
     "split_chapter5",
@@ -96,7 +94,7 @@ def check_chapter5_dataset(
     names = np.unique(sets)
     if len(names) < 2:
         raise ValueError(f"chapter 5 needs at least 2 recorded sets, dataset has {len(names)}")
-    groups = {_py(s): np.flatnonzero(sets == s) for s in names}
+    groups = {json_value(s): np.flatnonzero(sets == s) for s in names}
     if require_complete:
         _, y = chapter5_arrays(ds, signal=False)
         rows = [tuple(r) for r in np.round(y, 6).tolist()]
@@ -124,10 +122,8 @@ def chapter5_arrays(ds: xr.Dataset, signal: bool = True) -> tuple[np.ndarray | N
     -------
     X : ndarray of shape (n_trials, n_channels, n_timepoints) or None
     y : ndarray of shape (n_trials, 3)
-        Texture as :data:`vibrissa.classify.TEXTURE_CODES` codes.
+        Texture as :data:`vibrissa.data.TEXTURE_CODES` codes.
     """
-    from vibrissa.classify import encode_texture
-
     y = np.column_stack([
         np.asarray(ds["angle_deg"].values, dtype=float),
         np.asarray(ds["speed_mm_s"].values, dtype=float),
@@ -170,11 +166,11 @@ def split_chapter5(ds: xr.Dataset, seed: int = 0, *, require_complete: bool = Tr
         run_vals = np.asarray(ds["run"].values)
         perm = rng.permutation(len(runs))
         train_runs = set(runs[perm[: len(runs) // 2]].tolist())
-        tr = sorted({_py(s) for s, r in zip(set_vals, run_vals, strict=True)
-                     if _py(r) in train_runs})
+        tr = sorted({json_value(s) for s, r in zip(set_vals, run_vals, strict=True)
+                     if json_value(r) in train_runs})
         te = sorted(s for s in names if s not in tr)
-        if not te or any(_py(s) in te for s, r in zip(set_vals, run_vals, strict=True)
-                         if _py(r) in train_runs):
+        if not te or any(json_value(s) in te for s, r in zip(set_vals, run_vals, strict=True)
+                         if json_value(r) in train_runs):
             raise ValueError("recorded sets must not span runs")
     else:
         perm = rng.permutation(len(names))
@@ -184,54 +180,6 @@ def split_chapter5(ds: xr.Dataset, seed: int = 0, *, require_complete: bool = Tr
     tri = np.sort(np.concatenate([groups[s] for s in tr]))
     tei = np.sort(np.concatenate([groups[s] for s in te]))
     return Split(tr, te, tri, tei, int(seed))
-
-
-def kappa_from_confusion(matrix: Any, weights: str | None = None) -> float | None:
-    """Cohen's kappa (eq. 5.7) of a confusion matrix (rows true, columns predicted).
-
-    Parameters
-    ----------
-    matrix : array-like of shape (k, k)
-        Counts.
-    weights : {None, "linear", "quadratic"}
-        Disagreement weights ``|i - j|`` or ``(i - j)^2`` over ordered classes.
-
-    Returns
-    -------
-    float or None
-        ``(P_O - P_E) / (1 - P_E)`` (weighted: ``1 - sum w O / sum w E``);
-        ``None`` for an empty matrix or when undefined.
-    """
-    m = np.asarray(matrix, dtype=float)
-    if m.ndim != 2 or m.shape[0] != m.shape[1]:
-        raise ValueError(f"matrix must be square, got shape {m.shape}")
-    n = m.sum()
-    if n <= 0:
-        return None
-    i, j = np.indices(m.shape)
-    if weights is None:
-        w = (i != j).astype(float)
-    elif weights == "linear":
-        w = np.abs(i - j).astype(float)
-    elif weights == "quadratic":
-        w = ((i - j) ** 2).astype(float)
-    else:
-        raise ValueError(f"weights must be None, 'linear' or 'quadratic', got {weights!r}")
-    expected = np.outer(m.sum(axis=1), m.sum(axis=0)) / n
-    den = float(np.sum(w * expected))
-    if den == 0:
-        return 1.0 if float(np.sum(w * m)) == 0 else None
-    return 1.0 - float(np.sum(w * m)) / den
-
-
-def _param_scores(t: np.ndarray, p: np.ndarray, labels: np.ndarray) -> dict[str, Any]:
-    out = metrics.error_summary(t, p)
-    out["kappa"] = metrics.kappa(t, p)
-    out["kappa_linear"] = metrics.kappa(t, p, weights="linear")
-    out["kappa_quadratic"] = metrics.kappa(t, p, weights="quadratic")
-    m, lab = metrics.confusion_matrix(t, p, labels=labels)
-    out["confusion"] = {"labels": lab.tolist(), "matrix": m.tolist()}
-    return out
 
 
 def score_chapter5(y_true: np.ndarray, y_pred: np.ndarray) -> dict[str, Any]:
@@ -255,7 +203,7 @@ def score_chapter5(y_true: np.ndarray, y_pred: np.ndarray) -> dict[str, Any]:
         raise ValueError(f"y_true and y_pred must have shape (n, 3), got {t.shape} and {p.shape}")
     out: dict[str, Any] = {}
     for k, key in enumerate(PARAMETERS5):
-        out[key] = _param_scores(t[:, k], p[:, k], np.unique(t[:, k]))
+        out[key] = metrics.parameter_scores(t[:, k], p[:, k], np.unique(t[:, k]))
     out["joint"] = {"exact_hit": metrics.exact_hit_rate(t, p), "kappa": metrics.joint_kappa(t, p)}
     return out
 
@@ -371,20 +319,14 @@ def run_chapter5(
     X_tr, y_tr, X_te, y_te = (X[split.train_index], y[split.train_index],
                               X[split.test_index], y[split.test_index])
     do_seq = sequential_base is not None and sequential_base in classifiers
-    prog = _Progress(progress, len(classifiers) * (2 if texture_alone else 1) + int(do_seq))
+    prog = Progress(progress, len(classifiers) * (2 if texture_alone else 1) + int(do_seq),
+                    "chapter 5")
     results: dict[str, Any] = {}
     preds: dict[str, Any] = {}
     seq_fitted: Any = None
     for name, est0 in classifiers.items():
-        est = clone(est0)
-        t0 = time.perf_counter()
-        try:
-            est.fit(X_tr, y_tr)
-        except Exception as exc:
-            raise type(exc)(f"classifier {name!r} failed to fit: {exc}") from exc
-        t1 = time.perf_counter()
-        p = np.asarray(est.predict(X_te), dtype=float)
-        t2 = time.perf_counter()
+        rec = fit_predict(name, est0, X_tr, y_tr, X_te)
+        est, p = rec.estimator, rec.y_pred
         prog.step(f"{name}: simultaneous")
         if do_seq and name == sequential_base:
             seq_fitted = est  # the sequential curve reuses this fit
@@ -395,7 +337,8 @@ def run_chapter5(
             ta = texture_alone_predictions(est0, X_tr, y_tr, X_te, y_te)
             ta_s = time.perf_counter() - t3
             prog.step(f"{name}: texture alone")
-        ta_scores = None if ta is None else _param_scores(y_te[:, 2], ta, np.unique(y_te[:, 2]))
+        ta_scores = (None if ta is None
+                     else metrics.parameter_scores(y_te[:, 2], ta, np.unique(y_te[:, 2])))
         results[name] = {
             "kappa": {
                 "angle": sc["angle"]["kappa"], "speed": sc["speed"]["kappa"],
@@ -416,11 +359,8 @@ def run_chapter5(
                 "texture_alone": None if ta_scores is None else ta_scores["confusion"],
             },
             "joint": sc["joint"],
-            "classify_seconds": t2 - t1,
-            "fit_seconds": t1 - t0,
+            **rec.timing(),
             "texture_alone_seconds": ta_s,
-            "n_train": int(X_tr.shape[0]),
-            "n_test": int(X_te.shape[0]),
         }
         preds[name] = {"y_pred": p.tolist(),
                        "texture_alone": None if ta is None else ta.tolist()}
@@ -431,22 +371,26 @@ def run_chapter5(
         detail.update(base=sequential_base, threshold=float(threshold))
         sequential = dict(detail["kappa"])
         prog.step("sequential contacts")
-    from vibrissa.classify import TEXTURE_CODES
-
     out: dict[str, Any] = {
-        "protocol": "evans2011_chapter5",
         "meta": {
+            "evaluation": "evans2011_chapter5",
             "n_trials": int(X.shape[0]), "n_channels": int(X.shape[1]),
             "n_timepoints": int(X.shape[2]),
-            "sample_rate_hz": _attr(ds.attrs.get("sample_rate_hz")),
-            "split": {"train_sets": [_py(s) for s in split.train_set],
-                      "test_sets": [_py(s) for s in split.test_set],
+            "sample_rate_hz": json_value(ds.attrs.get("sample_rate_hz")),
+            "split": {"train_sets": [json_value(s) for s in split.train_set],
+                      "test_sets": [json_value(s) for s in split.test_set],
                       "n_train": int(X_tr.shape[0]), "n_test": int(X_te.shape[0]),
                       "seed": int(seed)},
             "angles_deg": np.unique(y[:, 0]).tolist(),
             "speeds_mm_s": np.unique(y[:, 1]).tolist(),
             "texture_codes": dict(TEXTURE_CODES),
             "seed": int(seed),
+        },
+        "parameters": {
+            key: {"coordinate": coord, "unit": unit, "values": np.unique(y[:, i]).tolist()}
+            for i, (key, coord, unit) in enumerate(
+                (("angle", "angle_deg", "deg"), ("speed", "speed_mm_s", "mm/s"),
+                 ("texture", "texture", "code (TEXTURE_CODES)")))
         },
         "classifiers": results,
         "sequential": sequential,
@@ -455,78 +399,3 @@ def run_chapter5(
     if keep_predictions:
         out["predictions"] = {"y_true": y_te.tolist(), "classifiers": preds}
     return out
-
-
-def _attr(v: Any) -> Any:
-    v = _py(v)
-    if isinstance(v, float) and not math.isfinite(v):
-        return None
-    return v if v is None or isinstance(v, int | float | str | bool) else str(v)
-
-
-Progress = Callable[[str, int, int], None]
-
-
-def reproduce_angle_texture(
-    out_dir: str | os.PathLike[str],
-    quick: bool = False,
-    seed: int = 0,
-    progress: Progress | None = None,
-    *,
-    workers: int | None = None,
-    figures: bool = True,
-    baseline: Mapping[str, Any] | None = None,
-) -> dict[str, Any]:
-    """Chapter 5 end to end; returns the results (also written to ``out_dir``).
-
-    Parameters
-    ----------
-    out_dir : path-like
-        Report (``report.md``), ``results.json``, ``figures/`` and the cached
-        dataset (``data/``).
-    quick : bool, default=False
-        The quick grid (3 angles x 3 speeds x 4 textures, 144 trials) instead of
-        the thesis' 8 x 11 x 4.
-    seed : int, default=0
-        Seed of the simulated session and of the evaluation.
-    progress : callable, optional
-        ``progress(stage, done, total)``, stage ``"generate"`` or ``"evaluate"``.
-    workers : int, optional
-        Processes for dataset generation (default: all cores).
-    figures : bool, default=True
-        Draw the confusion matrices, the kappa comparison and the sequential curve.
-    baseline : dict, optional
-        An earlier run's results: the report adds thesis / before / this run kappas.
-
-    Returns
-    -------
-    dict
-        :func:`run_chapter5`'s results with ``meta`` extended by ``dataset``,
-        ``dataset_reused``, ``quick``, ``notch_hz``, ``generate_seconds``,
-        ``evaluate_seconds``.
-    """
-    from vibrissa.classify import chapter5_classifiers, resonance_hz
-    from vibrissa.data import whisker_params
-    from vibrissa.evaluate.chapter5_report import write_chapter5_report
-    from vibrissa.evaluate.reproduce import cached_dataset, check_job_arguments, shipped_notes
-    from vibrissa.experiments.protocols import get_protocol
-
-    out = check_job_arguments(out_dir, seed, workers)
-    out.mkdir(parents=True, exist_ok=True)
-    protocol = get_protocol("angle-texture", quick=quick, seed=seed)
-    t0 = time.perf_counter()
-    ds, path, reused = cached_dataset(protocol, out / "data", progress, workers)
-    t_gen = time.perf_counter() - t0
-    notch = resonance_hz(whisker_params(ds))
-    clfs = chapter5_classifiers(float(ds.attrs["sample_rate_hz"]), notch_hz=notch)
-    cb = (lambda d, t, _desc: progress("evaluate", d, t)) if progress else None
-    t1 = time.perf_counter()
-    results = run_chapter5(ds, clfs, seed=seed, progress=cb)
-    results["meta"].update(
-        dataset=str(path), dataset_reused=reused, quick=bool(quick), notch_hz=notch,
-        generate_seconds=round(t_gen, 3),
-        evaluate_seconds=round(time.perf_counter() - t1, 3),
-    )
-    write_chapter5_report(results, out, figures=figures,
-                          notes=shipped_notes("chapter5_notes.md", quick), baseline=baseline)
-    return results

@@ -1,9 +1,10 @@
-"""Chapter-5 report: JSON, figures and Markdown beside the thesis' values (5.4).
+"""Chapter-5 report sections and figures beside the thesis' values (5.4).
 
 :data:`THESIS_CHAPTER5` transcribes Cohen's kappa of every classifier (5.4.1-5.4.5,
 figure 5.15) and the mean and spread of the signed errors (tables 5.1-5.11) from
 Evans (2011). Texture errors there are in texture indices (1-4, order as ours:
-smooth aluminium, P600, P180, P80, i.e. :data:`vibrissa.classify.TEXTURE_CODES`).
+smooth aluminium, P600, P180, P80, i.e. :data:`vibrissa.data.TEXTURE_CODES`).
+Every number the report's prose quotes is computed from the results (:func:`discussion`).
 """
 
 from __future__ import annotations
@@ -15,17 +16,18 @@ from typing import Any
 
 import numpy as np
 
-from vibrissa._atomic import atomic_write_text
-from vibrissa.evaluate.report import write_json
+from vibrissa.data.schema import decode_texture
+from vibrissa.evaluate.report_common import fmt, md_table
 
 __all__ = [
     "THESIS_CHAPTER5",
     "chapter5_figures",
     "confusion_figure",
+    "discussion",
     "kappa_figure",
     "markdown_chapter5",
     "sequential_figure",
-    "write_chapter5_report",
+    "write_outputs",
 ]
 
 
@@ -80,29 +82,15 @@ _PAR = ("angle", "speed", "texture")
 _UNITS = {"angle_deg": "deg", "speed_mm_s": "mm/s", "texture": "grades"}
 
 
-def _f(x: Any, d: int = 2) -> str:
-    return "-" if x is None else f"{float(x):.{d}f}"
-
-
-def _md(header: list[str], rows: list[list[str]]) -> str:
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    lines += ["| " + " | ".join(r) + " |" for r in rows]
-    return "\n".join(lines)
-
-
 def markdown_chapter5(results: Mapping[str, Any], figures: Mapping[str, Path] | None = None,
-                      notes: str | None = None,
                       baseline: Mapping[str, Any] | None = None) -> str:
-    """The Markdown report of :func:`~vibrissa.evaluate.chapter5.run_chapter5` results.
+    """The Markdown report body of :func:`~vibrissa.evaluate.chapter5.run_chapter5` results.
 
     Parameters
     ----------
     results : dict
     figures : mapping of str to relative path, optional
         Figure links (``confusion/<name>``, ``kappa``, ``sequential``).
-    notes : str, optional
-        Markdown appended before the figures (the shipped ``chapter5_notes.md`` on
-        the full grid).
     baseline : dict, optional
         An earlier run's results (:func:`vibrissa.evaluate.baseline.load_baseline`):
         adds a table of kappas thesis / before / this run (figure 5.15).
@@ -114,8 +102,6 @@ def markdown_chapter5(results: Mapping[str, Any], figures: Mapping[str, Path] | 
     meta = results.get("meta", {})
     sp = meta.get("split", {})
     out = [
-        "# Chapter 5: surface angle, contact speed and texture (reproduction)",
-        "",
         f"Trials: {meta.get('n_trials')} ({meta.get('n_channels')} channels x "
         f"{meta.get('n_timepoints')} samples at {meta.get('sample_rate_hz')} Hz); "
         f"training sets {sp.get('train_sets')} ({sp.get('n_train')} trials), test sets "
@@ -134,9 +120,9 @@ def markdown_chapter5(results: Mapping[str, Any], figures: Mapping[str, Path] | 
         th = THESIS_CHAPTER5.get(name, {}).get("kappa", {})
         k = r.get("kappa", {})
         rows.append([f"`{name}`"] + [
-            f"{_f(k.get(p))} / {_f(th.get(p))}" for p in (*_PAR, "texture_alone")
+            f"{fmt(k.get(p))} / {fmt(th.get(p))}" for p in (*_PAR, "texture_alone")
         ] + [f"{r.get('classify_seconds', 0):.2f}"])
-    out.append(_md(["classifier", "angle", "speed", "texture", "texture alone",
+    out.append(md_table(["classifier", "angle", "speed", "texture", "texture alone",
                     "classify s"], rows))
     if baseline is not None:
         out += ["", "## Cohen's kappa: thesis / before / this run (figure 5.15)", "",
@@ -148,17 +134,17 @@ def markdown_chapter5(results: Mapping[str, Any], figures: Mapping[str, Path] | 
             kb = old.get(name, {}).get("kappa", {})
             k = r.get("kappa", {})
             rows.append([f"`{name}`"] + [
-                f"{_f(th.get(p))} / {_f(kb.get(p))} / {_f(k.get(p))}"
+                f"{fmt(th.get(p))} / {fmt(kb.get(p))} / {fmt(k.get(p))}"
                 for p in (*_PAR, "texture_alone")])
-        out.append(_md(["classifier", "angle", "speed", "texture", "texture alone"], rows))
+        out.append(md_table(["classifier", "angle", "speed", "texture", "texture alone"], rows))
     out += ["", "## Weighted kappa (linear / quadratic; suggested in 5.5)", ""]
     rows = []
     for name, r in results.get("classifiers", {}).items():
         wk = r.get("weighted_kappa", {})
         rows.append([f"`{name}`"] + [
-            f"{_f(wk.get(p, {}).get('linear'))} / {_f(wk.get(p, {}).get('quadratic'))}"
+            f"{fmt(wk.get(p, {}).get('linear'))} / {fmt(wk.get(p, {}).get('quadratic'))}"
             for p in _PAR])
-    out.append(_md(["classifier", "angle", "speed", "texture"], rows))
+    out.append(md_table(["classifier", "angle", "speed", "texture"], rows))
     out += ["", "## Signed error, mean (std) - ours / thesis (tables 5.1-5.11)", ""]
     rows = []
     for name, r in results.get("classifiers", {}).items():
@@ -167,10 +153,10 @@ def markdown_chapter5(results: Mapping[str, Any], figures: Mapping[str, Path] | 
         for unit in ("angle_deg", "speed_mm_s", "texture"):
             e = r.get("errors", {}).get(unit, {})
             t = th.get(unit, {})
-            cells.append(f"{_f(e.get('mean'))} ({_f(e.get('std'))}) / "
-                         f"{_f(t.get('mean'))} ({_f(t.get('std'))})")
+            cells.append(f"{fmt(e.get('mean'))} ({fmt(e.get('std'))}) / "
+                         f"{fmt(t.get('mean'))} ({fmt(t.get('std'))})")
         rows.append([f"`{name}`"] + cells)
-    out.append(_md(["classifier", "angle (deg)", "speed (mm/s)", "texture (grades)"], rows))
+    out.append(md_table(["classifier", "angle (deg)", "speed (mm/s)", "texture (grades)"], rows))
     seq = results.get("sequential") or {}
     det = results.get("sequential_detail") or {}
     if seq:
@@ -179,18 +165,68 @@ def markdown_chapter5(results: Mapping[str, Any], figures: Mapping[str, Path] | 
                 f"n contacts with the same surface (stop at posterior "
                 f">= {det.get('threshold')}).", ""]
         used = det.get("mean_contacts_used", {})
-        out.append(_md(["contacts", "texture kappa", "mean contacts used"],
-                       [[n, _f(k), _f(used.get(n))] for n, k in seq.items()]))
-    if notes:
-        out += ["", notes.strip()]
+        out.append(md_table(["contacts", "texture kappa", "mean contacts used"],
+                       [[n, fmt(k), fmt(used.get(n))] for n, k in seq.items()]))
+    out += ["", "## Discussion", "", discussion(results)]
     if figures:
         out += ["", "## Figures", ""]
-        out += [f"![{k}]({p.as_posix() if isinstance(p, Path) else p})"
-                for k, p in figures.items()]
+        for k, p in figures.items():
+            out += [f"![{_caption(k)}]({p.as_posix() if isinstance(p, Path) else p})", ""]
     return "\n".join(out) + "\n"
 
 
-def confusion_figure(entry: Mapping[str, Any], name: str):
+def _caption(key: str) -> str:
+    if key.startswith("confusion/"):
+        return f"Confusion matrices of {key.split('/', 1)[1]} (cf. figures 5.3-5.14)"
+    return {"kappa": "Cohen's kappa per classifier, ours beside the thesis' (figure 5.15)",
+            "sequential": "Texture kappa against the number of contacts (beyond the thesis)",
+            }.get(key, key)
+
+
+def discussion(results: Mapping[str, Any]) -> str:
+    """How this run compares with the thesis, every number computed from ``results``."""
+    cl = results.get("classifiers", {})
+    lines = []
+    for par, label in (("angle", "angle"), ("speed", "speed"), ("texture", "texture")):
+        ours = {n: e["kappa"][par] for n, e in cl.items()
+                if e.get("kappa", {}).get(par) is not None}
+        th = {n: e["kappa"][par] for n, e in THESIS_CHAPTER5.items()
+              if e.get("kappa", {}).get(par) is not None}
+        both = sorted(set(ours) & set(th))
+        if not ours:
+            continue
+        best = max(ours, key=ours.__getitem__)
+        th_best = max(th, key=th.__getitem__) if th else None
+        above = sum(ours[n] > th[n] for n in both)
+        text = (f"- **{label}**: best kappa {fmt(ours[best])} (`{best}`)"
+                + (f"; thesis best {fmt(th[th_best])} (`{th_best}`, 5.4)" if th_best else "")
+                + (f"; {above} of the {len(both)} methods the thesis reports score higher "
+                   "here than there." if both else "."))
+        lines.append(text)
+    seq = results.get("sequential") or {}
+    vals = [(int(k), v) for k, v in seq.items() if v is not None]
+    if vals:
+        (n0, k0), (n1, k1) = vals[0], vals[-1]
+        base = (results.get("sequential_detail") or {}).get("base")
+        lines.append(f"- **Evidence over contacts** (beyond the thesis): texture kappa "
+                     f"{fmt(k0)} after {n0} contact(s) of `{base}`, {fmt(k1)} after {n1}.")
+    return "\n".join(lines) if lines else "No classifier results to compare."
+
+
+def _figure_axes(axes: Any, n: int, figsize: tuple[float, float], rows: int = 1) -> Any:
+    """``axes`` as a flat array of ``n`` axes, or new ones on a standalone Figure."""
+    if axes is not None:
+        arr = np.atleast_1d(np.asarray(axes, dtype=object)).ravel()
+        if arr.size != n:
+            raise ValueError(f"need {n} axes, got {arr.size}")
+        return arr
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize, layout="constrained")
+    return np.asarray(fig.subplots(rows, n // rows, squeeze=False), dtype=object).ravel()
+
+
+def confusion_figure(entry: Mapping[str, Any], name: str, axes: Any = None) -> Any:
     """Confusion matrices of angle, speed and texture of one classifier (figures 5.3-5.14).
 
     Parameters
@@ -198,37 +234,37 @@ def confusion_figure(entry: Mapping[str, Any], name: str):
     entry : dict
         ``results["classifiers"][name]``.
     name : str
+    axes : sequence of matplotlib Axes, optional
+        One per matrix (angle, speed, texture and, if present, texture alone);
+        default: a new Figure.
 
     Returns
     -------
-    matplotlib.figure.Figure
+    numpy.ndarray of matplotlib.axes.Axes
     """
-    from matplotlib.figure import Figure
-
     conf = entry["confusion"]
     keys = [k for k in (*_PAR, "texture_alone") if conf.get(k)]
-    fig = Figure(figsize=(3.2 * len(keys), 3.2), layout="constrained")
-    axes = fig.subplots(1, len(keys), squeeze=False)[0]
-    for ax, k in zip(axes, keys, strict=True):
+    axs = _figure_axes(axes, len(keys), (3.2 * len(keys), 3.4))
+    units = {"angle": "deg", "speed": "mm/s", "texture": "", "texture_alone": ""}
+    for ax, k in zip(axs, keys, strict=True):
         m = np.asarray(conf[k]["matrix"], dtype=float)
         lab = conf[k]["labels"]
-        ax.imshow(m, cmap="gray", origin="upper")
+        ax.imshow(m, cmap="gray_r", origin="upper")
         ticks = np.arange(len(lab))
         names = [_tick_label(k, v) for v in lab]
         ax.set_xticks(ticks, names, fontsize=7, rotation=90)
         ax.set_yticks(ticks, names, fontsize=7)
-        ax.set_xlabel("predicted")
-        ax.set_ylabel("true")
-        ax.set_title(f"{k} (kappa {_f(entry['kappa'].get(k))})", fontsize=9)
-    fig.suptitle(name)
-    return fig
+        unit = f" ({units[k]})" if units[k] else ""
+        ax.set_xlabel(f"predicted{unit}")
+        ax.set_ylabel(f"true{unit}")
+        ax.set_title(f"{k.replace('_', ' ')} (kappa {fmt(entry['kappa'].get(k))})", fontsize=9)
+    axs[0].figure.suptitle(f"{name}: trials per (true, predicted) class")
+    return axs
 
 
 def _tick_label(parameter: str, value: float) -> str:
     """Texture codes as names (``p180``), other labels as numbers."""
     if parameter.startswith("texture"):
-        from vibrissa.classify import decode_texture
-
         try:
             return str(decode_texture([value])[0])
         except ValueError:
@@ -236,42 +272,51 @@ def _tick_label(parameter: str, value: float) -> str:
     return f"{value:g}"
 
 
-def kappa_figure(results: Mapping[str, Any]):
-    """Cohen's kappa of angle, speed and texture per classifier (figure 5.15).
+def kappa_figure(results: Mapping[str, Any], axes: Any = None) -> Any:
+    """Cohen's kappa of angle, speed and texture per classifier, ours beside the thesis'.
+
+    One panel per parameter; solid bars are this run, hatched bars the thesis'
+    values (5.4.1-5.4.5, figure 5.15) where it reports the method.
+
+    Parameters
+    ----------
+    results : dict
+    axes : sequence of 3 matplotlib Axes, optional
 
     Returns
     -------
-    matplotlib.figure.Figure
+    numpy.ndarray of matplotlib.axes.Axes
     """
-    from matplotlib.figure import Figure
-
     names = list(results["classifiers"])
-    fig = Figure(figsize=(max(6.0, 0.6 * len(names)), 4.0), layout="constrained")
-    ax = fig.add_subplot()
+    axs = _figure_axes(axes, 3, (max(7.0, 0.5 * len(names)), 7.5), rows=3)
     x = np.arange(len(names))
-    for i, (p, colour) in enumerate(zip(_PAR, ("tab:blue", "tab:red", "gold"), strict=True)):
-        v = [results["classifiers"][n]["kappa"].get(p) for n in names]
-        ax.bar(x + (i - 1) * 0.27, [np.nan if a is None else a for a in v], 0.27,
-               color=colour, label=p)
-    ax.set_xticks(x, names, rotation=70, fontsize=8)
-    ax.set_ylabel("Cohen's kappa")
-    ax.axhline(0.2, color="grey", lw=0.8, ls=":")
-    ax.legend()
-    return fig
+    colours = ("tab:blue", "tab:red", "goldenrod")
+    for ax, p, colour in zip(axs, _PAR, colours, strict=True):
+        ours = [results["classifiers"][n]["kappa"].get(p) for n in names]
+        th = [THESIS_CHAPTER5.get(n, {}).get("kappa", {}).get(p) for n in names]
+        ax.bar(x - 0.2, [np.nan if v is None else v for v in ours], 0.4, color=colour,
+               label="this run")
+        ax.bar(x + 0.2, [np.nan if v is None else v for v in th], 0.4, color="white",
+               edgecolor=colour, hatch="///", label="thesis (fig. 5.15, 5.4)")
+        ax.set_ylabel(f"{p} kappa (-)")
+        ax.set_xticks(x, names if ax is axs[-1] else [""] * len(names), rotation=70,
+                      fontsize=8)
+        ax.axhline(0.0, color="black", lw=0.6)
+        ax.set_ylim(min(-0.1, *(v for v in ours if v is not None)), 1.0)
+        ax.legend(fontsize=7, loc="upper left", ncols=2)
+    axs[-1].set_xlabel("classifier")
+    return axs
 
 
-def sequential_figure(results: Mapping[str, Any]):
+def sequential_figure(results: Mapping[str, Any], ax: Any = None) -> Any:
     """Texture kappa against the number of contacts (beyond the thesis).
 
     Returns
     -------
-    matplotlib.figure.Figure
+    matplotlib.axes.Axes
     """
-    from matplotlib.figure import Figure
-
     seq = results.get("sequential") or {}
-    fig = Figure(figsize=(4.5, 3.5), layout="constrained")
-    ax = fig.add_subplot()
+    ax = _figure_axes(None if ax is None else [ax], 1, (4.5, 3.5))[0]
     n = [int(k) for k in seq]
     ax.plot(n, [np.nan if v is None else v for v in seq.values()], "o-",
             label=f"accumulated ({(results.get('sequential_detail') or {}).get('base', '')})")
@@ -282,14 +327,14 @@ def sequential_figure(results: Mapping[str, Any]):
         ax.axhline(single[best], color="grey", ls="--", lw=0.8,
                    label=f"best single contact ({best})")
     ax.legend(fontsize=7, loc="lower right")
-    ax.set_xlabel("contacts with the same surface")
-    ax.set_ylabel("texture kappa")
+    ax.set_xlabel("contacts with the same surface (count)")
+    ax.set_ylabel("texture kappa (-)")
     ax.set_ylim(-0.05, 1.05)
-    return fig
+    return ax
 
 
 def chapter5_figures(results: Mapping[str, Any], out_dir: str | os.PathLike[str],
-                     dpi: int = 110) -> dict[str, Path]:
+                     dpi: int = 200) -> dict[str, Path]:
     """Write every chapter-5 figure as PNG (atomically) and return their paths.
 
     Returns
@@ -303,33 +348,23 @@ def chapter5_figures(results: Mapping[str, Any], out_dir: str | os.PathLike[str]
     paths: dict[str, Path] = {}
     for name, entry in results["classifiers"].items():
         paths[f"confusion/{name}"] = save_figure(
-            confusion_figure(entry, name), out / f"confusion_{name}.png", dpi)
-    paths["kappa"] = save_figure(kappa_figure(results), out / "kappa.png", dpi)
+            confusion_figure(entry, name)[0].figure, out / f"confusion_{name}.png", dpi)
+    paths["kappa"] = save_figure(kappa_figure(results)[0].figure, out / "kappa.png", dpi)
     if results.get("sequential"):
-        paths["sequential"] = save_figure(sequential_figure(results), out / "sequential.png", dpi)
+        paths["sequential"] = save_figure(sequential_figure(results).figure,
+                                          out / "sequential.png", dpi)
     return paths
 
 
-def write_chapter5_report(results: Mapping[str, Any], out_dir: str | os.PathLike[str], *,
-                          figures: bool = True, dpi: int = 110,
-                          notes: str | None = None,
-                          baseline: Mapping[str, Any] | None = None) -> dict[str, Path]:
-    """Write ``results.json``, ``report.md`` and ``figures/`` into ``out_dir`` atomically.
-
-    ``notes`` (Markdown) is appended to the report before the figures; ``baseline``
-    (an earlier run's results) adds a thesis / before / this run table.
+def write_outputs(results: Mapping[str, Any], out_dir: str | os.PathLike[str], *,
+                  figures: bool = True, dpi: int = 200) -> dict[str, Path]:
+    """Write the chapter-5 figures into ``out_dir/figures`` (atomically); return their paths.
 
     Returns
     -------
     dict of str to pathlib.Path
-        ``json``, ``report`` and ``figure:<key>``.
+        ``confusion/<name>``, ``kappa`` and (if any) ``sequential``.
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    paths = {"json": write_json(results, out / "results.json")}
-    figs = chapter5_figures(results, out / "figures", dpi) if figures else {}
-    rel = {k: p.relative_to(out) for k, p in figs.items()}
-    text = markdown_chapter5(results, rel, notes, baseline)
-    paths["report"] = atomic_write_text(out / "report.md", text)
-    paths.update({f"figure:{k}": p for k, p in figs.items()})
-    return paths
+    return chapter5_figures(results, out / "figures", dpi) if figures else {}

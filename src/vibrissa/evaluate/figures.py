@@ -5,7 +5,7 @@ axes it drew on; with ``ax=None`` it creates a standalone
 :class:`matplotlib.figure.Figure` (no pyplot state, no GUI backend, nothing is
 shown). :func:`save_figure` writes PNGs atomically.
 
-Results figures (input: the dict of :func:`vibrissa.evaluate.protocol.run_chapter4`):
+Results figures (input: the dict of :func:`vibrissa.evaluate.chapter4.run_chapter4`):
 
 - :func:`error_histogram`, :func:`error_scatter`, :func:`prediction_scatter` and
   :func:`classifier_figure` - figures 4.2, 4.3, 4.5, 4.7, 4.9, 4.11;
@@ -266,7 +266,7 @@ def static_beam_speed_plot(
     Parameters
     ----------
     results : dict
-        Output of :func:`~vibrissa.evaluate.protocol.run_chapter4`.
+        Output of :func:`~vibrissa.evaluate.chapter4.run_chapter4`.
     name : str, default="static_beam_fitted"
         Classifier (any classifier has ``radius_error_by_speed``).
     errorbar : {"std", "sem"}, default="std"
@@ -306,7 +306,7 @@ def training_size_plot(
     Parameters
     ----------
     results : dict
-        Output of :func:`~vibrissa.evaluate.protocol.run_chapter4`.
+        Output of :func:`~vibrissa.evaluate.chapter4.run_chapter4`.
     name : str
         Classifier.
     parameter : {"radius_mm", "speed_mm_s"}
@@ -356,7 +356,7 @@ def comparison_plot(
     Parameters
     ----------
     results : dict
-        Output of :func:`~vibrissa.evaluate.protocol.run_chapter4`.
+        Output of :func:`~vibrissa.evaluate.chapter4.run_chapter4`.
     parameter : {"radius_mm", "speed_mm_s"}
     names : sequence of str, optional
         Classifiers in plotting order (default: all, in the results' order);
@@ -398,7 +398,7 @@ def classifier_figure(results: Mapping[str, Any], name: str) -> Figure:
     Parameters
     ----------
     results : dict
-        Output of :func:`~vibrissa.evaluate.protocol.run_chapter4` with predictions.
+        Output of :func:`~vibrissa.evaluate.chapter4.run_chapter4` with predictions.
     name : str
         Classifier.
 
@@ -445,7 +445,7 @@ def chapter4_figures(
     Parameters
     ----------
     results : dict
-        Output of :func:`~vibrissa.evaluate.protocol.run_chapter4`.
+        Output of :func:`~vibrissa.evaluate.chapter4.run_chapter4`.
     out_dir : path-like
         Directory (created if needed).
     dpi : int, default=110

@@ -29,6 +29,8 @@ __all__ = [
     "joint_kappa",
     "joint_labels",
     "kappa",
+    "kappa_from_confusion",
+    "parameter_scores",
     "signed_errors",
 ]
 
@@ -299,3 +301,68 @@ def confusion_matrix(
 
     m = _sk_confusion_matrix(codes(t), codes(p), labels=np.arange(lab.shape[0]))
     return m, lab
+
+
+def kappa_from_confusion(matrix: Any, weights: str | None = None) -> float | None:
+    """Cohen's kappa (thesis eq. 5.7) of a confusion matrix (rows true, columns predicted).
+
+    Parameters
+    ----------
+    matrix : array-like of shape (k, k)
+        Counts.
+    weights : {None, "linear", "quadratic"}
+        Disagreement weights ``|i - j|`` or ``(i - j)^2`` over ordered classes.
+
+    Returns
+    -------
+    float or None
+        ``(P_O - P_E) / (1 - P_E)`` (weighted: ``1 - sum w O / sum w E``);
+        ``None`` for an empty matrix or when undefined. Agrees with :func:`kappa`
+        on the matrix of the same predictions.
+    """
+    m = np.asarray(matrix, dtype=float)
+    if m.ndim != 2 or m.shape[0] != m.shape[1]:
+        raise ValueError(f"matrix must be square, got shape {m.shape}")
+    n = m.sum()
+    if n <= 0:
+        return None
+    i, j = np.indices(m.shape)
+    if weights is None:
+        w = (i != j).astype(float)
+    elif weights == "linear":
+        w = np.abs(i - j).astype(float)
+    elif weights == "quadratic":
+        w = ((i - j) ** 2).astype(float)
+    else:
+        raise ValueError(f"weights must be None, 'linear' or 'quadratic', got {weights!r}")
+    expected = np.outer(m.sum(axis=1), m.sum(axis=0)) / n
+    den = float(np.sum(w * expected))
+    if den == 0:
+        return 1.0 if float(np.sum(w * m)) == 0 else None
+    return 1.0 - float(np.sum(w * m)) / den
+
+
+def parameter_scores(y_true: Any, y_pred: Any, labels: Any | None = None) -> dict[str, Any]:
+    """Every score of one parameter: :func:`error_summary` plus plain and weighted kappa.
+
+    Parameters
+    ----------
+    y_true, y_pred : array-like of shape (n_trials,)
+    labels : array-like, optional
+        When given, also the confusion matrix over these classes (key ``confusion``:
+        ``labels``, ``matrix``; rows true).
+
+    Returns
+    -------
+    dict
+        ``mean``, ``std``, ``sem``, ``mean_abs``, ``rmse``, ``exact_hit``, ``n``,
+        ``kappa``, ``kappa_linear``, ``kappa_quadratic`` [, ``confusion``].
+    """
+    out = error_summary(y_true, y_pred)
+    out["kappa"] = kappa(y_true, y_pred)
+    out["kappa_linear"] = kappa(y_true, y_pred, weights="linear")
+    out["kappa_quadratic"] = kappa(y_true, y_pred, weights="quadratic")
+    if labels is not None:
+        m, lab = confusion_matrix(y_true, y_pred, labels=labels)
+        out["confusion"] = {"labels": lab.tolist(), "matrix": m.tolist()}
+    return out

@@ -1,39 +1,37 @@
-"""Write chapter-4 results as JSON, CSV and a Markdown report beside the thesis' values.
+"""Chapter-4 report sections, CSV tables and figures beside the thesis' values.
 
 :data:`THESIS_CHAPTER4` holds the numbers of the thesis' tables 4.1-4.7 (and the
 static-beam figures quoted in the text of 4.4.1), transcribed from the seed
-text. :func:`write_report` writes everything atomically into one directory:
-``results.json``, ``results.csv``, ``radius_error_by_speed.csv``, the figures
-(``figures/*.png``) and ``report.md``, which embeds the figures by relative
-path and sets each of our tables beside the thesis' table.
+text. :func:`write_outputs` writes ``results.csv``, ``radius_error_by_speed.csv``
+and the figures; :func:`markdown_report` is the report body that sets each of
+our tables beside the thesis' table, and its discussion
+(:func:`discussion`) computes every number it quotes from the results.
 """
 
 from __future__ import annotations
 
 import csv
 import io
-import json
-import math
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from vibrissa._atomic import atomic_write_text
-from vibrissa.evaluate.protocol import fraction_key
+from vibrissa.evaluate.chapter4 import fraction_key
+from vibrissa.evaluate.report_common import fmt, fmt_seconds, md_table
 
 __all__ = [
     "CSV_COLUMNS",
     "THESIS_CHAPTER4",
     "THESIS_COLUMNS",
-    "load_results",
+    "discussion",
     "markdown_report",
     "results_csv",
     "write_csv",
-    "write_json",
-    "write_report",
+    "write_outputs",
 ]
 
 _FR = ("0.05", "0.1", "0.2", "0.4", "0.6", "0.8", "1.0")
@@ -55,7 +53,7 @@ def _table(speed_mean, speed_std, radius_mean, radius_std) -> dict[str, Any]:
 #: spread "Std Err"/"standard error", but the values (e.g. 53.99 mm/s for a
 #: classifier that is wrong by ~90 mm/s) are the standard deviation of the
 #: per-trial errors, so they are stored under ``std`` and compared with our ``std``.
-#: Fraction keys follow :func:`vibrissa.evaluate.protocol.fraction_key`
+#: Fraction keys follow :func:`vibrissa.evaluate.chapter4.fraction_key`
 #: ("1.0" is the full training set). Values are as printed, including the 5 %
 #: columns of tables 4.3-4.5 that are better than the 10 % ones.
 THESIS_CHAPTER4: dict[str, Any] = {
@@ -147,44 +145,7 @@ CSV_COLUMNS = (
 )
 
 
-# ----------------------------------------------------------------------------- JSON / CSV
-def _default(obj: Any) -> Any:
-    if isinstance(obj, np.generic):
-        return obj.item()
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, Path):
-        return str(obj)
-    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
-
-
-def write_json(results: Mapping[str, Any], path: str | os.PathLike[str]) -> Path:
-    """Write ``results`` as indented JSON, atomically (NaN is refused: use ``None``).
-
-    Parameters
-    ----------
-    results : dict
-        E.g. the output of :func:`~vibrissa.evaluate.protocol.run_chapter4`.
-    path : path-like
-        Destination.
-
-    Returns
-    -------
-    pathlib.Path
-    """
-    try:
-        text = json.dumps(results, indent=2, default=_default, allow_nan=False)
-    except ValueError as exc:
-        raise ValueError(f"results contain NaN or infinity, not valid JSON: {exc}") from exc
-    return atomic_write_text(path, text + "\n")
-
-
-def load_results(path: str | os.PathLike[str]) -> dict[str, Any]:
-    """Read results written by :func:`write_json`."""
-    with open(path, encoding="utf-8") as fh:
-        return json.load(fh)
-
-
+# ----------------------------------------------------------------------------- CSV
 def _rows(frac: str, seed: Any, name: str, entry: Mapping[str, Any]) -> list[dict[str, Any]]:
     rows = []
     for par in ("radius_mm", "speed_mm_s", "joint"):
@@ -212,7 +173,7 @@ def results_csv(results: Mapping[str, Any], per_seed: bool = True) -> str:
     Parameters
     ----------
     results : dict
-        Output of :func:`~vibrissa.evaluate.protocol.run_chapter4`.
+        Output of :func:`~vibrissa.evaluate.chapter4.run_chapter4`.
     per_seed : bool, default=True
         Include one row per seed as well as the means.
 
@@ -259,35 +220,6 @@ def write_csv(results: Mapping[str, Any], path: str | os.PathLike[str]) -> Path:
 
 
 # ----------------------------------------------------------------------------- Markdown
-def _f(x: Any, digits: int = 2) -> str:
-    if x is None:
-        return "—"
-    if isinstance(x, float) and not math.isfinite(x):
-        return "—"
-    if isinstance(x, int | float | np.integer | np.floating):
-        v = float(x)
-        if v != 0 and abs(v) < 10 ** (-digits):
-            return f"{v:.{digits}g}"
-        return f"{v:.{digits}f}"
-    return str(x)
-
-
-def _seconds(x: Any) -> str:
-    if x is None:
-        return "—"
-    x = float(x)
-    if x < 60:
-        return f"{x:.3g} s"
-    m, s = divmod(x, 60.0)
-    return f"{int(m)} min {s:.0f} s"
-
-
-def _md_table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
-    lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
-    lines += ["| " + " | ".join(r) + " |" for r in rows]
-    return "\n".join(lines)
-
-
 def _ours(results: Mapping[str, Any], name: str, frac: str) -> dict[str, Any] | None:
     if frac == "1.0" and name in results.get("classifiers", {}):
         return results["classifiers"][name]
@@ -315,14 +247,14 @@ def _fraction_table(results: Mapping[str, Any], name: str, table: str | None) ->
             continue  # e.g. the speed of a radius-only classifier
         for stat in ("mean", "std"):
             rows.append([plabel, stat, "ours",
-                         *[_f(_get(_ours(results, name, f), par, stat)) for f in fracs]])
+                         *[fmt(_get(_ours(results, name, f), par, stat)) for f in fracs]])
             if thesis is not None:
                 rows.append([plabel, stat, f"thesis {table[6:].replace('_', '.')}",
-                             *[_f(thesis[par][stat].get(f)) for f in fracs]])
+                             *[fmt(thesis[par][stat].get(f)) for f in fracs]])
         for stat in ("exact_hit", "kappa"):
             rows.append([plabel, stat, "ours",
-                         *[_f(_get(_ours(results, name, f), par, stat)) for f in fracs]])
-    return _md_table(header, rows)
+                         *[fmt(_get(_ours(results, name, f), par, stat)) for f in fracs]])
+    return md_table(header, rows)
 
 
 def _static_beam_section(results: Mapping[str, Any]) -> list[str]:
@@ -338,14 +270,14 @@ def _static_beam_section(results: Mapping[str, Any]) -> list[str]:
     for label, name in keys:
         fp = cl.get(name, {}).get("fitted_parameters", {}) if name in cl else {}
         th = t41[label]
-        rows.append([label, "thesis 4.1", _f(th["youngs_modulus_gpa"], 1),
-                     _f(th["base_radius_mm"], 1), _f(th["length_mm"], 0),
+        rows.append([label, "thesis 4.1", fmt(th["youngs_modulus_gpa"], 1),
+                     fmt(th["base_radius_mm"], 1), fmt(th["length_mm"], 0),
                      f"S_f = {th['scale_factor']:g}"])
         if name in cl:
-            rows.append([label, "ours", _f(fp.get("youngs_modulus_gpa"), 2),
-                         _f(fp.get("base_radius_mm"), 2), _f(fp.get("length_mm"), 1),
-                         f"x {_f(fp.get('moment_scale'), 3)}"])
-    out += [_md_table(["parameters", "source", "E (GPa)", "r_base (mm)", "L (mm)",
+            rows.append([label, "ours", fmt(fp.get("youngs_modulus_gpa"), 2),
+                         fmt(fp.get("base_radius_mm"), 2), fmt(fp.get("length_mm"), 1),
+                         f"x {fmt(fp.get('moment_scale'), 3)}"])
+    out += [md_table(["parameters", "source", "E (GPa)", "r_base (mm)", "L (mm)",
                        "moment scale"], rows), "",
             "Our moment scale multiplies the modelled base moment (1 = measured sensor "
             "calibration); the thesis' S_f converts volts to moment, so only its ratio "
@@ -360,15 +292,15 @@ def _static_beam_section(results: Mapping[str, Any]) -> list[str]:
         med = by[len(by) // 2] if by else None
         ext = max(by, key=lambda r: abs(r["mean"])) if by else None
         th = sbt[label]
-        rows.append([label, "ours", _f(_get(e, "radius_mm", "mean")),
-                     _f(_get(e, "radius_mm", "std")),
-                     _f(med and med["mean"]), _f(med and med["std"]),
-                     _f(ext and ext["mean"]), _f(ext and ext["std"]),
-                     _f(_get(e, "radius_mm", "exact_hit")), _f(_get(e, "radius_mm", "kappa"))])
-        rows.append([label, "thesis 4.4.1", _f(th["mean"], 3), _f(th["std"]),
-                     _f(th["median_speed"]["mean"], 3), _f(th["median_speed"]["std"]),
-                     _f(th["extreme_speed"]["mean"]), _f(th["extreme_speed"]["std"]), "—", "—"])
-    out += [_md_table(["parameters", "source", "mean (mm)", "std (mm)", "median-speed mean",
+        rows.append([label, "ours", fmt(_get(e, "radius_mm", "mean")),
+                     fmt(_get(e, "radius_mm", "std")),
+                     fmt(med and med["mean"]), fmt(med and med["std"]),
+                     fmt(ext and ext["mean"]), fmt(ext and ext["std"]),
+                     fmt(_get(e, "radius_mm", "exact_hit")), fmt(_get(e, "radius_mm", "kappa"))])
+        rows.append([label, "thesis 4.4.1", fmt(th["mean"], 3), fmt(th["std"]),
+                     fmt(th["median_speed"]["mean"], 3), fmt(th["median_speed"]["std"]),
+                     fmt(th["extreme_speed"]["mean"]), fmt(th["extreme_speed"]["std"]), "—", "—"])
+    out += [md_table(["parameters", "source", "mean (mm)", "std (mm)", "median-speed mean",
                        "median-speed std", "worst-speed mean", "worst-speed std", "exact hit",
                        "kappa"], rows), "",
             "Ours: worst speed = the speed with the largest |mean error|; the thesis "
@@ -380,29 +312,18 @@ def markdown_report(
     results: Mapping[str, Any],
     *,
     figures: Mapping[str, str | os.PathLike[str]] | None = None,
-    notes: str | None = None,
-    table_notes: Mapping[str, str] | None = None,
-    title: str = "Chapter 4 reproduction: radial distance and speed from whisker deflections",
     baseline: Mapping[str, Any] | None = None,
 ) -> str:
-    """Markdown report putting our tables 4.1-4.7 beside the thesis' values.
+    """Markdown report body putting our tables 4.1-4.7 beside the thesis' values.
 
     Parameters
     ----------
     results : dict
-        Output of :func:`~vibrissa.evaluate.protocol.run_chapter4`.
+        Output of :func:`~vibrissa.evaluate.chapter4.run_chapter4` (or the results
+        envelope of a chapter-4 run).
     figures : mapping of str to path, optional
-        Figure key (as returned by :func:`~vibrissa.evaluate.figures.chapter4_figures`,
-        plus optional ``"dataset/traces"`` and ``"dataset/contours"``) to a path
-        *relative to the report*; embedded as images.
-    notes : str, optional
-        The caller's explanatory text, placed in the "Discussion" section (a
-        placeholder comment when omitted).
-    table_notes : mapping of str to str, optional
-        Extra text after a table, keyed ``"table_4_1"`` ... ``"table_4_7"``,
-        ``"static_beam"``, ``"kappa"``.
-    title : str
-        First heading.
+        Figure key (as returned by :func:`write_outputs`) to a path *relative to the
+        report*; embedded as images.
     baseline : dict, optional
         An earlier run's results (:func:`vibrissa.evaluate.baseline.load_baseline`);
         table 4.7 then shows its values as "before" beside ours.
@@ -410,15 +331,13 @@ def markdown_report(
     Returns
     -------
     str
-        The report (GitHub-flavoured Markdown).
+        The report body (GitHub-flavoured Markdown), without the common header.
     """
     figures = {k: Path(v).as_posix() for k, v in (figures or {}).items()}
-    tn = dict(table_notes or {})
     cl = results.get("classifiers", {})
     meta = results.get("meta", {})
     split = meta.get("split", {})
-    out = [f"# {title}", ""]
-    out += [
+    out = [
         "Thesis: M. H. Evans, *Tactile Discrimination with Whiskers* (Sheffield 2011), "
         "chapter 4. Errors are signed (predicted − true); *std* is the standard deviation "
         "of the per-trial errors (the thesis' \"Std Err\"); reduced training sets average "
@@ -441,9 +360,6 @@ def markdown_report(
                 out += [f"![{cap}]({figures[key]})", ""]
 
     out += _static_beam_section(results)
-    for key in ("table_4_1", "static_beam"):
-        if key in tn:
-            out += [tn[key], ""]
     for name, entry in cl.items():
         if not entry.get("radius_only"):
             continue
@@ -469,8 +385,6 @@ def markdown_report(
         if not table:
             out += ["No thesis counterpart for this variant.", ""]
         out += [_fraction_table(results, name, table), ""]
-        if table and table in tn:
-            out += [tn[table], ""]
         for key, cap in ((f"training_size/{name}", "mean error vs training-set size"),
                          (f"errors/{name}", "error histograms and scatter")):
             if key in figures:
@@ -482,13 +396,11 @@ def markdown_report(
     for name, entry in cl.items():
         col, _ = THESIS_COLUMNS.get(name, (None, None))
         th = THESIS_CHAPTER4["table_4_6"].get(col) if col else None
-        rows.append([name, _seconds(entry.get("fit_seconds")),
-                     _seconds(entry.get("classify_seconds")), _seconds(th)])
-    out += [_md_table(["classifier", "fit (ours)", "classify (ours)",
+        rows.append([name, fmt_seconds(entry.get("fit_seconds")),
+                     fmt_seconds(entry.get("classify_seconds")), fmt_seconds(th)])
+    out += [md_table(["classifier", "fit (ours)", "classify (ours)",
                        "train + classify 2626 (thesis 4.6)"], rows), "",
             "Thesis times: MATLAB on a 2.5 GHz Core 2 Duo; ours: this machine, wall time.", ""]
-    if "table_4_6" in tn:
-        out += [tn["table_4_6"], ""]
 
     # table 4.7
     out += ["## Table 4.7: performance under ideal conditions (full training set)", ""]
@@ -497,25 +409,23 @@ def markdown_report(
         col, _ = THESIS_COLUMNS.get(name, (None, None))
         th = THESIS_CHAPTER4["table_4_7"].get(col) if col else None
         rows.append([name, "ours",
-                     _f(_get(entry, "speed_mm_s", "mean")), _f(_get(entry, "speed_mm_s", "std")),
-                     _f(_get(entry, "radius_mm", "mean")), _f(_get(entry, "radius_mm", "std"))])
+                     fmt(_get(entry, "speed_mm_s", "mean")), fmt(_get(entry, "speed_mm_s", "std")),
+                     fmt(_get(entry, "radius_mm", "mean")), fmt(_get(entry, "radius_mm", "std"))])
         before = (baseline or {}).get("classifiers", {}).get(name)
         if before is not None:
             rows.append([name, "before",
-                         _f(_get(before, "speed_mm_s", "mean")),
-                         _f(_get(before, "speed_mm_s", "std")),
-                         _f(_get(before, "radius_mm", "mean")),
-                         _f(_get(before, "radius_mm", "std"))])
+                         fmt(_get(before, "speed_mm_s", "mean")),
+                         fmt(_get(before, "speed_mm_s", "std")),
+                         fmt(_get(before, "radius_mm", "mean")),
+                         fmt(_get(before, "radius_mm", "std"))])
         if th is not None:
-            rows.append([name, "thesis 4.7", _f(_get(th, "speed_mm_s", "mean")),
-                         _f(_get(th, "speed_mm_s", "std")), _f(_get(th, "radius_mm", "mean")),
-                         _f(_get(th, "radius_mm", "std"))])
+            rows.append([name, "thesis 4.7", fmt(_get(th, "speed_mm_s", "mean")),
+                         fmt(_get(th, "speed_mm_s", "std")), fmt(_get(th, "radius_mm", "mean")),
+                         fmt(_get(th, "radius_mm", "std"))])
     if baseline is not None:
         out += [f"*before*: {baseline.get('meta', {}).get('label', 'an earlier run')}.", ""]
-    out += [_md_table(["classifier", "source", "speed mean", "speed std", "radius mean",
+    out += [md_table(["classifier", "source", "speed mean", "speed std", "radius mean",
                        "radius std"], rows), ""]
-    if "table_4_7" in tn:
-        out += [tn["table_4_7"], ""]
     if "comparison" in figures:
         out += [f"![Mean error per classifier (cf. figure 4.12)]({figures['comparison']})", ""]
     own = {n: e.get("train_sets") for n, e in cl.items() if e.get("train_sets") is not None}
@@ -530,9 +440,10 @@ def markdown_report(
         for name, entry in other.get("classifiers", {}).items():
             main = cl.get(name, {})
             rows.append([name,
-                         _f(_get(entry, "speed_mm_s", "std")), _f(_get(main, "speed_mm_s", "std")),
-                         _f(_get(entry, "radius_mm", "std")), _f(_get(main, "radius_mm", "std"))])
-        out += [_md_table(["classifier", "speed std (one set)", "speed std (main)",
+                         fmt(_get(entry, "speed_mm_s", "std")),
+                         fmt(_get(main, "speed_mm_s", "std")),
+                         fmt(_get(entry, "radius_mm", "std")), fmt(_get(main, "radius_mm", "std"))])
+        out += [md_table(["classifier", "speed std (one set)", "speed std (main)",
                            "radius std (one set)", "radius std (main)"], rows), ""]
 
     # kappa and exact hits (not in the thesis)
@@ -541,70 +452,124 @@ def markdown_report(
     rows = []
     for name, entry in cl.items():
         rows.append([name,
-                     _f(_get(entry, "radius_mm", "exact_hit")),
-                     _f(_get(entry, "radius_mm", "kappa")),
-                     _f(_get(entry, "radius_mm", "kappa_linear")),
-                     _f(_get(entry, "speed_mm_s", "exact_hit")),
-                     _f(_get(entry, "speed_mm_s", "kappa")),
-                     _f(_get(entry, "speed_mm_s", "kappa_linear")),
-                     _f(_get(entry, "joint", "exact_hit")), _f(_get(entry, "joint", "kappa"))])
-    out += [_md_table(["classifier", "radius hit", "radius κ", "radius κ (linear)", "speed hit",
+                     fmt(_get(entry, "radius_mm", "exact_hit")),
+                     fmt(_get(entry, "radius_mm", "kappa")),
+                     fmt(_get(entry, "radius_mm", "kappa_linear")),
+                     fmt(_get(entry, "speed_mm_s", "exact_hit")),
+                     fmt(_get(entry, "speed_mm_s", "kappa")),
+                     fmt(_get(entry, "speed_mm_s", "kappa_linear")),
+                     fmt(_get(entry, "joint", "exact_hit")), fmt(_get(entry, "joint", "kappa"))])
+    out += [md_table(["classifier", "radius hit", "radius κ", "radius κ (linear)", "speed hit",
                        "speed κ", "speed κ (linear)", "joint hit", "joint κ"], rows), ""]
-    if "kappa" in tn:
-        out += [tn["kappa"], ""]
 
-    out += ["## Discussion", ""]
-    out += [notes.strip() if notes else (
-        "The measured explanation of the differences from the thesis is written for the "
-        "full grid only (a quick grid is too coarse to measure them); the settings of "
-        "every method and their sources are in docs/methods.md."), ""]
+    out += ["## Discussion", "", discussion(results), ""]
     return "\n".join(out)
 
 
-def write_report(
+def _speed_std(results: Mapping[str, Any]) -> tuple[float, float] | None:
+    """Mean and std of the error of always answering the slowest speed, on this test set."""
+    truth = (results.get("predictions") or {}).get("speed_mm_s_true")
+    speeds = (results.get("meta") or {}).get("speeds_mm_s")
+    if not truth or not speeds:
+        return None
+    err = min(speeds) - np.asarray(truth, dtype=float)
+    return float(err.mean()), float(err.std(ddof=1)) if err.size > 1 else 0.0
+
+
+def discussion(results: Mapping[str, Any]) -> str:
+    """How this run differs from the thesis, with every number computed from ``results``.
+
+    Settings and their sources are in ``docs/methods.md``; this text quotes only the
+    run's own numbers and the thesis' tables.
+    """
+    cl = results.get("classifiers", {})
+    t47 = THESIS_CHAPTER4["table_4_7"]
+    lines: list[str] = []
+    slow = _speed_std(results)
+    th_f = t47.get("frequency") or {}
+    if slow is not None and "frequency" in cl and th_f.get("speed_mm_s"):
+        ours = cl["frequency"].get("speed_mm_s") or {}
+        lines.append(
+            "- **The thesis' frequency speed row is what always answering the slowest "
+            "speed gives.** On this run's test set that answer has a signed speed error of "
+            f"{fmt(slow[0])} mm/s with std {fmt(slow[1])} mm/s; table 4.7 gives "
+            f"{fmt(th_f['speed_mm_s']['mean'])} / {fmt(th_f['speed_mm_s']['std'])}. In the "
+            "author's code the frequency method returns a radius index that is read as a "
+            "template index (docs/methods.md); our frequency classifier estimates speed "
+            f"itself: {fmt(ours.get('mean'))} / {fmt(ours.get('std'))} mm/s."
+        )
+
+    def rank(par: str) -> list[tuple[str, float]]:
+        vals = [(n, e[par]["std"]) for n, e in cl.items()
+                if isinstance(e.get(par), Mapping) and e[par].get("std") is not None]
+        return sorted(vals, key=lambda kv: kv[1])
+
+    for par, unit, label in (("radius_mm", "mm", "radial distance"),
+                             ("speed_mm_s", "mm/s", "speed")):
+        r = rank(par)
+        if not r:
+            continue
+        th = sorted(((n, e[par]["std"]) for n, e in t47.items()
+                     if e.get(par) and e[par].get("std") is not None), key=lambda kv: kv[1])
+        ours_txt = ", ".join(f"{n} {fmt(v)}" for n, v in r[:3])
+        th_txt = ", ".join(f"{n} {fmt(v)}" for n, v in th[:3])
+        lines.append(f"- **Smallest {label} spread (std, {unit})**: this run {ours_txt}; "
+                     f"thesis table 4.7 {th_txt}.")
+    for name in ("static_beam_measured", "static_beam_fitted"):
+        by = [b for b in (cl.get(name) or {}).get("radius_error_by_speed", [])
+              if b.get("mean") is not None]
+        if len(by) >= 2:
+            lo, hi = by[0], by[-1]
+            lines.append(
+                f"- **{name}**: the mean radial error goes from {fmt(lo['mean'])} mm at "
+                f"{fmt(lo['speed_mm_s'], 0)} mm/s to {fmt(hi['mean'])} mm at "
+                f"{fmt(hi['speed_mm_s'], 0)} mm/s. The equation is static; it uses one "
+                "assumed speed for every trial (the author's code used each test trial's "
+                "true speed and radius, docs/methods.md)."
+            )
+    meta = results.get("meta") or {}
+    if meta.get("saturated_fraction") is not None:
+        lines.append(f"- {fmt(100 * meta['saturated_fraction'], 1)} % of this run's trials "
+                     "reach the Hall sensor's output limits.")
+    if not lines:
+        return "Nothing to compare: the run has no classifier with a thesis counterpart."
+    return "\n".join(lines)
+
+
+def write_outputs(
     results: Mapping[str, Any],
     out_dir: str | os.PathLike[str],
     *,
-    notes: str | None = None,
-    table_notes: Mapping[str, str] | None = None,
     figures: bool = True,
     dataset: Any = None,
-    dpi: int = 110,
-    baseline: Mapping[str, Any] | None = None,
+    dpi: int = 200,
 ) -> dict[str, Path]:
-    """Write results JSON, CSVs, figures and the Markdown report into ``out_dir``.
+    """Write the CSV tables and the figures of a chapter-4 run into ``out_dir``.
 
     Parameters
     ----------
     results : dict
-        Output of :func:`~vibrissa.evaluate.protocol.run_chapter4`.
+        Output of :func:`~vibrissa.evaluate.chapter4.run_chapter4`.
     out_dir : path-like
-        Directory (created if needed). Files are replaced atomically.
-    notes, table_notes : optional
-        Passed to :func:`markdown_report`.
+        Directory (created if needed). Files are replaced atomically:
+        ``results.csv``, ``radius_error_by_speed.csv``, ``figures/*.png``.
     figures : bool, default=True
-        Draw the results figures into ``out_dir/figures``.
+        Draw the results figures.
     dataset : xarray.Dataset, optional
         Also draw the data figures (typical traces, figure 3.7; feature contours,
         figure 4.1) from it.
-    dpi : int, default=110
+    dpi : int, default=200
         Figure resolution.
-    baseline : dict, optional
-        An earlier run's results, shown as "before" (see :func:`markdown_report`).
 
     Returns
     -------
     dict of str to pathlib.Path
-        ``json``, ``csv``, ``csv_by_speed``, ``report`` and ``figure:<key>`` paths.
+        Figure key -> path.
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    paths: dict[str, Path] = {
-        "json": write_json(results, out / "results.json"),
-        "csv": write_csv(results, out / "results.csv"),
-        "csv_by_speed": atomic_write_text(out / "radius_error_by_speed.csv",
-                                          _by_speed_csv(results)),
-    }
+    write_csv(results, out / "results.csv")
+    atomic_write_text(out / "radius_error_by_speed.csv", _by_speed_csv(results))
     figs: dict[str, Path] = {}
     if figures:
         from vibrissa.evaluate import figures as vfig
@@ -616,9 +581,4 @@ def write_report(
             ax = vfig.feature_contours(dataset)
             figs["dataset/contours"] = vfig.save_figure(
                 ax[0].figure, out / "figures" / "contours.png", dpi)
-    rel = {k: p.relative_to(out) for k, p in figs.items()}
-    text = markdown_report(results, figures=rel, notes=notes, table_notes=table_notes,
-                           baseline=baseline)
-    paths["report"] = atomic_write_text(out / "report.md", text)
-    paths.update({f"figure:{k}": p for k, p in figs.items()})
-    return paths
+    return figs

@@ -23,16 +23,16 @@ one permutation per repeat shared by all fractions (so, as in the thesis, the
 from __future__ import annotations
 
 import math
-import time
-from collections.abc import Callable, Collection, Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 import xarray as xr
-from sklearn.base import clone
 
+from vibrissa.classify import estimator_tags
 from vibrissa.evaluate import metrics
+from vibrissa.evaluate.loop import Progress, ProgressLike, fit_predict, json_value
 
 __all__ = [
     "PARAMETERS",
@@ -41,6 +41,7 @@ __all__ = [
     "check_dataset",
     "dataset_arrays",
     "fit_and_score",
+    "fitted_parameters",
     "fraction_key",
     "is_radius_only",
     "run_chapter4",
@@ -55,8 +56,6 @@ PARAMETERS: dict[str, str] = {"radial_distance_mm": "radius_mm", "speed_mm_s": "
 
 #: Reduced training-set sizes of the thesis (4.3), as fractions of the training set.
 THESIS_FRACTIONS: tuple[float, ...] = (0.8, 0.6, 0.4, 0.2, 0.1, 0.05)
-
-ProgressLike = Any  # a callable (done, total, description) or a rich.progress.Progress
 
 _REQUIRED_COORDS = ("radial_distance_mm", "speed_mm_s", "set")
 
@@ -120,7 +119,7 @@ def check_dataset(ds: xr.Dataset, *, require_complete: bool = True) -> dict[Any,
             f"the chapter-4 protocol needs at least 2 recorded sets (one to train, one to test); "
             f"dataset has {sets.shape[0]}"
         )
-    groups = {_py(s): np.flatnonzero(set_vals == s) for s in sets}
+    groups = {json_value(s): np.flatnonzero(set_vals == s) for s in sets}
     if require_complete:
         r = np.round(np.asarray(ds["radial_distance_mm"].values, dtype=float), 6)
         v = np.round(np.asarray(ds["speed_mm_s"].values, dtype=float), 6)
@@ -156,11 +155,6 @@ def dataset_arrays(ds: xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
     X = np.asarray(ds["signal"].transpose("trial", "channel", "time").values, dtype=float)
     y = np.column_stack([np.asarray(ds[c].values, dtype=float) for c in PARAMETERS])
     return X, y
-
-
-def _py(v: Any) -> Any:
-    """A numpy scalar as the plain Python value (for dict keys and JSON)."""
-    return v.item() if isinstance(v, np.generic) else v
 
 
 # --------------------------------------------------------------------------- splits
@@ -333,25 +327,18 @@ def fraction_key(fraction: float) -> str:
 
 
 # --------------------------------------------------------------------------- scoring
-def is_radius_only(name: str, y_pred: np.ndarray | None = None) -> bool:
-    """Whether a classifier estimates radial distance only (the static beam, thesis 4.3.6).
+def is_radius_only(estimator: Any, y_pred: np.ndarray | None = None) -> bool:
+    """Whether a classifier estimates radial distance only (the static beam, thesis 4.3.1).
 
-    True for names starting with ``static_beam``, or when every predicted speed is NaN.
+    True when the estimator's tags say it estimates column 0 alone
+    (:func:`vibrissa.classify.estimator_tags`), or when every predicted speed is NaN.
     """
-    if name.startswith("static_beam"):
+    if estimator_tags(estimator).estimates_only(0):
         return True
     if y_pred is not None:
         col = np.asarray(y_pred, dtype=float)[:, 1]
         return bool(col.size) and bool(np.all(np.isnan(col)))
     return False
-
-
-def _parameter_scores(t: np.ndarray, p: np.ndarray) -> dict[str, Any]:
-    out = metrics.error_summary(t, p)
-    out["kappa"] = metrics.kappa(t, p)
-    out["kappa_linear"] = metrics.kappa(t, p, weights="linear")
-    out["kappa_quadratic"] = metrics.kappa(t, p, weights="quadratic")
-    return out
 
 
 def score_predictions(
@@ -382,14 +369,14 @@ def score_predictions(
         raise ValueError(
             f"y_true and y_pred must both have shape (n_trials, 2), got {t.shape} and {p.shape}"
         )
-    out: dict[str, Any] = {"radius_mm": _parameter_scores(t[:, 0], p[:, 0])}
+    out: dict[str, Any] = {"radius_mm": metrics.parameter_scores(t[:, 0], p[:, 0])}
     if radius_only:
         out["speed_mm_s"] = None
         out["joint"] = None
     else:
         if not np.all(np.isfinite(p[:, 1])):
             raise ValueError("predicted speeds contain NaN or infinite values")
-        out["speed_mm_s"] = _parameter_scores(t[:, 1], p[:, 1])
+        out["speed_mm_s"] = metrics.parameter_scores(t[:, 1], p[:, 1])
         out["joint"] = {
             "exact_hit": metrics.exact_hit_rate(t, p),
             "kappa": metrics.joint_kappa(t, p),
@@ -404,7 +391,7 @@ def score_predictions(
     return out
 
 
-def _fitted_parameters(est: Any) -> dict[str, float]:
+def fitted_parameters(est: Any) -> dict[str, float]:
     """Scalar fitted physical parameters an estimator exposes (e.g. the static beam's)."""
     if hasattr(est, "steps"):  # a Pipeline: the final estimator holds them
         est = est.steps[-1][1]
@@ -436,14 +423,15 @@ def fit_and_score(
     Parameters
     ----------
     name : str
-        Classifier name (used in error messages and for :func:`is_radius_only`).
+        Classifier name (used in error messages).
     estimator : sklearn estimator
         Takes ``X (n, n_channels, n_timepoints)`` and ``y (n, 2)``; it is cloned,
         never modified.
     X_train, y_train, X_test, y_test : numpy.ndarray
         Trials and ``[radial_distance_mm, speed_mm_s]`` labels.
     radius_only : bool or None
-        ``None``: decided by :func:`is_radius_only` from the name and predictions.
+        ``None``: decided by :func:`is_radius_only` from the estimator's tags and
+        the predictions.
     keep_predictions : bool, default=False
         Also return the predictions (``"y_pred"``, an array; not JSON).
 
@@ -454,37 +442,20 @@ def fit_and_score(
         (wall time to classify the whole test set), ``n_train``, ``n_test``,
         ``n_classes_train``, ``radius_only`` and ``fitted_parameters``.
     """
-    est = clone(estimator)
-    t0 = time.perf_counter()
-    try:
-        est.fit(X_train, y_train)
-    except Exception as exc:  # name the classifier, keep the original type where possible
-        msg = f"classifier {name!r} failed to fit: {exc}"
-        try:
-            wrapped = type(exc)(msg)
-        except Exception:
-            raise RuntimeError(msg) from exc
-        raise wrapped from exc
-    t1 = time.perf_counter()
-    y_pred = np.asarray(est.predict(X_test), dtype=float)
-    t2 = time.perf_counter()
+    rec = fit_predict(name, estimator, X_train, y_train, X_test)
+    y_pred = rec.y_pred
     if y_pred.shape != y_test.shape:
         raise ValueError(
             f"classifier {name!r} predicted shape {y_pred.shape}, expected {y_test.shape} "
             "(rows of [radial_distance_mm, speed_mm_s])"
         )
-    ro = is_radius_only(name, y_pred) if radius_only is None else bool(radius_only)
+    ro = is_radius_only(estimator, y_pred) if radius_only is None else bool(radius_only)
     out = score_predictions(y_test, y_pred, radius_only=ro)
+    out.update(rec.timing())
     out.update(
-        {
-            "fit_seconds": t1 - t0,
-            "classify_seconds": t2 - t1,
-            "n_train": int(X_train.shape[0]),
-            "n_test": int(X_test.shape[0]),
-            "n_classes_train": int(np.unique(np.round(y_train, 6), axis=0).shape[0]),
-            "radius_only": ro,
-            "fitted_parameters": _fitted_parameters(est),
-        }
+        n_classes_train=int(np.unique(np.round(y_train, 6), axis=0).shape[0]),
+        radius_only=ro,
+        fitted_parameters=fitted_parameters(rec.estimator),
     )
     if keep_predictions:
         out["y_pred"] = y_pred
@@ -532,37 +503,6 @@ def _average_runs(runs: list[dict[str, Any]]) -> dict[str, Any]:
     return out
 
 
-# --------------------------------------------------------------------------- progress
-class _Progress:
-    """Adapter: a callable ``(done, total, description)`` or a rich ``Progress``."""
-
-    def __init__(self, progress: ProgressLike, total: int) -> None:
-        self.done = 0
-        self.total = total
-        self._cb: Callable[[int, int, str], Any] | None = None
-        self._rich = None
-        self._task = None
-        if progress is None:
-            return
-        if hasattr(progress, "add_task") and hasattr(progress, "update"):
-            self._rich = progress
-            self._task = progress.add_task("chapter 4", total=total)
-        elif callable(progress):
-            self._cb = progress
-        else:
-            raise TypeError(
-                "progress must be None, a callable (done, total, description) or a "
-                f"rich.progress.Progress, got {type(progress).__name__}"
-            )
-
-    def step(self, description: str) -> None:
-        self.done += 1
-        if self._cb is not None:
-            self._cb(self.done, self.total, description)
-        elif self._rich is not None:
-            self._rich.update(self._task, completed=self.done, description=description)
-
-
 # --------------------------------------------------------------------------- protocol
 def run_chapter4(
     ds: xr.Dataset,
@@ -608,7 +548,8 @@ def run_chapter4(
         training sets); each list must be a subset of ``train_set``.
     radius_only : collection of str, optional
         Names of classifiers that estimate radial distance only; default: names
-        starting with ``static_beam`` and any whose predicted speeds are all NaN.
+        tagged as estimating radial distance only (:func:`vibrissa.classify.estimator_tags`)
+        and any whose predicted speeds are all NaN.
     require_complete : bool, default=True
         Require every set to be a complete grid (see :func:`check_dataset`).
     keep_predictions : bool, default=True
@@ -620,10 +561,12 @@ def run_chapter4(
         JSON-ready (no NaN; ``None`` where undefined)::
 
             {
-              "protocol": "evans2011_chapter4",
-              "meta": {n_trials, n_channels, n_timepoints, sample_rate_hz, sets,
+              "meta": {evaluation: "evans2011_chapter4", n_trials, n_channels,
+                       n_timepoints, sample_rate_hz, sets,
                        split: {train_set, test_set, n_train, n_test, seed},
                        radii_mm, speeds_mm_s, fractions, n_seeds, seed},
+              "parameters": {"radius_mm": {coordinate, unit, values},
+                             "speed_mm_s": {...}},
               "classifiers": {
                 name: {
                   "radius_mm": {"mean", "std", "sem", "mean_abs", "rmse", "exact_hit",
@@ -692,11 +635,11 @@ def run_chapter4(
 
     def ro(name: str) -> bool | None:
         if ro_names is None:
-            return True if name.startswith("static_beam") else None
+            return None  # the estimator's tags and its predictions decide
         return name in ro_names
 
     total = len(classifiers) * (1 + len(fr) * int(n_seeds))
-    prog = _Progress(progress, total)
+    prog = Progress(progress, total, "chapter 4")
 
     results: dict[str, Any] = {}
     preds: dict[str, Any] = {}
@@ -705,7 +648,7 @@ def run_chapter4(
         r = fit_and_score(name, est, X_tr, y_tr, X_te, y_te, radius_only=ro(name),
                           keep_predictions=True)
         y_pred = r.pop("y_pred")
-        r["train_sets"] = [_py(v) for v in own_sets.get(name, pooled)]
+        r["train_sets"] = [json_value(v) for v in own_sets.get(name, pooled)]
         results[name] = r
         preds[name] = {
             "radius_mm": y_pred[:, 0].tolist(),
@@ -743,19 +686,24 @@ def run_chapter4(
             fractions_out[key][name] = _average_runs(runs) if runs else None
 
     out: dict[str, Any] = {
-        "protocol": "evans2011_chapter4",
         "meta": {
+            "evaluation": "evans2011_chapter4",
             "n_trials": int(X.shape[0]),
             "n_channels": int(X.shape[1]),
             "n_timepoints": int(X.shape[2]),
-            "sample_rate_hz": _json_attr(ds.attrs.get("sample_rate_hz")),
-            "sets": [_py(s) for s in np.unique(np.asarray(ds["set"].values))],
+            "sample_rate_hz": json_value(ds.attrs.get("sample_rate_hz")),
+            "sets": [json_value(s) for s in np.unique(np.asarray(ds["set"].values))],
             "split": split.to_dict(),
             "radii_mm": np.unique(y[:, 0]).tolist(),
             "speeds_mm_s": np.unique(y[:, 1]).tolist(),
             "fractions": fr,
             "n_seeds": int(n_seeds),
             "seed": int(seed),
+        },
+        "parameters": {
+            key: {"coordinate": coord, "unit": unit, "values": np.unique(y[:, i]).tolist()}
+            for i, (coord, key, unit) in enumerate(
+                zip(PARAMETERS, PARAMETERS.values(), ("mm", "mm/s"), strict=True))
         },
         "classifiers": results,
         "training_fractions": fractions_out,
@@ -767,12 +715,3 @@ def run_chapter4(
             "classifiers": preds,
         }
     return out
-
-
-def _json_attr(v: Any) -> Any:
-    if v is None:
-        return None
-    v = _py(v)
-    if isinstance(v, float) and not math.isfinite(v):
-        return None
-    return v if isinstance(v, int | float | str | bool) else str(v)

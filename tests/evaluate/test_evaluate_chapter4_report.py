@@ -1,4 +1,4 @@
-"""Tests of vibrissa.evaluate.figures and vibrissa.evaluate.report (files in tmp_path)."""
+"""Tests of vibrissa.evaluate.figures and vibrissa.evaluate.chapter4_report (files in tmp_path)."""
 
 from __future__ import annotations
 
@@ -10,9 +10,11 @@ import numpy as np
 import pytest
 import xarray as xr
 from matplotlib.figure import Figure
-from test_evaluate_protocol import Centroid, Constant, RadiusOnly, make_grid_dataset
+from test_evaluate_chapter4 import Centroid, Constant, RadiusOnly, make_grid_dataset
 
-from vibrissa.evaluate import figures, protocol, report
+from vibrissa.evaluate import chapter4 as protocol
+from vibrissa.evaluate import chapter4_report as report
+from vibrissa.evaluate import figures, report_common
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
@@ -109,37 +111,50 @@ def test_angle_texture_traces(tmp_path) -> None:
     assert _is_png(figures.save_figure(axs[0, 0].figure, tmp_path / "f52.png"))
 
 
-def test_json_csv_and_report_written(results, ds, tmp_path) -> None:
-    paths = report.write_report(results, tmp_path / "out", dataset=ds,
-                                notes="Our explanation.", table_notes={"table_4_7": "T7 note"})
-    loaded = report.load_results(paths["json"])
+def test_csv_figures_and_report_written(results, ds, tmp_path) -> None:
+    out = tmp_path / "out"
+    figs = report.write_outputs(results, out, dataset=ds)
+    loaded = report_common.load_results(report_common.write_json(results, out / "results.json"))
     assert loaded["classifiers"]["template"]["radius_mm"]["mean"] == 0
     assert set(loaded["training_fractions"]) == {"0.8", "0.5"}
-    rows = list(csv.DictReader(io.StringIO(paths["csv"].read_text())))
+    assert set(loaded["parameters"]) == {"radius_mm", "speed_mm_s"}
+    rows = list(csv.DictReader(io.StringIO((out / "results.csv").read_text())))
     assert set(rows[0]) == set(report.CSV_COLUMNS)
     full = [r for r in rows if r["fraction"] == "1.0" and r["classifier"] == "template"]
     assert {r["parameter"] for r in full} == {"radius_mm", "speed_mm_s", "joint"}
     sb = [r for r in rows if r["classifier"] == "static_beam_measured"]
     assert {r["parameter"] for r in sb} == {"radius_mm"}
     assert any(r["seed"] == "3/1" for r in rows) and any(r["seed"] == "mean" for r in rows)
-    by_speed = paths["csv_by_speed"].read_text().splitlines()
+    by_speed = (out / "radius_error_by_speed.csv").read_text().splitlines()
     assert by_speed[0].startswith("classifier,speed_mm_s") and len(by_speed) == 1 + 3 * 3
-    md = paths["report"].read_text()
+    rel = {k: p.relative_to(out) for k, p in figs.items()}
+    md = report.markdown_report(results, figures=rel)
     for needle in ("Table 4.1", "Table 4.2", "Table 4.3", "Table 4.6", "Table 4.7",
-                   "thesis 4.7", "-89.98", "## Discussion", "Our explanation.", "T7 note",
+                   "thesis 4.7", "-89.98", "## Discussion",
                    "(figures/comparison.png)", "(figures/contours.png)"):
         assert needle in md, needle
-    figs = [p for k, p in paths.items() if k.startswith("figure:")]
     assert len(figs) == 3 * 2 + 1 + 2
-    for p in figs:
+    for p in figs.values():
         assert _is_png(p), p
-        assert f"]({p.relative_to(tmp_path / 'out').as_posix()})" in md
+        assert f"]({p.relative_to(out).as_posix()})" in md
     # written again: replaced atomically, no temporary files left
-    report.write_report(results, tmp_path / "out", figures=False)
-    assert not [p for p in (tmp_path / "out").rglob("*.tmp")]
+    report.write_outputs(results, out, figures=False)
+    assert not [p for p in out.rglob("*.tmp")]
 
 
-def test_markdown_without_figures_has_placeholder(results) -> None:
+def test_discussion_numbers_come_from_the_results(results) -> None:
+    """The frequency row's explanation is computed from the run's speeds and test set."""
+    text = report.discussion(results)
+    truth = np.asarray(results["predictions"]["speed_mm_s_true"])
+    slow = min(results["meta"]["speeds_mm_s"]) - truth
+    assert f"{slow.mean():.2f} mm/s with std {slow.std(ddof=1):.2f}" in text
+    changed = json.loads(json.dumps(results))
+    changed["meta"]["speeds_mm_s"] = [v + 1.0 for v in changed["meta"]["speeds_mm_s"]]
+    assert report.discussion(changed) != text
+    assert "goes here" not in text
+
+
+def test_markdown_without_figures(results) -> None:
     md = report.markdown_report(results)
     assert "goes here" not in md and "docs/methods.md" in md
     assert "![" not in md
@@ -147,5 +162,5 @@ def test_markdown_without_figures_has_placeholder(results) -> None:
 
 def test_write_json_refuses_nan(tmp_path) -> None:
     with pytest.raises(ValueError, match="NaN"):
-        report.write_json({"x": float("nan")}, tmp_path / "r.json")
+        report_common.write_json({"x": float("nan")}, tmp_path / "r.json")
     assert not (tmp_path / "r.json").exists()

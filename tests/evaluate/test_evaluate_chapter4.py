@@ -1,4 +1,4 @@
-"""Tests of vibrissa.evaluate.protocol: splits, subsets, the chapter-4 run and its JSON."""
+"""Tests of vibrissa.evaluate.chapter4: splits, subsets, the chapter-4 run and its JSON."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import pytest
 import xarray as xr
 from sklearn.base import BaseEstimator, ClassifierMixin
 
-from vibrissa.evaluate import protocol
+from vibrissa.evaluate import chapter4 as protocol
 
 RADII = (80.0, 90.0, 100.0, 110.0)
 SPEEDS = (36.0, 72.0, 108.0)

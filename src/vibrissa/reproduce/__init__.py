@@ -1,0 +1,27 @@
+"""The orchestration layer: the registry of thesis experiments and their runs.
+
+``vibrissa reproduce NAME`` and ``vibrissa reproduce --list`` go through here.
+Nothing below this layer (``whisker``, ``robots``, ``experiments``, ``data``,
+``signal``, ``classify``, ``evaluate``) imports it.
+
+- :mod:`~vibrissa.reproduce.registry`: :class:`Experiment`, :func:`register`,
+  :func:`experiments`, :func:`get_experiment`;
+- :mod:`~vibrissa.reproduce.pipeline`: :func:`run_experiment` (dataset cache ->
+  evaluation -> results envelope -> Markdown and HTML report);
+- :mod:`vibrissa.reproduce.thesis`: one module per thesis experiment
+  (``radial_distance``: chapter 4; ``angle_texture``: chapter 5).
+"""
+
+from vibrissa.reproduce.pipeline import cached_dataset, check_job_arguments, run_experiment
+from vibrissa.reproduce.registry import Experiment, Option, experiments, get_experiment, register
+
+__all__ = [
+    "Experiment",
+    "Option",
+    "cached_dataset",
+    "check_job_arguments",
+    "experiments",
+    "get_experiment",
+    "register",
+    "run_experiment",
+]

@@ -1,0 +1,202 @@
+"""Run any registered experiment: dataset cache -> evaluation -> results -> reports.
+
+:func:`run_experiment` is what ``vibrissa reproduce NAME`` calls. Every run writes
+into its output directory:
+
+- ``data/<protocol>-<fingerprint>.nc``: the simulated dataset (reused when the
+  protocol is unchanged; a corrupt file is regenerated);
+- ``results.json``: the results envelope — ``meta`` (vibrissa version, command
+  line, seed, quick or full, start time, wall seconds per stage, cores),
+  ``parameters``, ``classifiers`` and the experiment's own sections;
+- ``report.md`` and ``report.html`` (one self-contained file, figures inlined),
+  ``figures/`` and the experiment's extra files.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import os
+import shlex
+import sys
+import time
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from vibrissa import __version__
+from vibrissa.data import DatasetFileError, load_dataset
+from vibrissa.experiments.generate import generate
+from vibrissa.reproduce.registry import Experiment, get_experiment
+
+__all__ = ["Progress", "cached_dataset", "check_job_arguments", "run_experiment"]
+
+#: ``progress(stage, done, total)``; stage is ``"generate"`` or ``"evaluate"``.
+Progress = Callable[[str, int, int], None]
+
+
+def check_job_arguments(out_dir: str | os.PathLike[str], seed: object,
+                        workers: object = None, **counts: object) -> Path:
+    """Check a reproduction's arguments before any work is done; return ``out_dir``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument: ``seed`` not a non-negative integer, ``workers`` or any
+        of ``counts`` (e.g. ``n_seeds``) not a positive integer, ``out_dir`` an existing
+        file.
+    """
+    def integer(v: object) -> bool:
+        return isinstance(v, int | np.integer) and not isinstance(v, bool)
+
+    if not integer(seed) or int(seed) < 0:  # type: ignore[call-overload]
+        raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
+    for name, v in {"workers": workers, **counts}.items():
+        if v is None and name == "workers":
+            continue
+        if not integer(v) or int(v) < 1:  # type: ignore[call-overload]
+            raise ValueError(f"{name} must be a positive integer, got {v!r}")
+    out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"output directory {str(out)!r} is an existing file")
+    return out
+
+
+def cached_dataset(protocol: Any, data_dir: Path, progress: Progress | None = None,
+                   workers: int | None = None):
+    """Load the dataset of ``protocol`` from ``data_dir``, generating it if absent.
+
+    The file name carries the protocol's fingerprint, so a changed protocol never
+    reuses stale data; a corrupt cached file is regenerated.
+
+    Returns
+    -------
+    (xarray.Dataset, pathlib.Path, bool)
+        The dataset, its file and whether it was reused.
+    """
+    path = Path(data_dir) / f"{protocol.name}-{protocol.fingerprint()}.nc"
+    if path.exists():
+        try:
+            return load_dataset(path), path, True
+        except DatasetFileError:
+            path.unlink()
+    cb = (lambda d, t: progress("generate", d, t)) if progress else None
+    ds = generate(protocol, path, workers=workers, progress=cb)
+    return ds, path, False
+
+
+def _options(exp: Experiment, options: Mapping[str, Any]) -> dict[str, int]:
+    known = {o.name: o for o in exp.options}
+    unknown = sorted(set(options) - set(known))
+    if unknown:
+        raise ValueError(f"experiment {exp.name!r} has no option(s) {unknown}; "
+                         f"its options: {sorted(known) or 'none'}")
+    return {k: o.check(options.get(k, o.default)) for k, o in known.items()}
+
+
+def run_experiment(
+    name: str,
+    out_dir: str | os.PathLike[str],
+    *,
+    quick: bool = False,
+    seed: int = 0,
+    workers: int | None = None,
+    progress: Progress | None = None,
+    figures: bool = True,
+    baseline: Mapping[str, Any] | None = None,
+    command: str | None = None,
+    **options: Any,
+) -> dict[str, Any]:
+    """Run the registered experiment ``name`` end to end; return its results.
+
+    Parameters
+    ----------
+    name : str
+        A registered experiment (``vibrissa reproduce --list``).
+    out_dir : path-like
+        Report, results, figures and the cached dataset (``data/``).
+    quick : bool, default=False
+        The experiment's small grid instead of the thesis' full one.
+    seed : int, default=0
+        Seed of the simulated session and of the evaluation's random choices.
+    workers : int, optional
+        Processes for dataset generation (default: all cores).
+    progress : callable, optional
+        ``progress(stage, done, total)``.
+    figures : bool, default=True
+        Draw the figures.
+    baseline : dict, optional
+        An earlier run's results (:func:`vibrissa.evaluate.baseline.load_baseline`),
+        shown as "before" in the report.
+    command : str, optional
+        The command line recorded in ``meta`` (default: this process's ``sys.argv``).
+    **options
+        The experiment's own options (e.g. ``n_seeds`` for chapter 4).
+
+    Returns
+    -------
+    dict
+        The results envelope, as written to ``results.json``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown experiment or option or a bad argument, before any work.
+    """
+    exp = get_experiment(name)
+    opts = _options(exp, options)
+    out = check_job_arguments(out_dir, seed, workers)
+    protocol = exp.protocol(bool(quick), int(seed))
+    started = dt.datetime.now(dt.UTC)
+    t0 = time.perf_counter()
+    out.mkdir(parents=True, exist_ok=True)
+    ds, path, reused = cached_dataset(protocol, out / "data", progress, workers)
+    t1 = time.perf_counter()
+    cb = (lambda d, t, _desc: progress("evaluate", d, t)) if progress else None
+    results = exp.evaluate(ds, seed=int(seed), progress=cb, options=opts)
+    t2 = time.perf_counter()
+    evaluation_meta = dict(results.get("meta", {}))
+    meta = {
+        "experiment": exp.name,
+        "chapter": exp.chapter,
+        "title": exp.title,
+        "vibrissa_version": __version__,
+        "command": command if command is not None else shlex.join(
+            [Path(sys.argv[0]).name, *sys.argv[1:]]),
+        "seed": int(seed),
+        "quick": bool(quick),
+        "options": opts,
+        "started_at": started.isoformat(timespec="seconds"),
+        "wall_seconds": {"generate": round(t1 - t0, 3), "evaluate": round(t2 - t1, 3)},
+        "cores": {"available": os.cpu_count(),
+                  "generate_workers": workers if workers is not None else os.cpu_count()},
+        "dataset": {"path": str(path), "reused": reused, "fingerprint": protocol.fingerprint(),
+                    "n_trials": int(ds.sizes["trial"])},
+        **evaluation_meta,
+    }
+    envelope = {"meta": meta, **{k: v for k, v in results.items() if k != "meta"}}
+    write_reports(exp, envelope, out, dataset=ds if figures else None, figures=figures,
+                  baseline=baseline)
+    meta["wall_seconds"]["report"] = round(time.perf_counter() - t2, 3)
+    meta["wall_seconds"]["total"] = round(time.perf_counter() - t0, 3)
+    from vibrissa.evaluate.report_common import write_json
+
+    write_json(envelope, out / "results.json")
+    return envelope
+
+
+def write_reports(exp: Experiment, results: Mapping[str, Any], out: Path, *,
+                  dataset: Any, figures: bool,
+                  baseline: Mapping[str, Any] | None) -> dict[str, Path]:
+    """Figures, extra files, ``report.md`` and ``report.html`` of one run."""
+    from vibrissa._atomic import atomic_write_text
+    from vibrissa.evaluate.html import write_html_report
+    from vibrissa.evaluate.report_common import report_header
+
+    figs = exp.write_outputs(results, out, dataset=dataset, figures=figures)
+    rel = {k: p.relative_to(out) for k, p in figs.items()}
+    text = report_header(results["meta"]) + exp.report_sections(results, rel, baseline)
+    md = atomic_write_text(out / "report.md", text.rstrip() + "\n")
+    html = write_html_report(md, out / "report.html")
+    return {"report": md, "report_html": html, **{f"figure:{k}": p for k, p in figs.items()}}

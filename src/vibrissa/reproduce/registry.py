@@ -1,0 +1,164 @@
+"""The registry of thesis experiments behind ``vibrissa reproduce NAME``.
+
+An experiment is one :class:`Experiment` subclass in one module of
+:mod:`vibrissa.reproduce.thesis`, registered with :func:`register`. It owns
+its protocol (grid, robot, sensor: :meth:`Experiment.protocol`), its classifiers
+and evaluation (:meth:`Experiment.evaluate`), its files and figures
+(:meth:`Experiment.write_outputs`), its report sections
+(:meth:`Experiment.report_sections`) and its command-line summary
+(:meth:`Experiment.summary`). :func:`vibrissa.reproduce.run_experiment` runs any of
+them the same way: dataset cache, evaluation, results envelope, Markdown and HTML
+report. Adding an experiment is adding a module (plus its protocol).
+"""
+
+from __future__ import annotations
+
+import importlib
+import pkgutil
+from abc import ABC, abstractmethod
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, ClassVar
+
+import xarray as xr
+
+__all__ = ["Experiment", "Option", "experiments", "get_experiment", "register"]
+
+_REGISTRY: dict[str, Experiment] = {}
+
+
+@dataclass(frozen=True)
+class Option:
+    """An experiment's own integer option (e.g. chapter 4's ``n_seeds``).
+
+    Attributes
+    ----------
+    name : str
+        Python name; the command-line flag is ``--`` + name with ``-`` for ``_``.
+    default : int
+    help : str
+    minimum : int
+        Smallest allowed value.
+    """
+
+    name: str
+    default: int
+    help: str
+    minimum: int = 1
+
+    @property
+    def flag(self) -> str:
+        """The command-line flag."""
+        return "--" + self.name.replace("_", "-")
+
+    def check(self, value: Any) -> int:
+        """The value as int, or ValueError naming the flag."""
+        if isinstance(value, bool) or not isinstance(value, int) or value < self.minimum:
+            raise ValueError(f"{self.flag} must be an integer >= {self.minimum}, got {value!r}")
+        return int(value)
+
+
+class Experiment(ABC):
+    """One experiment of the thesis: protocol, classifiers, evaluation, report.
+
+    Subclasses set the class attributes and implement the abstract methods; they
+    are stateless (one instance is registered).
+    """
+
+    #: Registry name and command (``vibrissa reproduce NAME``).
+    name: ClassVar[str]
+    #: Thesis chapter.
+    chapter: ClassVar[int]
+    #: Report title.
+    title: ClassVar[str]
+    #: One line for ``vibrissa reproduce --list``.
+    description: ClassVar[str]
+    #: Own options beyond the common ones (quick, seed, workers, figures, baseline).
+    options: ClassVar[tuple[Option, ...]] = ()
+
+    # ------------------------------------------------------------------ protocol
+    @abstractmethod
+    def protocol(self, quick: bool, seed: int) -> Any:
+        """The :class:`vibrissa.experiments.protocols.Protocol` that simulates the data."""
+
+    def n_trials(self, quick: bool) -> int:
+        """Trials of the simulated session."""
+        return int(self.protocol(quick, 0).n_trials)
+
+    def evaluation_steps(self, quick: bool, options: Mapping[str, int]) -> int | None:
+        """Steps the evaluation will report (for the work announced up front), if known."""
+        return None
+
+    # ------------------------------------------------------------------ evaluation
+    @abstractmethod
+    def evaluate(self, ds: xr.Dataset, *, seed: int, progress: Callable | None,
+                 options: Mapping[str, int]) -> dict[str, Any]:
+        """Run the classifiers and the evaluation; return ``meta``, ``parameters``,
+        ``classifiers`` and the experiment's own sections."""
+
+    # ------------------------------------------------------------------ outputs
+    def write_outputs(self, results: Mapping[str, Any], out_dir: Path, *,
+                      dataset: xr.Dataset | None, figures: bool) -> dict[str, Path]:
+        """Write extra files (CSV) and figures; return figure key -> path."""
+        return {}
+
+    @abstractmethod
+    def report_sections(self, results: Mapping[str, Any], figures: Mapping[str, Path],
+                        baseline: Mapping[str, Any] | None) -> str:
+        """The report's Markdown body (everything after the common header)."""
+
+    @abstractmethod
+    def summary(self, results: Mapping[str, Any]) -> dict[str, Any]:
+        """The experiment's part of ``vibrissa reproduce NAME --json``."""
+
+    def console_table(self, summary: Mapping[str, Any]) -> Any:
+        """A rich renderable of the summary for the terminal (``None``: nothing)."""
+        return None
+
+    def listing(self) -> dict[str, Any]:
+        """The entry of ``vibrissa reproduce --list --json``."""
+        return {
+            "name": self.name,
+            "chapter": self.chapter,
+            "title": self.title,
+            "description": self.description,
+            "trials": {"quick": self.n_trials(True), "full": self.n_trials(False)},
+            "options": {o.flag: {"default": o.default, "help": o.help} for o in self.options},
+        }
+
+
+def register(cls: type[Experiment]) -> type[Experiment]:
+    """Class decorator: register one instance of an :class:`Experiment` subclass."""
+    inst = cls()
+    if inst.name in _REGISTRY and type(_REGISTRY[inst.name]) is not cls:
+        raise ValueError(f"experiment {inst.name!r} is registered twice")
+    _REGISTRY[inst.name] = inst
+    return cls
+
+
+def _discover() -> None:
+    import vibrissa.reproduce.thesis as pkg
+
+    for mod in pkgutil.iter_modules(pkg.__path__):
+        importlib.import_module(f"{pkg.__name__}.{mod.name}")
+
+
+def experiments() -> dict[str, Experiment]:
+    """Every registered experiment, by name, in thesis order (chapter, then name)."""
+    _discover()
+    return dict(sorted(_REGISTRY.items(), key=lambda kv: (kv[1].chapter, kv[0])))
+
+
+def get_experiment(name: str) -> Experiment:
+    """The registered experiment ``name``.
+
+    Raises
+    ------
+    ValueError
+        Naming the known experiments.
+    """
+    exps = experiments()
+    if name not in exps:
+        raise ValueError(f"unknown experiment {name!r}; choose one of {', '.join(exps)}")
+    return exps[name]
