@@ -1,4 +1,4 @@
-"""Tests of `vibrissa reproduce radial-distance|angle-texture` (quick grids, real runs).
+"""Tests of `vibrissa reproduce NAME` and `--list` (quick grids, real runs).
 
 One real quick run per command (module fixtures) backs the JSON-contract checks;
 bad arguments must fail with one line and exit status 2 before any work is done.
@@ -49,8 +49,10 @@ def test_angle_texture_json_contract(angle_texture):
         assert e["classify_seconds"] > 0
     assert list(d["sequential"]) == CONTACTS
     assert all(-1.0 <= v <= 1.0 for v in d["sequential"].values())
-    assert d["meta"]["dataset_reused"] is False
+    assert d["meta"]["dataset"]["reused"] is False
+    assert d["experiment"] == "angle-texture"
     assert (out / "report.md").read_text().startswith("# Chapter 5")
+    assert (out / "report.html").read_text().startswith("<!DOCTYPE html>")
     saved = json.loads((out / "results.json").read_text())
     assert saved["sequential"] == d["sequential"]
 
@@ -58,8 +60,8 @@ def test_angle_texture_json_contract(angle_texture):
 def test_angle_texture_reuses_its_dataset(angle_texture):
     out, first = angle_texture
     again = _run(["angle-texture", "--quick", "--json", "--no-figures", "--out", str(out)])
-    assert again["meta"]["dataset_reused"] is True
-    assert again["meta"]["dataset"] == first["meta"]["dataset"]
+    assert again["meta"]["dataset"]["reused"] is True
+    assert again["meta"]["dataset"]["path"] == first["meta"]["dataset"]["path"]
     # same data, same seed: the deterministic classifiers agree exactly
     assert again["classifiers"]["template_raw"]["kappa"] == \
         first["classifiers"]["template_raw"]["kappa"]
@@ -77,11 +79,11 @@ def test_radial_distance_json_contract(radial_distance):
 
 def test_corrupt_cached_dataset_is_regenerated(radial_distance):
     out, first = radial_distance
-    cached = Path(first["meta"]["dataset"])
+    cached = Path(first["meta"]["dataset"]["path"])
     cached.write_bytes(cached.read_bytes()[: cached.stat().st_size // 3])  # truncated
     again = _run(["radial-distance", "--quick", "--json", "--no-figures", "--n-seeds", "1",
                   "--workers", "1", "--out", str(out)])
-    assert again["meta"]["dataset_reused"] is False
+    assert again["meta"]["dataset"]["reused"] is False
     # regenerated with the same seed: the same trials, so the same errors
     for key in ("radius_mm", "speed_mm_s"):
         assert again["classifiers"]["template"][key] == first["classifiers"]["template"][key]
@@ -112,6 +114,34 @@ def test_out_is_a_file_and_results_survive(tmp_path):
     (out / "results.json").write_text('{"earlier": true}')
     res = runner.invoke(app, ["reproduce", "radial-distance", "--quick", "--n-seeds", "0",
                               "--out", str(out)])
-    assert res.exit_code == 2 and "n_seeds must be a positive integer" in res.output
+    assert res.exit_code == 2 and "--n-seeds must be an integer >= 1" in res.output
     assert (out / "results.json").read_text() == '{"earlier": true}'
     assert not (out / "data").exists()
+
+
+def test_list_names_every_experiment_with_trial_counts():
+    res = runner.invoke(app, ["reproduce", "--list", "--json"])
+    assert res.exit_code == 0, res.output
+    exps = {e["name"]: e for e in json.loads(res.stdout)["experiments"]}
+    assert {"radial-distance", "angle-texture"} <= set(exps)
+    assert exps["radial-distance"]["trials"] == {"quick": 80, "full": 10504}
+    assert exps["angle-texture"]["trials"] == {"quick": 144, "full": 1408}
+    for e in exps.values():
+        assert e["description"] and "\n" not in e["description"]
+        assert isinstance(e["chapter"], int)
+    text = runner.invoke(app, ["reproduce", "--list"])
+    assert text.exit_code == 0
+    assert all(name in text.stdout for name in exps)
+
+
+def test_every_registered_experiment_has_a_command():
+    from vibrissa.reproduce import experiments
+
+    for name in experiments():
+        res = runner.invoke(app, ["reproduce", name, "--help"])
+        assert res.exit_code == 0 and "--quick" in res.output, name
+
+
+def test_unknown_experiment_is_a_usage_error():
+    res = runner.invoke(app, ["reproduce", "no-such-experiment"])
+    assert res.exit_code == 2

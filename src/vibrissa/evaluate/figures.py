@@ -82,7 +82,7 @@ def _check_parameter(parameter: str) -> str:
     return parameter
 
 
-def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: int = 120) -> Path:
+def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: int = 200) -> Path:
     """Write ``fig`` as a PNG atomically (never a half-written file at ``path``).
 
     Parameters
@@ -91,7 +91,7 @@ def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: int = 120) -> Pa
         The figure (e.g. ``ax.figure``).
     path : path-like
         Destination; parent directories are created.
-    dpi : int, default=120
+    dpi : int, default=200
         Resolution.
 
     Returns
@@ -164,7 +164,7 @@ def error_histogram(
     ax.hist(err, bins=_bins(err) if bins is None else bins, color="0.35")
     ax.axvline(0.0, color="C3", lw=0.8)
     ax.set_xlabel(f"{PARAMETER_LABELS[parameter]} error")
-    ax.set_ylabel("trials")
+    ax.set_ylabel("trials (count)")
     if title:
         ax.set_title(title)
     return ax
@@ -349,9 +349,13 @@ def comparison_plot(
     parameter: str = "radius_mm",
     *,
     names: Sequence[str] | None = None,
+    thesis: Mapping[str, Any] | None = None,
     ax: Axes | None = None,
 ) -> Axes:
     """Mean signed error of each classifier with one-std error bars (figure 4.12).
+
+    With ``thesis``, the thesis' values (table 4.7) are drawn beside ours as
+    hatched bars.
 
     Parameters
     ----------
@@ -361,6 +365,9 @@ def comparison_plot(
     names : sequence of str, optional
         Classifiers in plotting order (default: all, in the results' order);
         radius-only classifiers are skipped for speed.
+    thesis : mapping, optional
+        Classifier name -> ``{parameter: {"mean", "std"}}`` of the thesis (e.g. table
+        4.7 under our names); classifiers without an entry get no thesis bar.
     ax : matplotlib.axes.Axes, optional
 
     Returns
@@ -378,12 +385,27 @@ def comparison_plot(
         ms.append(e["mean"])
         ss.append(e.get("std") or 0.0)
         labels.append(SHORT_NAMES.get(n, n))
-    ax = _axes(ax, figsize=(6.0, 4.0))
-    ax.bar(xs, ms, yerr=ss, capsize=3, color="0.6", edgecolor="0.2")
+    ax = _axes(ax, figsize=(6.5, 4.0))
+    width = 0.4 if thesis else 0.8
+    shift = width / 2 if thesis else 0.0
+    ax.bar(np.asarray(xs) - shift, ms, width, yerr=ss, capsize=3, color="0.6",
+           edgecolor="0.2", label="this run")
+    if thesis:
+        tx, tm, ts = [], [], []
+        for i, n in zip(xs, (names[i] for i in xs), strict=True):
+            t = (thesis.get(n) or {}).get(parameter)
+            if t and t.get("mean") is not None:
+                tx.append(i + shift)
+                tm.append(t["mean"])
+                ts.append(t.get("std") or 0.0)
+        if tx:
+            ax.bar(tx, tm, width, yerr=ts, capsize=3, color="white", edgecolor="0.2",
+                   hatch="///", label="thesis (table 4.7)")
+        ax.legend(fontsize=8)
     ax.axhline(0.0, color="0.3", lw=0.6)
     ax.set_xticks(xs)
     ax.set_xticklabels(labels, rotation=30, ha="right")
-    ax.set_ylabel(f"{PARAMETER_LABELS[parameter]} error")
+    ax.set_ylabel(f"{PARAMETER_LABELS[parameter]} error, mean ± std")
     return ax
 
 
@@ -438,7 +460,7 @@ def _slug(name: str) -> str:
 
 
 def chapter4_figures(
-    results: Mapping[str, Any], out_dir: str | os.PathLike[str], dpi: int = 110
+    results: Mapping[str, Any], out_dir: str | os.PathLike[str], dpi: int = 200
 ) -> dict[str, Path]:
     """Write every results figure of chapter 4 as PNG into ``out_dir``.
 
@@ -448,7 +470,7 @@ def chapter4_figures(
         Output of :func:`~vibrissa.evaluate.chapter4.run_chapter4`.
     out_dir : path-like
         Directory (created if needed).
-    dpi : int, default=110
+    dpi : int, default=200
 
     Returns
     -------
@@ -477,8 +499,12 @@ def chapter4_figures(
             )
     fig = Figure(figsize=(11.0, 4.0), layout="constrained")
     a, b = fig.subplots(1, 2)
-    comparison_plot(results, "radius_mm", ax=a)
-    comparison_plot(results, "speed_mm_s", ax=b)
+    from vibrissa.evaluate.chapter4_report import THESIS_CHAPTER4, THESIS_COLUMNS
+
+    t47 = THESIS_CHAPTER4["table_4_7"]
+    thesis = {n: t47[c] for n, (c, _) in THESIS_COLUMNS.items() if c in t47}
+    comparison_plot(results, "radius_mm", thesis=thesis, ax=a)
+    comparison_plot(results, "speed_mm_s", thesis=thesis, ax=b)
     a.set_title("(a) radial distance")
     b.set_title("(b) speed")
     written["comparison"] = save_figure(fig, out / "comparison.png", dpi)

@@ -1,0 +1,76 @@
+"""The results envelope and the reports of every registered experiment (quick runs)."""
+
+from __future__ import annotations
+
+import json
+import re
+
+import pytest
+
+from vibrissa import __version__
+from vibrissa.reproduce import Experiment, Option, experiments, get_experiment, run_experiment
+
+NAMES = ["radial-distance", "angle-texture"]
+
+
+def test_registry_holds_both_thesis_experiments():
+    exps = experiments()
+    assert set(NAMES) <= set(exps)
+    assert [e.chapter for e in exps.values()] == sorted(e.chapter for e in exps.values())
+    for e in exps.values():
+        assert isinstance(e, Experiment)
+        assert e.n_trials(True) < e.n_trials(False)
+    with pytest.raises(ValueError, match="unknown experiment 'nope'; choose one of"):
+        get_experiment("nope")
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_results_envelope(quick_runs, name):
+    out, res = quick_runs[name]
+    saved = json.loads((out / "results.json").read_text())
+    assert list(saved)[:3] == ["meta", "parameters", "classifiers"]
+    meta = saved["meta"]
+    assert meta["vibrissa_version"] == __version__
+    assert meta["command"] == f"pytest quick {name}"
+    assert meta["seed"] == 0 and meta["quick"] is True and meta["experiment"] == name
+    assert set(meta["wall_seconds"]) == {"generate", "evaluate", "report", "total"}
+    assert all(v >= 0 for v in meta["wall_seconds"].values())
+    assert meta["cores"]["available"] >= 1 and meta["cores"]["generate_workers"] == 1
+    assert re.match(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d", meta["started_at"])
+    for p in saved["parameters"].values():
+        assert p["unit"] and p["values"]
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_report_states_provenance_and_quick_run(quick_runs, name):
+    out, res = quick_runs[name]
+    md = (out / "report.md").read_text()
+    head = md[:1500]
+    assert head.startswith("# ")
+    assert "**Quick run.**" in head
+    assert f"vibrissa {__version__}" in head and f"`pytest quick {name}`" in head
+    assert "goes here" not in md and "<!--" not in md
+    assert not re.search(r"^## [^\n]*\n\s*(## |\Z)", md, flags=re.M), "empty section"
+    for link in re.findall(r"\]\((figures/[^)]+)\)", md):
+        assert (out / link).stat().st_size > 0, link
+
+
+def test_full_run_has_no_quick_banner(tmp_path):
+    """The banner is a property of the run, not of the report writer."""
+    from vibrissa.evaluate.report_common import report_header
+
+    head = report_header({"title": "T", "quick": False, "dataset": {"n_trials": 5}})
+    assert "Quick run" not in head and head.startswith("# T")
+
+
+def test_unknown_and_bad_options_fail_before_work(tmp_path):
+    out = tmp_path / "o"
+    with pytest.raises(ValueError, match="no option"):
+        run_experiment("angle-texture", out, quick=True, n_seeds=2)
+    with pytest.raises(ValueError, match="--n-seeds must be an integer >= 1"):
+        run_experiment("radial-distance", out, quick=True, n_seeds=0)
+    assert not out.exists()
+
+
+def test_option_flag():
+    assert Option("n_seeds", 5, "h").flag == "--n-seeds"
