@@ -649,8 +649,3 @@ def pole_contact_spec(params: np.ndarray, kind: int = POLE) -> ContactSpec:
         dw=1.0,
         first_node=2,
     )
-
-
-def validate_fraction(name: str, value: float) -> float:
-    """Check that ``value`` lies in [0, 1]."""
-    return in_range(name, value, 0.0, 1.0)
