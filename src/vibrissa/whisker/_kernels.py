@@ -23,9 +23,42 @@ axial terms), which is objective (no damping of rigid rotations) and passive.
 
 Everything here is allocation-light numba code; the Python wrappers live in
 :mod:`vibrissa.whisker.rod` and :mod:`vibrissa.whisker.simulate`.
+
+Why every kernel lives in this one module
+-----------------------------------------
+The kernels are compiled with ``@njit(cache=True)``. Numba's on-disk cache
+validates an entry only against the source file of the function it compiled
+(its modification time and size), not against the files of the functions it
+calls, which are compiled into the same machine code. If a kernel here called a
+kernel defined in another file, editing only that other file would leave the
+caller's cache entry looking valid, and the stale machine code (with the old
+callee compiled in) would be loaded silently. With all kernels in one file, any
+edit invalidates them all together. Keep it that way: do not split this module
+and do not call numba functions from other modules here.
+
+Argument bundles
+----------------
+The solvers take their inputs as a few immutable :class:`typing.NamedTuple`
+bundles, built once on the Python side, instead of 30-odd positional arguments:
+
+* :class:`RodArrays` -- the discretised rod (:meth:`RodModel.rod_arrays
+  <vibrissa.whisker.rod.RodModel.rod_arrays>`);
+* :class:`Damping` -- the Rayleigh and follicle damping coefficients;
+* :class:`ContactSpec` -- which object is touched and its contact parameters;
+* :class:`Anchors` -- the friction state (stick anchors), updated in place;
+* :class:`NodeState` -- node positions, velocities, accelerations, updated in place;
+* :class:`SolverSettings` -- time step and Newton/generalised-alpha controls.
+
+Numba compiles a named tuple of arrays and scalars as a plain struct passed by
+value (no reflected lists, no object mode); the arrays inside stay mutable.
+Give the fields the dtypes documented (float64 arrays, a bool ``free`` mask,
+Python/NumPy floats and ints for scalars): a different dtype or memory layout
+compiles, and caches, a separate specialisation.
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -36,6 +69,167 @@ BW = 8  # half bandwidth of the tangent matrices (3 DOF per node, 3-node stencil
 NO_CONTACT = 0
 POLE = 1
 PLANE = 2
+
+
+class RodArrays(NamedTuple):
+    """The discretised rod, as the kernels read it (``n`` nodes, ``n - 1`` edges).
+
+    Attributes
+    ----------
+    free : ndarray of bool, shape (n,)
+        Whether each node moves (node 0, the pivot, never does).
+    kb : ndarray, shape (n,)
+        Bending constant at each node (N m); ``kb[0]`` and ``kb[n - 1]`` are unused.
+    kf : float
+        Rotational stiffness of the follicle (N m/rad).
+    axis : ndarray, shape (3,)
+        Rest direction of the follicle (unit vector).
+    L0 : ndarray, shape (n - 1,)
+        Rest lengths of the edges (m).
+    EA : ndarray, shape (n - 1,)
+        Axial rigidities of the edges (N).
+    mass : ndarray, shape (n,)
+        Lumped node masses (kg).
+    radius : ndarray, shape (n,)
+        Shaft radius at each node (m).
+    s_rest : ndarray, shape (n,)
+        Arc length of each node from the base at rest (m); negative for the pivot.
+    """
+
+    free: np.ndarray
+    kb: np.ndarray
+    kf: float
+    axis: np.ndarray
+    L0: np.ndarray
+    EA: np.ndarray
+    mass: np.ndarray
+    radius: np.ndarray
+    s_rest: np.ndarray
+
+
+class Damping(NamedTuple):
+    """Damping coefficients (see :func:`add_internal`).
+
+    Attributes
+    ----------
+    alpha : float
+        Mass-proportional damping (1/s).
+    beta_shaft : float
+        Stiffness-proportional material damping of the shaft (s).
+    beta_follicle : float
+        The follicle's rubber damper: damping moment ``k_f beta_follicle dpsi/dt`` (s).
+    """
+
+    alpha: float
+    beta_shaft: float
+    beta_follicle: float
+
+
+class ContactSpec(NamedTuple):
+    """What the whisker touches; constant over a simulation.
+
+    Attributes
+    ----------
+    kind : int
+        :data:`NO_CONTACT`, :data:`POLE` or :data:`PLANE`.
+    params : ndarray, shape (5,)
+        Pole radius (m; 0 for a plane), normal penalty stiffness (N/m), approach
+        damping (N s/m), Coulomb friction coefficient, presliding distance (m).
+    frame : ndarray, shape (3, 3)
+        Plane only: rows are the outward unit normal and the in-plane unit vectors
+        ``u`` and ``w``.
+    heights : ndarray, shape (nu, nw)
+        Plane only: periodic height field (m).
+    du, dw : float
+        Plane only: grid spacing of ``heights`` along ``u`` and ``w`` (m).
+    first_node : int
+        Plane only: the first node tested for contact.
+    """
+
+    kind: int
+    params: np.ndarray
+    frame: np.ndarray
+    heights: np.ndarray
+    du: float
+    dw: float
+    first_node: int
+
+
+class Anchors(NamedTuple):
+    """Friction state carried between steps (updated in place).
+
+    Attributes
+    ----------
+    pole : ndarray, shape (5,)
+        Pole contact: stick anchor arc length (m), anchor ``y`` in the pole's frame
+        (m), valid flag, contact angle on the pole (rad), side of the pole the shaft
+        was on when last out of contact (see :func:`add_pole`).
+    plane : ndarray, shape (n_nodes, 6)
+        Plane contact, per node: anchor ``(U, W, valid)`` and the proposed new anchor
+        ``(U, W, valid)`` of the current step (see :func:`add_plane`).
+    """
+
+    pole: np.ndarray
+    plane: np.ndarray
+
+
+class NodeState(NamedTuple):
+    """Node positions (m), velocities (m/s) and accelerations (m/s^2), each (n, 3).
+
+    Updated in place by the dynamic solver.
+    """
+
+    x: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+
+
+class SolverSettings(NamedTuple):
+    """Controls of :func:`run_dynamics`.
+
+    Attributes
+    ----------
+    dt : float
+        Time step (s).
+    rho_inf : float
+        Spectral radius of the generalised-alpha scheme at infinite frequency.
+    tol : float
+        Newton convergence tolerance on the position update (m).
+    max_iter : int
+        Newton iterations allowed per step.
+    refactor_every : int
+        Refresh the factorised iteration matrix at least every that many steps.
+    max_halvings : int
+        A failed step is retried in up to ``2**max_halvings`` sub-steps.
+    record_every : int
+        Store positions and velocities every that many steps (0: never).
+    stop_tan : float
+        Stop after the first step whose |tan_x| reaches this (0: never).
+    """
+
+    dt: float
+    rho_inf: float
+    tol: float
+    max_iter: int
+    refactor_every: int
+    max_halvings: int
+    record_every: int
+    stop_tan: float
+
+
+class _StepWork(NamedTuple):
+    """Scratch arrays of one generalised-alpha step (allocated once per run)."""
+
+    xn: np.ndarray
+    vn: np.ndarray
+    an: np.ndarray
+    xa: np.ndarray
+    va: np.ndarray
+    F: np.ndarray
+    S: np.ndarray
+    R: np.ndarray
+    info: np.ndarray
+    newton: np.ndarray
 
 
 # ----------------------------------------------------------------------------------
@@ -156,15 +350,25 @@ def _bend_self_into(P, t, d, length, sign, H):
 
 
 @njit(cache=True)
-def add_internal(x, v, kb, kf, axis, L0, EA, mass, alpha_d, beta_d, beta_f, F, S, cD, cK, jac):
+def add_internal(x, v, rod, damping, F, S, cD, cK, jac):
     """Add elastic and damping forces to ``F`` and, if ``jac``, ``cD D + cK K`` to ``S``.
 
-    ``kb[i]`` is the bending constant at node i (i = 1..n-2), ``kf`` the follicle's,
-    ``axis`` the follicle's rest direction, ``L0``/``EA`` the edges' rest lengths and
-    axial rigidities, ``mass`` the lumped node masses. Damping: ``alpha_d`` (mass
-    proportional), ``beta_d`` (shaft stiffness proportional: material damping) and
-    ``beta_f`` (the follicle's rubber: damping moment ``k_f beta_f dpsi/dt``).
+    ``rod`` (:class:`RodArrays`) gives the bending constants ``kb[i]`` at nodes
+    i = 1..n-2, the follicle's ``kf`` and rest ``axis``, the edges' rest lengths
+    ``L0`` and axial rigidities ``EA`` and the lumped node masses. ``damping``
+    (:class:`Damping`): ``alpha`` (mass proportional), ``beta_shaft`` (shaft
+    stiffness proportional: material damping) and ``beta_follicle`` (the follicle's
+    rubber: damping moment ``k_f beta_follicle dpsi/dt``).
     """
+    kb = rod.kb
+    kf = rod.kf
+    axis = rod.axis
+    L0 = rod.L0
+    EA = rod.EA
+    mass = rod.mass
+    alpha_d = damping.alpha
+    beta_d = damping.beta_shaft
+    beta_f = damping.beta_follicle
     n = x.shape[0]
     t1 = np.empty(3)
     t2 = np.empty(3)
@@ -423,13 +627,14 @@ def _closest_u(x, j, px, pz):
 
 
 @njit(cache=True)
-def add_pole(
-    x, v, radius, s_rest, pole, pole_v, pole_radius, kn, cn, mu, kt, anchor, F, S, cD, cK, jac, info
-):
+def add_pole(x, v, rod, contact, pole, anchor, F, S, cD, cK, jac, info):
     """Point contact with a thin pole parallel to ``y`` at ``(pole[0], pole[1])`` in x-z.
 
     ``pole`` is the object state (x, z, vx, vz, y, vy): the pole may also slide along
-    its own axis (``y``), which friction resists. ``pole_v`` is its velocity (x, y, z).
+    its own axis (``y``), which friction resists. ``contact.params`` holds the pole's
+    radius, the penalty stiffness ``kn``, approach damping ``cn``, friction ``mu``
+    and presliding distance ``kt`` (see :class:`ContactSpec`); ``rod`` supplies the
+    shaft's radius and rest arc lengths.
 
     Friction is elasto-plastic Coulomb: a tangential spring of stiffness
     ``mu N / kt`` (``kt`` is the presliding distance, m) from a stick anchor
@@ -443,6 +648,15 @@ def add_pole(
     gap (m), new anchor s, new anchor y, anchor valid, fx, fz, new anchor angle, fy,
     side].
     """
+    radius = rod.radius
+    s_rest = rod.s_rest
+    cpar = contact.params
+    pole_v = np.array([pole[2], pole[5], pole[3]])
+    pole_radius = cpar[0]
+    kn = cpar[1]
+    cn = cpar[2]
+    mu = cpar[3]
+    kt = cpar[4]
     n = x.shape[0]
     # closest point on the C1 centreline (quadratic B-spline through the segment
     # midpoints, see _curve_point): the polyline's kinks would make the distance
@@ -660,41 +874,35 @@ def _height(H, du, dw, U, W):
 
 
 @njit(cache=True)
-def add_plane(
-    x,
-    v,
-    radius,
-    origin,
-    origin_v,
-    nrm,
-    tu,
-    tw,
-    H,
-    du,
-    dw,
-    kn,
-    cn,
-    mu,
-    kt,
-    anchors,
-    F,
-    S,
-    cD,
-    cK,
-    jac,
-    info,
-    first_node,
-):
-    """Contact of every node from ``first_node`` on with a (rough) plane.
+def add_plane(x, v, rod, contact, plane, anchors, F, S, cD, cK, jac, info):
+    """Contact of every node from ``contact.first_node`` on with a (rough) plane.
 
-    The plane passes through ``origin`` (moving with velocity ``origin_v``) with unit
-    normal ``nrm`` (pointing toward the whisker) and in-plane unit vectors ``tu``,
-    ``tw``; ``H`` is a periodic height field (m) on a grid of spacing ``du``, ``dw``
-    in surface coordinates. ``anchors[i] = (U, W, valid)`` are the stick anchors of
-    node i; proposed new anchors go to ``anchors[i, 3:6]``. ``info`` receives
-    [total normal force, number of nodes in contact, number slipping, min gap,
-    force x, force z].
+    ``plane`` is the object state: the plane passes through ``origin = plane[0:3]``
+    (moving with velocity ``origin_v = plane[3:6]``) with unit normal ``nrm``
+    (pointing toward the whisker) and in-plane unit vectors ``tu``, ``tw`` (the rows
+    of ``contact.frame``); ``H = contact.heights`` is a periodic height field (m) on
+    a grid of spacing ``du``, ``dw`` in surface coordinates; ``contact.params`` holds
+    the penalty stiffness ``kn``, approach damping ``cn``, friction ``mu`` and
+    presliding distance ``kt`` (see :class:`ContactSpec`); ``rod`` supplies the
+    shaft's radius. ``anchors[i] = (U, W, valid)`` are the stick anchors of node i;
+    proposed new anchors go to ``anchors[i, 3:6]``. ``info`` receives [total normal
+    force, number of nodes in contact, number slipping, min gap, force x, force z].
     """
+    radius = rod.radius
+    origin = plane[0:3]
+    origin_v = plane[3:6]
+    nrm = contact.frame[0]
+    tu = contact.frame[1]
+    tw = contact.frame[2]
+    H = contact.heights
+    du = contact.du
+    dw = contact.dw
+    cpar = contact.params
+    kn = cpar[1]
+    cn = cpar[2]
+    mu = cpar[3]
+    kt = cpar[4]
+    first_node = contact.first_node
     n = x.shape[0]
     info[0] = 0.0
     info[1] = 0.0
@@ -792,8 +1000,6 @@ def add_plane(
 # ----------------------------------------------------------------------------------
 # solvers: static equilibrium (Newton) and implicit dynamics (generalised-alpha)
 #
-# Numba solvers: static equilibrium (Newton) and implicit dynamics (generalised-alpha).
-#
 # Time integration uses the generalised-alpha method of Chung & Hulbert (1993) with
 # all forces evaluated at the intermediate state ``x_{n+1-alpha_f}``; with spectral
 # radius ``rho_inf < 1`` it is unconditionally stable for linear systems, second-order
@@ -803,89 +1009,19 @@ def add_plane(
 # tangent matrix.
 # ----------------------------------------------------------------------------------
 @njit(cache=True)
-def _assemble(
-    x,
-    v,
-    free,
-    kb,
-    kf,
-    axis,
-    L0,
-    EA,
-    mass,
-    alpha_d,
-    beta_d,
-    beta_f,
-    radius,
-    s_rest,
-    kind,
-    cpar,
-    tr,
-    frame,
-    H,
-    du,
-    dw,
-    first_node,
-    pole_anchor,
-    plane_anchors,
-    F,
-    S,
-    cD,
-    cK,
-    jac,
-    info,
-):
+def _assemble(x, v, rod, damping, contact, tr, anchors, F, S, cD, cK, jac, info):
+    """Forces into ``F`` and, if ``jac``, the iteration matrix into ``S`` (both zeroed).
+
+    ``tr`` is the contact object's state at this instant (see :func:`run_dynamics`).
+    """
     F[:, :] = 0.0
     if jac:
         S[:, :] = 0.0
-    add_internal(x, v, kb, kf, axis, L0, EA, mass, alpha_d, beta_d, beta_f, F, S, cD, cK, jac)
-    if kind == POLE:
-        add_pole(
-            x,
-            v,
-            radius,
-            s_rest,
-            tr,
-            np.array([tr[2], tr[5], tr[3]]),
-            cpar[0],
-            cpar[1],
-            cpar[2],
-            cpar[3],
-            cpar[4],
-            pole_anchor,
-            F,
-            S,
-            cD,
-            cK,
-            jac,
-            info,
-        )
-    elif kind == PLANE:
-        add_plane(
-            x,
-            v,
-            radius,
-            tr[0:3],
-            tr[3:6],
-            frame[0],
-            frame[1],
-            frame[2],
-            H,
-            du,
-            dw,
-            cpar[1],
-            cpar[2],
-            cpar[3],
-            cpar[4],
-            plane_anchors,
-            F,
-            S,
-            cD,
-            cK,
-            jac,
-            info,
-            first_node,
-        )
+    add_internal(x, v, rod, damping, F, S, cD, cK, jac)
+    if contact.kind == POLE:
+        add_pole(x, v, rod, contact, tr, anchors.pole, F, S, cD, cK, jac, info)
+    elif contact.kind == PLANE:
+        add_plane(x, v, rod, contact, tr, anchors.plane, F, S, cD, cK, jac, info)
 
 
 @njit(cache=True)
@@ -901,7 +1037,14 @@ def _fix_rows(S, R, free):
 
 
 @njit(cache=True)
-def _commit_anchors(kind, info, pole_anchor, plane_anchors):
+def commit_anchors(kind, info, anchors):
+    """Make the anchors proposed by the last converged contact evaluation current.
+
+    ``kind`` is the contact kind, ``info`` the contact's output (see :func:`add_pole`),
+    ``anchors`` the :class:`Anchors` to update in place.
+    """
+    pole_anchor = anchors.pole
+    plane_anchors = anchors.plane
     if kind == POLE:
         if info[6] > 0.0:
             pole_anchor[0] = info[4]
@@ -924,74 +1067,28 @@ def _commit_anchors(kind, info, pole_anchor, plane_anchors):
 
 
 @njit(cache=True)
-def solve_static(
-    x,
-    free,
-    kb,
-    kf,
-    axis,
-    L0,
-    EA,
-    mass,
-    radius,
-    s_rest,
-    kind,
-    cpar,
-    tr,
-    frame,
-    H,
-    du,
-    dw,
-    first_node,
-    pole_anchor,
-    plane_anchors,
-    f_app,
-    tol,
-    max_iter,
-    info,
-):
+def solve_static(x, f_app, rod, contact, tr, anchors, tol, max_iter, info):
     """Newton iterations for ``F_internal(x) + F_contact(x) + f_app = 0`` from ``x``.
+
+    ``x`` (n, 3) is updated in place; ``f_app`` (n, 3) are applied forces (N);
+    ``rod`` a :class:`RodArrays`, ``contact`` a :class:`ContactSpec` with the
+    object's state ``tr`` and friction ``anchors`` (:class:`Anchors`; the pole's
+    first touch writes its anchor, the rest is left to :func:`commit_anchors`);
+    ``tol`` the tolerance on the update (m); ``info`` receives the contact's output.
+    There is no damping (no velocities).
 
     Returns the number of iterations used, or -1 if it did not converge.
     """
+    free = rod.free
+    L0 = rod.L0
+    no_damping = Damping(0.0, 0.0, 0.0)
     n = x.shape[0]
     v = np.zeros_like(x)
     F = np.zeros_like(x)
     S = np.zeros((3 * n, 2 * BW + 1))
     R = np.zeros(3 * n)
     for it in range(max_iter):
-        _assemble(
-            x,
-            v,
-            free,
-            kb,
-            kf,
-            axis,
-            L0,
-            EA,
-            mass,
-            0.0,
-            0.0,
-            0.0,
-            radius,
-            s_rest,
-            kind,
-            cpar,
-            tr,
-            frame,
-            H,
-            du,
-            dw,
-            first_node,
-            pole_anchor,
-            plane_anchors,
-            F,
-            S,
-            0.0,
-            1.0,
-            True,
-            info,
-        )
+        _assemble(x, v, rod, no_damping, contact, tr, anchors, F, S, 0.0, 1.0, True, info)
         for i in range(n):
             for c in range(3):
                 R[3 * i + c] = F[i, c] + f_app[i, c]
@@ -1024,53 +1121,31 @@ def _fix_rhs(R, free):
 
 
 @njit(cache=True)
-def _ga_step(
-    x,
-    v,
-    a,
-    xn,
-    vn,
-    an,
-    xa,
-    va,
-    F,
-    S,
-    R,
-    free,
-    kb,
-    kf,
-    axis,
-    L0,
-    EA,
-    mass,
-    alpha_d,
-    beta_d,
-    beta_f,
-    radius,
-    s_rest,
-    kind,
-    cpar,
-    tr,
-    frame,
-    H,
-    du,
-    dw,
-    first_node,
-    pole_anchor,
-    plane_anchors,
-    h,
-    rho_inf,
-    tol,
-    max_iter,
-    info,
-    state,
-):
-    """One generalised-alpha step of size ``h`` from (xn, vn, an) into (x, v, a).
+def _ga_step(state, work, rod, damping, contact, tr, anchors, h, settings):
+    """One generalised-alpha step of size ``h`` from (xn, vn, an) of ``work`` into ``state``.
 
-    ``state`` carries the modified-Newton bookkeeping between calls:
+    ``work.newton`` carries the modified-Newton bookkeeping between calls:
     [need_factor, steps since factorisation, step size of the factors,
     iterations used]. Returns True on convergence.
     """
+    x = state.x
+    v = state.v
+    a = state.a
+    xn = work.xn
+    vn = work.vn
+    an = work.an
+    xa = work.xa
+    va = work.va
+    F = work.F
+    S = work.S
+    R = work.R
+    info = work.info
+    newton = work.newton
+    free = rod.free
+    mass = rod.mass
+    rho_inf = settings.rho_inf
+    tol = settings.tol
+    max_iter = settings.max_iter
     n = x.shape[0]
     am = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0)
     af = rho_inf / (rho_inf + 1.0)
@@ -1079,8 +1154,8 @@ def _ga_step(
     cM = (1.0 - am) / (beta * h * h)
     cD = (1.0 - af) * gam / (beta * h)
     cK = 1.0 - af
-    if state[2] != h:
-        state[0] = 1.0
+    if newton[2] != h:
+        newton[0] = 1.0
     for i in range(n):
         for c in range(3):
             if free[i]:
@@ -1101,39 +1176,8 @@ def _ga_step(
                 v[i, c] = vnew
                 xa[i, c] = (1.0 - af) * x[i, c] + af * xn[i, c]
                 va[i, c] = (1.0 - af) * vnew + af * vn[i, c]
-        factor = state[0] > 0.0
-        _assemble(
-            xa,
-            va,
-            free,
-            kb,
-            kf,
-            axis,
-            L0,
-            EA,
-            mass,
-            alpha_d,
-            beta_d,
-            beta_f,
-            radius,
-            s_rest,
-            kind,
-            cpar,
-            tr,
-            frame,
-            H,
-            du,
-            dw,
-            first_node,
-            pole_anchor,
-            plane_anchors,
-            F,
-            S,
-            cD,
-            cK,
-            factor,
-            info,
-        )
+        factor = newton[0] > 0.0
+        _assemble(xa, va, rod, damping, contact, tr, anchors, F, S, cD, cK, factor, info)
         for i in range(n):
             m = mass[i]
             for c in range(3):
@@ -1145,11 +1189,11 @@ def _ga_step(
                     S[3 * i + c, BW] += cM * mass[i]
             _fix_rows(S, R, free)
             if not band_factor(S):
-                state[0] = 1.0
+                newton[0] = 1.0
                 return False
-            state[0] = 0.0
-            state[1] = 0.0
-            state[2] = h
+            newton[0] = 0.0
+            newton[1] = 0.0
+            newton[2] = h
         band_backsolve(S, R)
         mx = 0.0
         for i in range(n):
@@ -1159,10 +1203,10 @@ def _ga_step(
                 if abs(d) > mx:
                     mx = abs(d)
         if not np.isfinite(mx):
-            state[0] = 1.0
+            newton[0] = 1.0
             return False
         if mx < tol:
-            state[3] = it + 1
+            newton[3] = it + 1
             for i in range(n):
                 for c in range(3):
                     if free[i]:
@@ -1171,60 +1215,26 @@ def _ga_step(
                         ) / (beta * h * h)
                         a[i, c] = anew
                         v[i, c] = vn[i, c] + h * ((1.0 - gam) * an[i, c] + gam * anew)
-            state[1] += 1.0
+            newton[1] += 1.0
             return True
         if it >= 1:
-            state[0] = 1.0
-    state[0] = 1.0
+            newton[0] = 1.0
+    newton[0] = 1.0
     return False
 
 
 @njit(cache=True)
-def run_dynamics(
-    x,
-    v,
-    a,
-    free,
-    kb,
-    kf,
-    axis,
-    L0,
-    EA,
-    mass,
-    alpha_d,
-    beta_d,
-    beta_f,
-    radius,
-    s_rest,
-    kind,
-    cpar,
-    traj,
-    frame,
-    H,
-    du,
-    dw,
-    first_node,
-    pole_anchor,
-    plane_anchors,
-    dt,
-    rho_inf,
-    tol,
-    max_iter,
-    out,
-    states,
-    state_every,
-    refactor_every,
-    max_halvings,
-    stop_tan,
-):
-    """Integrate ``len(traj) - 1`` steps of size ``dt`` from (x, v, a) in place.
+def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, records):
+    """Integrate ``len(traj) - 1`` steps of size ``settings.dt`` from ``state`` in place.
 
-    ``traj[k]`` is the contact object's state at step k (pole: x, z, vx, vz; plane:
-    origin xyz, velocity xyz), linearly interpolated within steps. ``out[k]``
+    ``state`` (:class:`NodeState`) and ``anchors`` (:class:`Anchors`) are advanced in
+    place; ``rod``, ``damping``, ``contact`` and ``settings`` are the other bundles.
+    ``traj[k]`` is the contact object's state at step k (pole: x, z, vx, vz, y, vy;
+    plane: origin xyz, velocity xyz), linearly interpolated within steps. ``out[k]``
     receives per-step outputs [tan_x, tan_y of the magnet, contact normal force (N),
     contact arc length (m), slipping, contact force x, contact force z, Newton
-    iterations]. Every ``state_every`` steps (if > 0) positions and velocities are stored in
-    ``states[:, 0]`` and ``states[:, 1]``.
+    iterations]. Every ``settings.record_every`` steps (if > 0) positions and
+    velocities are stored in ``records[:, 0]`` and ``records[:, 1]``.
 
     Newton's method reuses the factorised iteration matrix across iterations and
     steps (a modified Newton method); it is refreshed every ``refactor_every``
@@ -1233,27 +1243,46 @@ def run_dynamics(
     changes the cost, not the solution (to within ``tol``). A step that does not
     converge is retried as 2, 4, ... sub-steps (at most ``2**max_halvings``).
 
-    If ``stop_tan > 0`` the integration stops after the first step whose |tan_x|
-    reaches it (an event for closed-loop control); x, v, a and the anchors then hold
-    the state at that step, ready to continue.
+    If ``settings.stop_tan > 0`` the integration stops after the first step whose
+    |tan_x| reaches it (an event for closed-loop control); ``state`` and ``anchors``
+    then hold the state at that step, ready to continue.
 
     Returns the number of completed steps (less than requested if a step failed or
     the stop event fired).
     """
+    x = state.x
+    v = state.v
+    a = state.a
+    pole_anchor = anchors.pole
+    plane_anchors = anchors.plane
+    kind = contact.kind
+    dt = settings.dt
+    rho_inf = settings.rho_inf
+    refactor_every = settings.refactor_every
+    max_halvings = settings.max_halvings
+    state_every = settings.record_every
+    stop_tan = settings.stop_tan
     n = x.shape[0]
     nsteps = traj.shape[0] - 1
     af = rho_inf / (rho_inf + 1.0)
-    F = np.zeros_like(x)
-    S = np.zeros((3 * n, 2 * BW + 1))
-    R = np.zeros(3 * n)
-    xn = x.copy()
-    vn = v.copy()
-    an = a.copy()
-    xa = np.zeros_like(x)
-    va = np.zeros_like(x)
-    info = np.zeros(12)
+    work = _StepWork(
+        x.copy(),
+        v.copy(),
+        a.copy(),
+        np.zeros_like(x),
+        np.zeros_like(x),
+        np.zeros_like(x),
+        np.zeros((3 * n, 2 * BW + 1)),
+        np.zeros(3 * n),
+        np.zeros(12),
+        np.array([1.0, 0.0, 0.0, 0.0]),
+    )
+    xn = work.xn
+    vn = work.vn
+    an = work.an
+    info = work.info
+    newton = work.newton
     tr = np.zeros(traj.shape[1])
-    state = np.array([1.0, 0.0, 0.0, 0.0])
     pa_save = pole_anchor.copy()
     pl_save = plane_anchors.copy()
     out[0, 0] = (x[1, 0] - x[0, 0]) / (x[1, 2] - x[0, 2])
@@ -1261,15 +1290,15 @@ def run_dynamics(
     out[0, 2:] = 0.0
     si = 0
     if state_every > 0:
-        states[0, 0] = x
-        states[0, 1] = v
+        records[0, 0] = x
+        records[0, 1] = v
         si = 1
     prev_contact = 0.0
     prev_slip = 0.0
     max_sub = 1 << max_halvings
     for k in range(nsteps):
-        if state[1] >= refactor_every:
-            state[0] = 1.0
+        if newton[1] >= refactor_every:
+            newton[0] = 1.0
         sub = 1
         done = 0  # completed sub-steps, in units of 1/sub
         iters = 0
@@ -1280,47 +1309,7 @@ def run_dynamics(
                 tr[c] = (1.0 - fa) * traj[k, c] + fa * traj[k + 1, c]
             pa_save[:] = pole_anchor
             pl_save[:, :] = plane_anchors
-            ok = _ga_step(
-                x,
-                v,
-                a,
-                xn,
-                vn,
-                an,
-                xa,
-                va,
-                F,
-                S,
-                R,
-                free,
-                kb,
-                kf,
-                axis,
-                L0,
-                EA,
-                mass,
-                alpha_d,
-                beta_d,
-                beta_f,
-                radius,
-                s_rest,
-                kind,
-                cpar,
-                tr,
-                frame,
-                H,
-                du,
-                dw,
-                first_node,
-                pole_anchor,
-                plane_anchors,
-                h,
-                rho_inf,
-                tol,
-                max_iter,
-                info,
-                state,
-            )
+            ok = _ga_step(state, work, rod, damping, contact, tr, anchors, h, settings)
             if not ok:
                 pole_anchor[:] = pa_save
                 plane_anchors[:, :] = pl_save
@@ -1329,12 +1318,12 @@ def run_dynamics(
                 sub *= 2
                 done *= 2
                 continue
-            iters += int(state[3])
-            _commit_anchors(kind, info, pole_anchor, plane_anchors)
-            contact = 1.0 if info[0] > 0.0 else 0.0
-            if contact != prev_contact or info[2] != prev_slip:
-                state[0] = 1.0
-            prev_contact = contact
+            iters += int(newton[3])
+            commit_anchors(kind, info, anchors)
+            contact_now = 1.0 if info[0] > 0.0 else 0.0
+            if contact_now != prev_contact or info[2] != prev_slip:
+                newton[0] = 1.0
+            prev_contact = contact_now
             prev_slip = info[2]
             xn[:, :] = x
             vn[:, :] = v
@@ -1352,9 +1341,9 @@ def run_dynamics(
             out[k + 1, 5] = info[4]
             out[k + 1, 6] = info[5]
         out[k + 1, 7] = iters
-        if state_every > 0 and (k + 1) % state_every == 0 and si < states.shape[0]:
-            states[si, 0] = x
-            states[si, 1] = v
+        if state_every > 0 and (k + 1) % state_every == 0 and si < records.shape[0]:
+            records[si, 0] = x
+            records[si, 1] = v
             si += 1
         if stop_tan > 0.0 and abs(out[k + 1, 0]) >= stop_tan:
             return k + 1

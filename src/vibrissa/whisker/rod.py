@@ -19,7 +19,18 @@ import scipy.linalg
 import scipy.optimize
 
 from vibrissa._validate import finite, in_range, non_negative, positive
-from vibrissa.whisker import _kernels as _k
+from vibrissa.whisker._kernels import (
+    BW,
+    NO_CONTACT,
+    POLE,
+    Anchors,
+    ContactSpec,
+    Damping,
+    RodArrays,
+    add_internal,
+    commit_anchors,
+    solve_static,
+)
 from vibrissa.whisker.geometry import WhiskerGeometry
 
 __all__ = ["PushResult", "RodModel", "StaticResult", "DEFAULT_N_ELEMENTS"]
@@ -193,38 +204,34 @@ class RodModel:
         self.mass = mass
         self.free = free
 
+    def rod_arrays(self) -> RodArrays:
+        """The model's arrays bundled for the numba kernels.
+
+        Returns
+        -------
+        RodArrays
+            Node mask ``free``, bending constants ``kb`` (N m), follicle stiffness
+            ``kf`` (N m/rad) and rest ``axis``, edge rest lengths ``L0`` (m) and axial
+            rigidities ``EA`` (N), node masses (kg), radii (m) and rest arc lengths
+            ``s_rest`` (m). The arrays are the model's own (not copies), read when
+            this is called: rebuild the bundle after replacing an attribute.
+        """
+        return RodArrays(
+            free=self.free,
+            kb=self.kb,
+            kf=float(self.kf),
+            axis=self.axis,
+            L0=self.L0,
+            EA=self.EA,
+            mass=self.mass,
+            radius=self.radius,
+            s_rest=self.s_rest,
+        )
+
     # ------------------------------------------------------------------ linearisation
     def stiffness_matrix(self, x: np.ndarray | None = None) -> np.ndarray:
         """Dense tangent stiffness matrix (3n x 3n) at positions ``x`` (default: rest)."""
-        xx = self.x_rest.copy() if x is None else np.ascontiguousarray(x, dtype=float)
-        n = self.n_nodes
-        F = np.zeros((n, 3))
-        S = np.zeros((3 * n, 2 * _k.BW + 1))
-        _k.add_internal(
-            xx,
-            np.zeros_like(xx),
-            self.kb,
-            self.kf,
-            self.axis,
-            self.L0,
-            self.EA,
-            self.mass,
-            0.0,
-            0.0,
-            0.0,
-            F,
-            S,
-            0.0,
-            1.0,
-            True,
-        )
-        K = np.zeros((3 * n, 3 * n))
-        for r in range(3 * n):
-            for off in range(-_k.BW, _k.BW + 1):
-                c = r + off
-                if 0 <= c < 3 * n:
-                    K[r, c] = S[r, _k.BW + off]
-        return K
+        return _dense_stiffness(self.rod_arrays(), self.x_rest if x is None else x)
 
     def _plane_modes(self) -> tuple[np.ndarray, np.ndarray]:
         K = self.stiffness_matrix()
@@ -267,13 +274,9 @@ class RodModel:
 
     def _plane_matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Shaft stiffness, follicle stiffness and mass in one bending plane (free DOFs)."""
-        K = self.stiffness_matrix()
-        kb = self.kb
-        try:
-            self.kb = np.zeros_like(kb)
-            Kf = self.stiffness_matrix()
-        finally:
-            self.kb = kb
+        rod = self.rod_arrays()
+        K = _dense_stiffness(rod, self.x_rest)
+        Kf = _dense_stiffness(rod._replace(kb=np.zeros_like(rod.kb)), self.x_rest)
         idx = np.array([3 * i for i in range(self.n_nodes) if self.free[i]])
         Kx = K[np.ix_(idx, idx)]
         Kfx = Kf[np.ix_(idx, idx)]
@@ -363,38 +366,27 @@ class RodModel:
         return float(e0[0] / e0[2]), float(e0[1] / e0[2])
 
     def _static(
-        self, x, f_app, kind=_k.NO_CONTACT, cpar=None, tr=None, anchor=None, tol=1e-11, max_iter=60
-    ):
+        self,
+        x: np.ndarray,
+        f_app: np.ndarray,
+        contact: ContactSpec | None = None,
+        tr: np.ndarray | None = None,
+        anchors: Anchors | None = None,
+        tol: float = 1e-11,
+        max_iter: int = 60,
+    ) -> tuple[int, np.ndarray]:
+        """Newton solve of the static equilibrium from ``x`` (updated in place).
+
+        ``contact`` defaults to none; ``tr`` is the contact object's state and
+        ``anchors`` its friction state (a pole's first touch writes its anchor).
+        Returns the iterations used (-1: no convergence) and the contact's ``info``.
+        """
         info = np.zeros(12)
-        cpar = np.zeros(5) if cpar is None else cpar
+        contact = pole_contact_spec(np.zeros(5), NO_CONTACT) if contact is None else contact
         tr = np.zeros(6) if tr is None else tr
-        anchor = np.zeros(5) if anchor is None else anchor
-        it = _k.solve_static(
-            x,
-            self.free,
-            self.kb,
-            self.kf,
-            self.axis,
-            self.L0,
-            self.EA,
-            self.mass,
-            self.radius,
-            self.s_rest,
-            kind,
-            cpar,
-            tr,
-            np.eye(3),
-            np.zeros((1, 1)),
-            1.0,
-            1.0,
-            2,
-            anchor,
-            np.zeros((self.n_nodes, 6)),
-            f_app,
-            tol,
-            max_iter,
-            info,
-        )
+        if anchors is None:
+            anchors = Anchors(np.zeros(5), np.zeros((self.n_nodes, 6)))
+        it = solve_static(x, f_app, self.rod_arrays(), contact, tr, anchors, tol, max_iter, info)
         return it, info
 
     # ------------------------------------------------------------------ statics
@@ -511,7 +503,7 @@ class RodModel:
         a = at_mm * 1e-3
         r_here = float(self.geometry.radius_m(a))
         px0 = -(rp + r_here)
-        cpar = np.array([rp, kn, 0.0, mu, PRESLIDING_DISTANCE_M])
+        contact = pole_contact_spec(np.array([rp, kn, 0.0, mu, PRESLIDING_DISTANCE_M]))
         anchor = np.zeros(5)
         x = self.x_rest.copy()
         info = np.zeros(12)
@@ -525,21 +517,21 @@ class RodModel:
             while True:
                 ok = True
                 xs = x.copy()
-                anc = anchor.copy()
+                anc = Anchors(anchor.copy(), np.zeros((self.n_nodes, 6)))
                 prev = D * (k - 1) / n_increments
                 for m in range(1, sub + 1):
                     dk = prev + (D / n_increments) * m / sub
                     tr[0] = px0 + ux * dk
                     tr[4] = uy * dk
                     it, info = self._static(
-                        xs, np.zeros((self.n_nodes, 3)), _k.POLE, cpar, tr.copy(), anc
+                        xs, np.zeros((self.n_nodes, 3)), contact, tr.copy(), anc
                     )
                     if it < 0:
                         ok = False
                         break
-                    _k._commit_anchors(_k.POLE, info, anc, np.zeros((1, 6)))
+                    commit_anchors(POLE, info, anc)
                 if ok:
-                    trial, anchor = xs, anc
+                    trial, anchor = xs, anc.pole
                     break
                 sub *= 2
                 if sub > 64:
@@ -616,6 +608,44 @@ def _check_finite(x: np.ndarray) -> None:
         raise SimulationError("the solver produced non-finite positions (diverged)")
 
 
-def validate_fraction(name: str, value: float) -> float:
-    """Check that ``value`` lies in [0, 1]."""
-    return in_range(name, value, 0.0, 1.0)
+def _dense_stiffness(rod: RodArrays, x: np.ndarray) -> np.ndarray:
+    """Dense tangent stiffness matrix (3n x 3n, N/m) of ``rod`` at positions ``x`` (m)."""
+    xx = np.array(x, dtype=float, order="C")
+    n = xx.shape[0]
+    F = np.zeros((n, 3))
+    S = np.zeros((3 * n, 2 * BW + 1))
+    add_internal(xx, np.zeros_like(xx), rod, Damping(0.0, 0.0, 0.0), F, S, 0.0, 1.0, True)
+    K = np.zeros((3 * n, 3 * n))
+    for r in range(3 * n):
+        for off in range(-BW, BW + 1):
+            c = r + off
+            if 0 <= c < 3 * n:
+                K[r, c] = S[r, BW + off]
+    return K
+
+
+def pole_contact_spec(params: np.ndarray, kind: int = POLE) -> ContactSpec:
+    """A :class:`~vibrissa.whisker._kernels.ContactSpec` for a pole (or for no contact).
+
+    Parameters
+    ----------
+    params : ndarray, shape (5,)
+        Pole radius (m), normal penalty stiffness (N/m), approach damping (N s/m),
+        Coulomb friction coefficient and presliding distance (m).
+    kind : int
+        The contact kind: ``POLE`` (default) or ``NO_CONTACT``.
+
+    Returns
+    -------
+    ContactSpec
+        With the plane-only fields set to neutral placeholders.
+    """
+    return ContactSpec(
+        kind=int(kind),
+        params=np.ascontiguousarray(params, dtype=float),
+        frame=np.eye(3),
+        heights=np.zeros((1, 1)),
+        du=1.0,
+        dw=1.0,
+        first_node=2,
+    )

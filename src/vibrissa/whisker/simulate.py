@@ -3,7 +3,7 @@
 The caller supplies a contact (:class:`PoleContact` or :class:`SurfaceContact`)
 and the object's :class:`Trajectory` (position and velocity over time);
 :func:`simulate` integrates the rod with the implicit generalised-alpha scheme
-of :mod:`vibrissa.whisker._integrate` and returns the magnet's tilt, the contact
+of :mod:`vibrissa.whisker._kernels` and returns the magnet's tilt, the contact
 force and where along the whisker the contact is, at every internal step.
 :meth:`SimulationResult.hall_volts` turns the tilt into sensor output.
 """
@@ -16,9 +16,27 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vibrissa._validate import finite, finite_array, in_range, non_negative, positive
-from vibrissa.whisker import _kernels as _k
+from vibrissa.whisker._kernels import (
+    BW,
+    NO_CONTACT,
+    PLANE,
+    POLE,
+    Anchors,
+    ContactSpec,
+    Damping,
+    NodeState,
+    RodArrays,
+    SolverSettings,
+    add_internal,
+    run_dynamics,
+)
 from vibrissa.whisker.hall import HallSensor, calibrated_gain
-from vibrissa.whisker.rod import PRESLIDING_DISTANCE_M, RodModel, SimulationError
+from vibrissa.whisker.rod import (
+    PRESLIDING_DISTANCE_M,
+    RodModel,
+    SimulationError,
+    pole_contact_spec,
+)
 from vibrissa.whisker.surfaces import Surface
 
 __all__ = [
@@ -277,31 +295,16 @@ class SimulationResult:
         return sensor.read(self.tan_xy, 1.0 / self.dt_s, rng)
 
 
-def _initial_acceleration(model: RodModel, x: np.ndarray, v: np.ndarray) -> np.ndarray:
-    n = model.n_nodes
+def _initial_acceleration(
+    rod: RodArrays, damping: Damping, x: np.ndarray, v: np.ndarray
+) -> np.ndarray:
+    """Node accelerations (m/s^2) at positions ``x`` (m) and velocities ``v`` (m/s)."""
+    n = x.shape[0]
     F = np.zeros((n, 3))
-    S = np.zeros((3 * n, 2 * _k.BW + 1))
-    alpha, beta, beta_f = model.damping
-    _k.add_internal(
-        x,
-        v,
-        model.kb,
-        model.kf,
-        model.axis,
-        model.L0,
-        model.EA,
-        model.mass,
-        alpha,
-        beta,
-        beta_f,
-        F,
-        S,
-        0.0,
-        0.0,
-        False,
-    )
-    a = F / model.mass[:, None]
-    a[~model.free] = 0.0
+    S = np.zeros((3 * n, 2 * BW + 1))
+    add_internal(x, v, rod, damping, F, S, 0.0, 0.0, False)
+    a = F / rod.mass[:, None]
+    a[~rod.free] = 0.0
     return a
 
 
@@ -340,55 +343,66 @@ class DynamicState:
         )
 
 
-def _contact_arrays(model, contact, trajectory, times):
-    """Pack the contact description for the kernels."""
-    n_steps = times.size - 1
-    kind = _k.NO_CONTACT
-    cpar = np.zeros(5)
-    traj = np.zeros((n_steps + 1, 6))
-    frame = np.eye(3)
-    H = np.zeros((1, 1))
-    du = 1.0
+def _contact_spec(
+    model: RodModel,
+    contact: PoleContact | SurfaceContact | None,
+    trajectory: Trajectory | None,
+    times: np.ndarray,
+) -> tuple[ContactSpec, np.ndarray]:
+    """Pack the contact and the object's motion for the kernels.
+
+    Returns the :class:`~vibrissa.whisker._kernels.ContactSpec` and the object's
+    state at ``times`` (s), shape ``(len(times), 6)``: for a pole x, z (m),
+    vx, vz (m/s), y, vy (zero); for a surface the base point's x, y, z (m) and its
+    velocity (m/s).
+    """
+    traj = np.zeros((times.size, 6))
     if contact is None:
-        return kind, cpar, traj, frame, H, du
+        return pole_contact_spec(np.zeros(5), NO_CONTACT), traj
     if trajectory is None:
         raise ValueError("a contact needs a trajectory")
     p, pv = trajectory.sample(times)
     if isinstance(contact, PoleContact):
-        kind = _k.POLE
-        cpar = np.array(
-            [
-                contact.radius_mm * 1e-3,
-                contact.stiffness_n_m,
-                contact.damping_n_s_m,
-                contact.friction,
-                contact.presliding_distance_um * 1e-6,
-            ]
+        spec = pole_contact_spec(
+            np.array(
+                [
+                    contact.radius_mm * 1e-3,
+                    contact.stiffness_n_m,
+                    contact.damping_n_s_m,
+                    contact.friction,
+                    contact.presliding_distance_um * 1e-6,
+                ]
+            )
         )
         traj[:, 0:2] = p * 1e-3
         traj[:, 2:4] = pv * 1e-3
     elif isinstance(contact, SurfaceContact):
-        kind = _k.PLANE
         mu = contact.surface.friction if contact.friction is None else contact.friction
-        cpar = np.array(
-            [
-                0.0,
-                contact.stiffness_n_m,
-                contact.damping_n_s_m,
-                mu,
-                contact.presliding_distance_um * 1e-6,
-            ]
+        du = float(contact.surface.spacing_m)
+        spec = ContactSpec(
+            kind=PLANE,
+            params=np.array(
+                [
+                    0.0,
+                    contact.stiffness_n_m,
+                    contact.damping_n_s_m,
+                    mu,
+                    contact.presliding_distance_um * 1e-6,
+                ]
+            ),
+            frame=contact.frame(),
+            heights=contact.surface_for(model),
+            du=du,
+            dw=du,
+            first_node=2,
         )
         traj[:, 0] = p[:, 0] * 1e-3
         traj[:, 2] = p[:, 1] * 1e-3
         traj[:, 3] = pv[:, 0] * 1e-3
         traj[:, 5] = pv[:, 1] * 1e-3
-        frame = contact.frame()
-        H = contact.surface_for(model)
-        du = contact.surface.spacing_m
     else:
         raise TypeError(f"unsupported contact type {type(contact).__name__}")
-    return kind, cpar, traj, frame, H, du
+    return spec, traj
 
 
 def simulate(
@@ -465,6 +479,8 @@ def simulate(
     if n_steps < 1:
         raise ValueError(f"duration_s ({duration_s}) is shorter than one step ({dt_s})")
     n = model.n_nodes
+    rod = model.rod_arrays()
+    damping = Damping(*(float(c) for c in model.damping))
     if initial_state is not None:
         st = initial_state.copy()
         x, v, a = st.positions_m, st.velocities_m_s, st.accelerations_m_s2
@@ -485,22 +501,36 @@ def simulate(
         )
         if x.shape != (n, 3) or v.shape != (n, 3):
             raise ValueError(f"initial state must have shape ({n}, 3)")
-        a = _initial_acceleration(model, x, v)
+        a = _initial_acceleration(rod, damping, x, v)
         pole_anchor = np.zeros(5)
         plane_anchors = np.zeros((n, 6))
         t0 = 0.0
     times = t0 + np.arange(n_steps + 1) * dt
-    kind, cpar, traj, frame, H, du = _contact_arrays(model, contact, trajectory, times)
-    alpha, beta, beta_f = model.damping
+    spec, traj = _contact_spec(model, contact, trajectory, times)
+    settings = SolverSettings(
+        dt=float(dt),
+        rho_inf=float(rho_inf),
+        tol=float(tol_m),
+        max_iter=int(max_iterations),
+        refactor_every=int(refactor_every),
+        max_halvings=int(max_halvings),
+        record_every=int(record_every),
+        stop_tan=float(stop),
+    )
     out = np.zeros((n_steps + 1, 8))
     n_states = (n_steps // record_every + 1) if record_every > 0 else 1
     states = np.zeros((n_states, 2, n, 3))
-    done = _k.run_dynamics(
-        x, v, a, model.free, model.kb, model.kf, model.axis, model.L0, model.EA, model.mass,
-        alpha, beta, beta_f, model.radius, model.s_rest, kind, cpar, traj, frame, H, du, du, 2,
-        pole_anchor, plane_anchors, dt, rho_inf, tol_m, max_iterations, out, states,
-        int(record_every), int(refactor_every), int(max_halvings), stop,
-    )  # fmt: skip
+    done = run_dynamics(
+        NodeState(x, v, a),
+        Anchors(pole_anchor, plane_anchors),
+        rod,
+        damping,
+        spec,
+        traj,
+        settings,
+        out,
+        states,
+    )
     stopped = stop > 0 and done < n_steps and abs(out[done, 0]) >= stop
     if (done < n_steps and not stopped) or not np.all(np.isfinite(out[: done + 1])):
         raise SimulationError(
@@ -508,7 +538,7 @@ def simulate(
             f"(step {done} of {n_steps}); try a smaller dt_s"
         )
     m = done + 1
-    arc = out[:m, 3] * 1e3 if kind == _k.POLE else np.full(m, np.nan)
+    arc = out[:m, 3] * 1e3 if spec.kind == POLE else np.full(m, np.nan)
     n_rec = (done // record_every + 1) if record_every > 0 else 0
     return SimulationResult(
         time_s=times[:m],
