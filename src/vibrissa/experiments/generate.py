@@ -147,7 +147,7 @@ def build_dataset(protocol: Protocol, results: dict[str, np.ndarray]) -> xr.Data
     n = len(specs)
     if results["signal"].shape[0] != n:
         raise ValueError(f"expected {n} trials, got {results['signal'].shape[0]}")
-    fs = protocol.sample_rate_hz
+    fs = protocol.sensor.sample_rate_hz
     nb = int(round(protocol.window_s[0] * fs))
     time_s = (np.arange(n_samples(protocol)) - nb) / fs
     coords: dict[str, Any] = {

@@ -45,7 +45,7 @@ import numpy as np
 
 from vibrissa._validate import in_range, non_negative, positive
 from vibrissa.whisker.geometry import WhiskerGeometry
-from vibrissa.whisker.hall import HallSensor
+from vibrissa.whisker.hall import HallSensor, steps_per_sample
 from vibrissa.whisker.rod import RodModel
 from vibrissa.whisker.simulate import (
     PoleContact,
@@ -287,11 +287,13 @@ def run_trial(
     rng
         Random generator of this trial (latency, positioning error, noise).
     dt_s
-        Internal time step; 1/dt_s must be a multiple of the sample rate.
+        Internal time step (s); must divide the sensor's sample period
+        (:func:`~vibrissa.whisker.hall.steps_per_sample`).
     surface
         Height field for a surface stimulus (default: built from the texture).
     """
     v = stage.check_speed(speed_mm_s)
+    step = steps_per_sample(dt_s, sensor.sample_rate_hz)
     if direction not in (1, -1):
         raise ValueError(f"direction must be +1 or -1, got {direction!r}")
     g: WhiskerGeometry = model.geometry
@@ -366,7 +368,6 @@ def run_trial(
         )
         tan = tan * np.array([sgn, 1.0])  # convert -x trials: equivalent to +x
         volts = sensor.read(tan, 1.0 / dt_s, rng)
-        step = int(round(1.0 / (dt_s * sensor.sample_rate_hz)))
         dev = np.abs(volts[:, 0] - sensor.offset_v)
         k_peak = int(np.argmax(dev))
         n_before = int(round(window_s[0] * sensor.sample_rate_hz))
