@@ -56,7 +56,6 @@ from vibrissa.whisker.simulate import (
 from vibrissa.whisker.surfaces import Surface, make_surface
 
 __all__ = [
-    "nominal_sensor",
     "LatencyModel",
     "PoleStimulus",
     "SurfaceStimulus",
@@ -400,15 +399,4 @@ def run_trial(
         slipped_off=slipped,
         saturated=saturated,
         peak_deflection_v=float(dev.max()),
-    )
-
-
-def nominal_sensor(
-    geometry: WhiskerGeometry, sample_rate_hz: float, n_elements: int, **kwargs: float
-) -> HallSensor:
-    """A Hall sensor calibrated on the nominal whisker (calibration precedes a session)."""
-    from vibrissa.whisker.hall import calibrated_gain
-
-    return HallSensor(
-        calibrated_gain(geometry, n_elements), sample_rate_hz=sample_rate_hz, **kwargs
     )
