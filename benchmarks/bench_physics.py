@@ -24,7 +24,7 @@ from typing import Any
 
 from vibrissa import __version__
 from vibrissa._atomic import atomic_write_text
-from vibrissa.cli.bench import MEMORY_METHOD, SCENARIO, STANDARD, physics_benchmark
+from vibrissa.whisker.benchmark import MEMORY_METHOD, SCENARIO, STANDARD, physics_benchmark
 
 DT_S = (1.25e-4, 2.5e-4)
 N_ELEMENTS = (24, 48)

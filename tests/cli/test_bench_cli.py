@@ -4,13 +4,9 @@ from __future__ import annotations
 
 import json
 
-import numpy as np
 from typer.testing import CliRunner
 
 from vibrissa.cli import app
-from vibrissa.cli.bench import STANDARD, standard_trajectory
-from vibrissa.whisker.geometry import PRESETS
-from vibrissa.whisker.rod import RodModel
 
 runner = CliRunner()
 
@@ -43,20 +39,7 @@ def test_bench_physics_text_and_bad_dt():
     res = runner.invoke(app, ["bench", "physics", "--dt-ms", "0.3", "--duration-s", "0.05"])
     assert res.exit_code == 2
     assert "--dt-ms" in res.stderr
+    res = runner.invoke(app, ["bench", "physics", "--repeats", "0", "--duration-s", "0.05"])
+    assert res.exit_code == 2
+    assert "--repeats" in res.stderr
 
-
-def test_standard_trajectory_shape():
-    model = RodModel(PRESETS["xy-robot"])
-    traj = standard_trajectory(model)
-    t = traj.time_s
-    x = traj.position_mm[:, 0]
-    assert t[-1] >= STANDARD["duration_s"]
-    assert np.all(traj.position_mm[:, 1] == STANDARD["radial_distance_mm"])
-    shaft_r = float(model.geometry.radius_m(0.14)) * 1e3
-    assert x[0] == -(1.0 + 0.5 + shaft_r)
-    i_adv = np.searchsorted(t, 0.3)
-    assert abs(x[i_adv] - x[0] - 30.0) < 1e-9
-    assert abs(x[-1] - (x[0] + 30.0 - 36.0)) < 1e-9
-    assert traj.velocity_mm_s[10, 0] == 100.0
-    assert traj.velocity_mm_s[np.searchsorted(t, 0.31), 0] == -720.0
-    assert traj.velocity_mm_s[-1, 0] == 0.0

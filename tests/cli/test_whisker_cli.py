@@ -5,12 +5,11 @@ from __future__ import annotations
 import json
 import math
 
-import numpy as np
 import pytest
 from typer.testing import CliRunner
 
 from vibrissa.cli import app
-from vibrissa.cli.whisker import build_geometry, ring_down
+from vibrissa.cli.whisker import build_geometry
 from vibrissa.whisker.geometry import PRESETS
 
 runner = CliRunner()
@@ -147,18 +146,6 @@ def test_ring_text_summary():
     assert res.exit_code == 0
     out = res.stdout
     assert "xy-robot" in out and "Hz" in out and "damping" in out
-
-
-def test_ring_down_on_synthetic_decay():
-    dt, f, z = 1e-4, 20.0, 0.04
-    t = np.arange(0, 1.0, dt)
-    wn = 2 * math.pi * f
-    wd = wn * math.sqrt(1 - z * z)
-    s = np.exp(-z * wn * t) * np.cos(wd * t)
-    r = ring_down(s, dt)
-    assert r["frequency_hz"] == pytest.approx(wd / (2 * math.pi), rel=1e-3)
-    assert r["damping_ratio"] == pytest.approx(z, rel=0.01)
-    assert ring_down(np.zeros(100), dt)["damping_ratio"] is None
 
 
 @pytest.mark.parametrize(

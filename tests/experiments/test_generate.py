@@ -1,6 +1,7 @@
 """Dataset generation: thesis phenomena, determinism, resumption, Dask, bad input."""
 
 import hashlib
+import json
 
 import numpy as np
 import pytest
@@ -143,6 +144,8 @@ def sha(path):
         (["angle-texture", "--textures", "p80,velvet"], "texture"),
         (["no-such-protocol"], "protocol"),
         (["radial-distance", "--speeds", "fast"], "speeds"),
+        (["radial-distance", "--sample-rate-hz", "3000"], "sample period"),
+        (["radial-distance", "--noise-v", "-0.1"], "noise_v"),
     ],
 )
 def test_cli_bad_input_is_one_clear_line_and_leaves_files_alone(tmp_path, args, word):
@@ -179,3 +182,21 @@ def test_cli_quick_generation(tmp_path):
     assert res.exit_code == 0, res.output
     assert '"n_trials": 8' in res.output
     assert load_dataset(out).sizes["trial"] == 8
+
+
+def test_cli_sensor_options_set_the_protocols_sensor(tmp_path):
+    out = tmp_path / "s.nc"
+    args = ["generate", "radial-distance", "--radial-distances", "120", "--speeds", "100",
+            "--runs", "1", "--sample-rate-hz", "2000", "--noise-v", "0", "--out", str(out),
+            "--json", "--workers", "1"]
+    res = CliRunner().invoke(app, args)
+    assert res.exit_code == 0, res.output
+    assert '"sample_rate_hz": 2000.0' in res.output
+    ds = load_dataset(out)
+    assert ds.attrs["sample_rate_hz"] == 2000.0
+    assert ds.sizes["time"] == round(0.6 * 2000) + round(0.7 * 2000) + 1
+    params = json.loads(ds.attrs["protocol_params"])
+    assert params["sensor"]["noise_v"] == 0.0 and params["sensor"]["calibration_mm"] == [80, 60]
+    whisker = json.loads(ds.attrs["whisker"])
+    assert whisker["hall_sensor"]["sample_rate_hz"] == 2000.0
+    assert whisker["hall_calibration_mm"] == [80.0, 60.0]

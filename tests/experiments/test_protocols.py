@@ -3,6 +3,8 @@
 import pytest
 
 from vibrissa.experiments.protocols import get_protocol, parse_grid
+from vibrissa.whisker.geometry import preset
+from vibrissa.whisker.hall import HallSettings
 
 
 def test_thesis_grids():
@@ -11,12 +13,12 @@ def test_thesis_grids():
     assert p4.radial_distances_mm[0] == 80 and p4.radial_distances_mm[-1] == 180
     assert p4.speeds_mm_s[0] == 36 and p4.speeds_mm_s[-1] == 216
     assert p4.n_trials == 10504
-    assert p4.sample_rate_hz == 1000 and p4.window_s == (0.6, 0.7)
+    assert p4.sensor.sample_rate_hz == 1000 and p4.window_s == (0.6, 0.7)
     p5 = get_protocol("angle-texture")
     assert p5.angles_deg == (10, 20, 30, 40, 50, 60, 70, 80)
     assert len(p5.speeds_mm_s) == 11 and p5.speeds_mm_s[0] == 6 and p5.speeds_mm_s[-1] == 106
     assert p5.textures == ("aluminium", "p600", "p180", "p80")
-    assert p5.n_trials == 8 * 11 * 4 * 4 and p5.sample_rate_hz == 4000
+    assert p5.n_trials == 8 * 11 * 4 * 4 and p5.sensor.sample_rate_hz == 4000
 
 
 def test_trials_cover_the_grid_in_four_sets_with_interleaved_order():
@@ -78,4 +80,38 @@ def test_fingerprint_tracks_every_parameter():
     a = get_protocol("radial-distance", quick=True)
     assert a.fingerprint() == get_protocol("radial-distance", quick=True).fingerprint()
     assert a.fingerprint() != get_protocol("radial-distance", quick=True, seed=2).fingerprint()
-    assert a.fingerprint() != a.with_overrides(noise_v=0.01).fingerprint()
+    assert a.fingerprint() != a.with_sensor(noise_v=0.01).fingerprint()
+    assert a.fingerprint() != a.with_sensor(calibration_mm=(90.0, 60.0)).fingerprint()
+
+
+def test_sensor_settings_are_nested():
+    p4 = get_protocol("radial-distance")
+    assert p4.sensor == HallSettings(calibration_mm=(80.0, 60.0))
+    assert p4.to_dict()["sensor"]["calibration_mm"] == (80.0, 60.0)
+    p5 = get_protocol("angle-texture")
+    assert p5.sensor.calibration_mm is None  # the thesis' point: 60 mm at r = 150 mm
+    assert p5.sensor.calibration_point(preset(p5.whisker)) == (150.0, 60.0)
+    q = p4.with_sensor(noise_v=0.0, sample_rate_hz=2000.0)
+    assert q.sensor.noise_v == 0.0 and q.sensor.sample_rate_hz == 2000.0
+    assert q.sensor.calibration_mm == (80.0, 60.0)
+    assert q.radial_distances_mm == p4.radial_distances_mm
+    assert get_protocol("radial-distance", sensor=HallSettings(noise_v=0.0)).sensor.noise_v == 0.0
+
+
+@pytest.mark.parametrize(
+    ("sensor", "match"),
+    [
+        ({"sample_rate_hz": 3000.0}, "dt_s"),  # 0.25 ms does not divide 1/3000 s
+        ({"sample_rate_hz": -1.0}, "sample_rate_hz"),
+        ({"noise_v": -0.1}, "noise_v"),
+        ({"calibration_mm": (190.0, 60.0)}, "calibration radius"),
+    ],
+)
+def test_bad_sensor_settings(sensor, match):
+    with pytest.raises(ValueError, match=match):
+        get_protocol("radial-distance", quick=True).with_sensor(**sensor)
+
+
+def test_sensor_must_be_hall_settings():
+    with pytest.raises(TypeError, match="HallSettings"):
+        get_protocol("radial-distance", quick=True, sensor={"noise_v": 0.0})

@@ -29,7 +29,7 @@ def test_streams_equal_those_of_seedsequence_spawn():
 
 def test_every_texture_has_its_own_sheet():
     """The old scheme summed character codes: anagrams shared a sheet."""
-    heights = {t: runner._surface(t, 0).heights_m.ravel()[:64].copy() for t in TEXTURES}
+    heights = {t: runner.session_surface(t, 0).heights_m.ravel()[:64].copy() for t in TEXTURES}
     names = list(heights)
     for i, a in enumerate(names):
         for b in names[i + 1 :]:

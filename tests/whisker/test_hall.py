@@ -4,7 +4,13 @@ import numpy as np
 import pytest
 
 from vibrissa.whisker.geometry import PRESETS
-from vibrissa.whisker.hall import HallSensor, calibrated_gain, calibration_point_mm
+from vibrissa.whisker.hall import (
+    HallSensor,
+    HallSettings,
+    calibrated_gain,
+    calibration_point_mm,
+    steps_per_sample,
+)
 from vibrissa.whisker.rod import RodModel
 
 XY = PRESETS["xy-robot"]
@@ -80,3 +86,45 @@ def test_read_rejects_bad_input():
         HallSensor(gain_v=1.0, sample_rate_hz=-1)
     with pytest.raises(ValueError, match="adc_bits"):
         HallSensor(gain_v=1.0, adc_bits=40)
+
+
+def test_calibration_spans_the_sensors_own_supply_and_range():
+    res = RodModel(XY).push(150, 60, friction=0.0)
+    tan = np.array([res.tan_x, res.tan_y])
+    s33 = HallSettings(supply_v=3.3, offset_v=1.65, range_fraction=0.8).calibrate(XY)
+    assert s33.gain_v == pytest.approx(calibrated_gain(XY) * (0.8 * 3.3) / (0.9 * 5.0))
+    assert s33.ideal_volts(tan)[0] == pytest.approx(1.65 + 0.4 * 3.3, abs=1e-6)
+    assert s33.v_max == pytest.approx(1.65 + 0.4 * 3.3)
+    assert calibrated_gain(XY, sensor=s33) == s33.gain_v
+
+
+def test_settings_calibrate_into_a_sensor_with_the_same_fields():
+    settings = HallSettings(sample_rate_hz=4000.0, noise_v=0.0, calibration_mm=(80.0, 60.0))
+    sensor = settings.calibrate(XY, 28)
+    assert sensor.gain_v == calibrated_gain(XY, 28, (80.0, 60.0))
+    d = sensor.to_dict()
+    assert d.pop("gain_v") == sensor.gain_v
+    assert d == {k: v for k, v in vars(settings).items() if k != "calibration_mm"}
+    # HallSensor's defaults are HallSettings' defaults
+    assert HallSettings().calibrate(XY) == HallSensor(calibrated_gain(XY))
+    assert HallSettings().calibration_point(XY) == calibration_point_mm(XY)
+    with pytest.raises(ValueError, match="calibration radius"):
+        HallSettings(calibration_mm=(200.0, 60.0)).calibration_point(XY)
+    with pytest.raises(ValueError, match="calibration_mm"):
+        HallSettings(calibration_mm=(80.0,))
+    with pytest.raises(ValueError, match="noise_v"):
+        HallSettings(noise_v=-1.0)
+
+
+@pytest.mark.parametrize(
+    ("dt_s", "rate", "steps"),
+    [(2.5e-4, 1000.0, 4), (2.5e-4, 4000.0, 1), (1.25e-4, 4000.0, 2), (1e-3 / 3, 1000.0, 3)],
+)
+def test_steps_per_sample(dt_s, rate, steps):
+    assert steps_per_sample(dt_s, rate) == steps
+
+
+@pytest.mark.parametrize(("dt_s", "rate"), [(3e-4, 1000.0), (5e-4, 4000.0), (0.0, 1000.0)])
+def test_steps_per_sample_rejects_a_step_that_does_not_divide_the_period(dt_s, rate):
+    with pytest.raises(ValueError, match="dt_s"):
+        steps_per_sample(dt_s, rate)

@@ -46,3 +46,20 @@ def user_errors(func: F) -> F:
             raise typer.Exit(code=2) from exc
 
     return wrapper  # type: ignore[return-value]
+
+
+def physics_errors(func: F) -> F:
+    """Report a solver failure (``SimulationError``) as one line on standard error and
+    exit status 1, instead of a traceback."""
+
+    @wraps(func)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        from vibrissa.whisker.rod import SimulationError
+
+        try:
+            return func(*args, **kwargs)
+        except SimulationError as exc:
+            print(f"error: simulation failed: {exc}", file=sys.stderr)
+            raise typer.Exit(code=1) from exc
+
+    return wrapper  # type: ignore[return-value]

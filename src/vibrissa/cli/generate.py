@@ -77,13 +77,14 @@ def register(app: typer.Typer) -> None:
             if textures
             else None,
             runs=runs,
-            sample_rate_hz=sample_rate_hz,
             whisker=whisker,
-            noise_v=noise_v,
             drift_fraction=drift,
             seed=seed,
         )
+        sensor = {"sample_rate_hz": sample_rate_hz, "noise_v": noise_v}
         proto = get_protocol(protocol, quick=quick, **overrides)
+        if any(v is not None for v in sensor.values()):
+            proto = proto.with_sensor(**{k: v for k, v in sensor.items() if v is not None})
         t0 = time.perf_counter()
         show = not json_out and os.environ.get("CI") is None
         with Progress(
@@ -115,7 +116,7 @@ def register(app: typer.Typer) -> None:
             "out": str(out),
             "n_trials": int(ds.sizes["trial"]),
             "n_samples": int(ds.sizes["time"]),
-            "sample_rate_hz": proto.sample_rate_hz,
+            "sample_rate_hz": proto.sensor.sample_rate_hz,
             "seed": proto.seed,
             "saturated_fraction": float(ds["saturated"].mean()),
             "wall_seconds": round(elapsed, 3),

@@ -20,7 +20,6 @@ import json
 import multiprocessing
 import os
 import shutil
-import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
@@ -147,7 +146,7 @@ def build_dataset(protocol: Protocol, results: dict[str, np.ndarray]) -> xr.Data
     n = len(specs)
     if results["signal"].shape[0] != n:
         raise ValueError(f"expected {n} trials, got {results['signal'].shape[0]}")
-    fs = protocol.sample_rate_hz
+    fs = protocol.sensor.sample_rate_hz
     nb = int(round(protocol.window_s[0] * fs))
     time_s = (np.arange(n_samples(protocol)) - nb) / fs
     coords: dict[str, Any] = {
@@ -267,10 +266,3 @@ def generate(
     save_dataset(ds, out)
     shutil.rmtree(parts, ignore_errors=True)
     return ds
-
-
-def timed_generate(*args: Any, **kwargs: Any) -> tuple[xr.Dataset | None, float]:
-    """:func:`generate` plus its wall time (s)."""
-    t0 = time.perf_counter()
-    ds = generate(*args, **kwargs)
-    return ds, time.perf_counter() - t0

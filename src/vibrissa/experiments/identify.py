@@ -141,8 +141,8 @@ def _pole_trials(
     group: int,
     progress: Progress | None,
 ) -> list[tuple[float, float, TrialResult]]:
-    model = runner._model(protocol.whisker, protocol.n_elements, 0.0)
-    sensor = runner._sensor(protocol)
+    model = runner.whisker_model(protocol.whisker, protocol.n_elements, 0.0)
+    sensor = runner.hall_sensor(protocol)
     out = []
     for k, (r, v) in enumerate(points):
         rng = np.random.default_rng(trial_stream(protocol.seed, group, k))
@@ -162,15 +162,15 @@ def _surface_trials(
     group: int,
     progress: Progress | None,
 ) -> list[tuple[str, float, float, TrialResult]]:
-    model = runner._model(protocol.whisker, protocol.n_elements, 0.0)
-    sensor = runner._sensor(protocol)
+    model = runner.whisker_model(protocol.whisker, protocol.n_elements, 0.0)
+    sensor = runner.hall_sensor(protocol)
     out = []
     for k, (texture, angle, v) in enumerate(points):
         rng = np.random.default_rng(trial_stream(protocol.seed, group, k))
         res = run_trial(
             protocol.stage, model, sensor, SurfaceStimulus(texture, angle), v, 1,
             protocol.window_s, rng, dt_s=protocol.dt_s,
-            surface=runner._surface(texture, protocol.seed),
+            surface=runner.session_surface(texture, protocol.seed),
         )
         out.append((texture, angle, v, res))
         if progress:
@@ -256,8 +256,8 @@ def identify(quick: bool = False, progress: Progress | None = None) -> list[Obse
     p4 = get_protocol("radial-distance")
     p5 = get_protocol("angle-texture")
     pl = plan(quick)
-    fs4, fs5 = p4.sample_rate_hz, p5.sample_rate_hz
-    model = runner._model(p4.whisker, p4.n_elements, 0.0)
+    fs4, fs5 = p4.sensor.sample_rate_hz, p5.sensor.sample_rate_hz
+    model = runner.whisker_model(p4.whisker, p4.n_elements, 0.0)
     obs: list[Observable] = []
 
     # -- resonance ------------------------------------------------------------
@@ -382,7 +382,7 @@ def identify(quick: bool = False, progress: Progress | None = None) -> list[Obse
         "saturating the Hall effect sensor was ~80 mm' (4.2)",
         80.0, closest, "mm", "80 +/- 10 mm", abs(closest - 80.0) <= 10.0,
         {"saturating_speeds_by_radius": {str(r): v for r, v in sorted(sat.items())},
-         "calibration_mm": list(p4.hall_calibration_mm)},
+         "calibration_mm": list(p4.sensor.calibration_point(model.geometry))},
     ))
 
     # -- tip zone ------------------------------------------------------------------

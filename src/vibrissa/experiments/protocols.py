@@ -1,10 +1,11 @@
 """The thesis' XY-robot experiments as declarative protocols.
 
 A :class:`Protocol` is a parameter grid plus the robot, stimulus, whisker and
-recording settings. :meth:`Protocol.trials` expands it into the session's trial
-list: every grid point x runs x directions, with the four (run, direction)
-combinations numbered as the recorded *sets* 1-4 and each run's contacts
-"randomly interleaved to limit any effects of changing whisker properties" (4.2).
+recording settings (the Hall sensor's set-up is nested as ``Protocol.sensor``, a
+:class:`~vibrissa.whisker.hall.HallSettings`). :meth:`Protocol.trials` expands it
+into the session's trial list: every grid point x runs x directions, with the four
+(run, direction) combinations numbered as the recorded *sets* 1-4 and each run's
+contacts "randomly interleaved to limit any effects of changing whisker properties" (4.2).
 
 * ``radial-distance`` (chapter 4, 4.2): 101 radial distances 80-180 mm in 1 mm
   steps x 26 speeds 36-216 mm/s (~7.2 mm/s steps), 2 runs x 2 directions, 1 kHz,
@@ -24,10 +25,11 @@ from typing import Any
 
 import numpy as np
 
-from vibrissa._validate import in_range, non_negative, positive
+from vibrissa._validate import in_range, positive
 from vibrissa.experiments.streams import ORDER, stream
 from vibrissa.robots.xy_stage import XYStage
 from vibrissa.whisker.geometry import PRESETS, preset
+from vibrissa.whisker.hall import HallSettings, steps_per_sample
 from vibrissa.whisker.surfaces import TEXTURES
 
 __all__ = [
@@ -125,8 +127,6 @@ class Protocol:
         Repetitions of the whole grid.
     directions
         Movement directions recorded (+1, -1).
-    sample_rate_hz
-        Recording rate.
     window_s
         Seconds kept before and after the peak.
     whisker
@@ -134,11 +134,14 @@ class Protocol:
     n_elements
         Rod discretisation.
     dt_s
-        Internal time step.
-    hall_calibration_mm
-        (radius, deflection) at which the Hall sensor is calibrated to 5-95 % of V_DD.
-    noise_v, adc_bits, bandwidth_hz
-        Sensor noise, resolution and bandwidth.
+        Internal time step (s); must divide the sensor's sample period
+        (:func:`~vibrissa.whisker.hall.steps_per_sample`).
+    sensor
+        The Hall sensor's set-up: recording rate (``sensor.sample_rate_hz``),
+        bandwidth, noise, ADC, supply, calibrated range and the (radius,
+        deflection) of its calibration push (``sensor.calibration_mm``); calibrated
+        on the nominal whisker before the session. Change some of it with
+        :meth:`with_sensor`.
     drift_fraction
         Relative change of the whisker's Young's modulus and follicle stiffness from
         the first to the last trial of a session (0 = no drift). Default -0.05: the
@@ -159,15 +162,11 @@ class Protocol:
     textures: tuple[str, ...] = ()
     runs: int = 2
     directions: tuple[int, ...] = (1, -1)
-    sample_rate_hz: float = 1000.0
     window_s: tuple[float, float] = (0.325, 0.325)
     whisker: str = "xy-robot"
     n_elements: int = 28
     dt_s: float = 2.5e-4
-    hall_calibration_mm: tuple[float, float] = (150.0, 60.0)
-    noise_v: float = 0.002
-    adc_bits: int = 12
-    bandwidth_hz: float | None = 2000.0
+    sensor: HallSettings = field(default_factory=HallSettings)
     drift_fraction: float = -0.05
     stage: XYStage = field(default_factory=XYStage)
     seed: int = 0
@@ -206,16 +205,12 @@ class Protocol:
             raise ValueError(
                 f"directions must be a non-empty subset of (1, -1), got {self.directions}"
             )
-        positive("sample_rate_hz", self.sample_rate_hz)
         positive("window before peak", self.window_s[0])
         positive("window after peak", self.window_s[1])
-        positive("dt_s", self.dt_s)
-        ratio = 1.0 / (self.dt_s * self.sample_rate_hz)
-        if abs(ratio - round(ratio)) > 1e-6 or round(ratio) < 1:
-            raise ValueError(
-                f"dt_s ({self.dt_s}) must divide the sample period 1/{self.sample_rate_hz} s"
-            )
-        non_negative("noise_v", self.noise_v)
+        if not isinstance(self.sensor, HallSettings):
+            raise TypeError(f"sensor must be a HallSettings, got {type(self.sensor).__name__}")
+        steps_per_sample(self.dt_s, self.sensor.sample_rate_hz)
+        self.sensor.calibration_point(g)
         in_range("drift_fraction", self.drift_fraction, -0.5, 0.5)
 
     # ------------------------------------------------------------------ grid
@@ -286,6 +281,13 @@ class Protocol:
         """Copy with some fields replaced (validated again)."""
         return dataclasses.replace(self, **changes)
 
+    def with_sensor(self, **changes: Any) -> Protocol:
+        """Copy with some fields of :attr:`sensor` replaced (validated again).
+
+        E.g. ``protocol.with_sensor(sample_rate_hz=2000.0, noise_v=0.0)``.
+        """
+        return dataclasses.replace(self, sensor=dataclasses.replace(self.sensor, **changes))
+
 
 PROTOCOL_NAMES = ("radial-distance", "angle-texture")
 
@@ -306,7 +308,7 @@ def _radial_distance(quick: bool) -> Protocol:
             name="radial-distance",
             radial_distances_mm=parse_grid("80:180:25"),
             speeds_mm_s=parse_grid("36:216:#4"),
-            hall_calibration_mm=(80.0, 60.0),
+            sensor=HallSettings(calibration_mm=(80.0, 60.0)),
             window_s=RADIAL_DISTANCE_WINDOW_S,
         )
     return Protocol(
@@ -317,14 +319,14 @@ def _radial_distance(quick: bool) -> Protocol:
         # The Hall IC is re-programmable "to best suit the current experiment" (3.2.3);
         # with SCRATCHbot's calibration (60 mm at r = 150 mm) most of this grid would
         # saturate the sensor, so the session is calibrated at its closest contact.
-        hall_calibration_mm=(80.0, 60.0),
+        sensor=HallSettings(calibration_mm=(80.0, 60.0)),
     )
 
 
 def _angle_texture(quick: bool) -> Protocol:
     common = dict(
         name="angle-texture",
-        sample_rate_hz=4000.0,
+        sensor=HallSettings(sample_rate_hz=4000.0),
         window_s=(0.75, 0.75),
         dt_s=1.25e-4,
         textures=("aluminium", "p600", "p180", "p80"),
@@ -338,7 +340,8 @@ def get_protocol(name: str, quick: bool = False, **overrides: Any) -> Protocol:
     """The named protocol (``--quick``: a small grid for a run of under a minute).
 
     ``overrides`` replace fields (e.g. ``radial_distances_mm=parse_grid("80:180:20")``,
-    ``seed=3``); ``None`` values are ignored.
+    ``seed=3``, ``sensor=HallSettings(...)``); ``None`` values are ignored. To change
+    a few sensor settings, use :meth:`Protocol.with_sensor` on the result.
     """
     makers = {"radial-distance": _radial_distance, "angle-texture": _angle_texture}
     if name not in makers:

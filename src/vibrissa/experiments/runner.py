@@ -20,11 +20,19 @@ from vibrissa.experiments.protocols import Protocol, TrialSpec
 from vibrissa.experiments.streams import SURFACES, TRIALS, stream
 from vibrissa.robots.xy_stage import PoleStimulus, SurfaceStimulus, run_trial
 from vibrissa.whisker.geometry import WhiskerGeometry, preset
-from vibrissa.whisker.hall import HallSensor, calibrated_gain
+from vibrissa.whisker.hall import HallSensor
 from vibrissa.whisker.rod import RodModel
 from vibrissa.whisker.surfaces import TEXTURES, Surface, make_surface
 
-__all__ = ["TRIAL_DIAGNOSTICS", "n_samples", "simulate_trials", "whisker_attrs"]
+__all__ = [
+    "TRIAL_DIAGNOSTICS",
+    "hall_sensor",
+    "n_samples",
+    "session_surface",
+    "simulate_trials",
+    "whisker_attrs",
+    "whisker_model",
+]
 
 #: Per-trial quantities recorded besides the signal.
 TRIAL_DIAGNOSTICS = (
@@ -47,7 +55,7 @@ _DRIFT_LEVELS = 20
 
 def n_samples(protocol: Protocol) -> int:
     """Samples per recorded trial."""
-    fs = protocol.sample_rate_hz
+    fs = protocol.sensor.sample_rate_hz
     return int(round(protocol.window_s[0] * fs)) + int(round(protocol.window_s[1] * fs)) + 1
 
 
@@ -57,7 +65,23 @@ def _specs(protocol: Protocol) -> tuple[TrialSpec, ...]:
 
 
 @lru_cache(maxsize=64)
-def _model(whisker: str, n_elements: int, drift: float) -> RodModel:
+def whisker_model(whisker: str, n_elements: int, drift: float) -> RodModel:
+    """The rod model of a whisker preset, its stiffness drifted by a fraction (cached).
+
+    Parameters
+    ----------
+    whisker : str
+        Preset name.
+    n_elements : int
+        Rod discretisation.
+    drift : float
+        Relative change of Young's modulus and follicle stiffness (0: the nominal
+        whisker).
+
+    Returns
+    -------
+    RodModel
+    """
     g = preset(whisker)
     if drift != 0.0:
         g = g.replace(
@@ -68,21 +92,21 @@ def _model(whisker: str, n_elements: int, drift: float) -> RodModel:
 
 
 @lru_cache(maxsize=8)
-def _sensor(protocol: Protocol) -> HallSensor:
-    g = preset(protocol.whisker)
-    gain = calibrated_gain(g, protocol.n_elements, protocol.hall_calibration_mm)
-    return HallSensor(
-        gain,
-        sample_rate_hz=protocol.sample_rate_hz,
-        bandwidth_hz=protocol.bandwidth_hz,
-        noise_v=protocol.noise_v,
-        adc_bits=protocol.adc_bits,
-    )
+def hall_sensor(protocol: Protocol) -> HallSensor:
+    """The session's Hall sensor (cached).
+
+    ``protocol.sensor`` calibrated on the nominal whisker: calibration precedes a
+    session, so the drifting whisker is read through the same gain throughout.
+    """
+    return protocol.sensor.calibrate(preset(protocol.whisker), protocol.n_elements)
 
 
 @lru_cache(maxsize=16)
-def _surface(texture: str, seed: int) -> Surface:
-    # one physical sheet per texture for the whole session
+def session_surface(texture: str, seed: int) -> Surface:
+    """The one physical sheet of ``texture`` used for a whole session of ``seed`` (cached).
+
+    Drawn from the session's ``SURFACES`` stream (:mod:`vibrissa.experiments.streams`).
+    """
     return make_surface(
         texture, seed=np.random.default_rng(stream(seed, SURFACES, list(TEXTURES).index(texture)))
     )
@@ -91,20 +115,20 @@ def _surface(texture: str, seed: int) -> Surface:
 def whisker_attrs(protocol: Protocol) -> dict[str, Any]:
     """What a classifier needs to know about the whisker and sensor (Dataset attr)."""
     g: WhiskerGeometry = preset(protocol.whisker)
-    s = _sensor(protocol)
+    s = hall_sensor(protocol)
     d = g.to_dict()
     d.update(
         n_elements=protocol.n_elements,
         hall_gain_v=s.gain_v,
         hall_offset_v=s.offset_v,
-        hall_calibration_mm=list(protocol.hall_calibration_mm),
+        hall_calibration_mm=list(protocol.sensor.calibration_point(g)),
         hall_sensor=s.to_dict(),
-        natural_frequencies_hz=_model(protocol.whisker, protocol.n_elements, 0.0)
+        natural_frequencies_hz=whisker_model(protocol.whisker, protocol.n_elements, 0.0)
         .natural_frequencies_hz[:3]
         .tolist(),
         # the resonance of chapter-5 recordings (tip held by the surface; 5.3.1)
         tip_pinned_frequency_hz=float(
-            _model(protocol.whisker, protocol.n_elements, 0.0).pinned_frequencies_hz(
+            whisker_model(protocol.whisker, protocol.n_elements, 0.0).pinned_frequencies_hz(
                 g.length_mm, 1
             )[0]
         ),
@@ -134,7 +158,7 @@ def simulate_trials(protocol: Protocol, indices: Sequence[int]) -> dict[str, np.
             for name in TRIAL_DIAGNOSTICS
         },
     }
-    sensor = _sensor(protocol)
+    sensor = hall_sensor(protocol)
     n_total = len(specs)
     for k, i in enumerate(idx):
         spec = specs[int(i)]
@@ -143,13 +167,13 @@ def simulate_trials(protocol: Protocol, indices: Sequence[int]) -> dict[str, np.
         if protocol.drift_fraction:
             level = round(spec.order / max(n_total - 1, 1) * _DRIFT_LEVELS) / _DRIFT_LEVELS
             drift = protocol.drift_fraction * level
-        model = _model(protocol.whisker, protocol.n_elements, drift)
+        model = whisker_model(protocol.whisker, protocol.n_elements, drift)
         surface = None
         if protocol.name == "radial-distance":
             stim: PoleStimulus | SurfaceStimulus = PoleStimulus(spec.labels["radial_distance_mm"])
         else:
             stim = SurfaceStimulus(spec.labels["texture"], spec.labels["angle_deg"])
-            surface = _surface(spec.labels["texture"], protocol.seed)
+            surface = session_surface(spec.labels["texture"], protocol.seed)
         res = run_trial(
             protocol.stage,
             model,

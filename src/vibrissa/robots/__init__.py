@@ -6,7 +6,6 @@ from vibrissa.robots.xy_stage import (
     SurfaceStimulus,
     TrialResult,
     XYStage,
-    nominal_sensor,
     run_trial,
 )
 
@@ -16,6 +15,5 @@ __all__ = [
     "SurfaceStimulus",
     "TrialResult",
     "XYStage",
-    "nominal_sensor",
     "run_trial",
 ]

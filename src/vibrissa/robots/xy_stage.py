@@ -45,7 +45,7 @@ import numpy as np
 
 from vibrissa._validate import in_range, non_negative, positive
 from vibrissa.whisker.geometry import WhiskerGeometry
-from vibrissa.whisker.hall import HallSensor
+from vibrissa.whisker.hall import HallSensor, steps_per_sample
 from vibrissa.whisker.rod import RodModel
 from vibrissa.whisker.simulate import (
     PoleContact,
@@ -56,7 +56,6 @@ from vibrissa.whisker.simulate import (
 from vibrissa.whisker.surfaces import Surface, make_surface
 
 __all__ = [
-    "nominal_sensor",
     "LatencyModel",
     "PoleStimulus",
     "SurfaceStimulus",
@@ -287,11 +286,13 @@ def run_trial(
     rng
         Random generator of this trial (latency, positioning error, noise).
     dt_s
-        Internal time step; 1/dt_s must be a multiple of the sample rate.
+        Internal time step (s); must divide the sensor's sample period
+        (:func:`~vibrissa.whisker.hall.steps_per_sample`).
     surface
         Height field for a surface stimulus (default: built from the texture).
     """
     v = stage.check_speed(speed_mm_s)
+    step = steps_per_sample(dt_s, sensor.sample_rate_hz)
     if direction not in (1, -1):
         raise ValueError(f"direction must be +1 or -1, got {direction!r}")
     g: WhiskerGeometry = model.geometry
@@ -366,7 +367,6 @@ def run_trial(
         )
         tan = tan * np.array([sgn, 1.0])  # convert -x trials: equivalent to +x
         volts = sensor.read(tan, 1.0 / dt_s, rng)
-        step = int(round(1.0 / (dt_s * sensor.sample_rate_hz)))
         dev = np.abs(volts[:, 0] - sensor.offset_v)
         k_peak = int(np.argmax(dev))
         n_before = int(round(window_s[0] * sensor.sample_rate_hz))
@@ -399,15 +399,4 @@ def run_trial(
         slipped_off=slipped,
         saturated=saturated,
         peak_deflection_v=float(dev.max()),
-    )
-
-
-def nominal_sensor(
-    geometry: WhiskerGeometry, sample_rate_hz: float, n_elements: int, **kwargs: float
-) -> HallSensor:
-    """A Hall sensor calibrated on the nominal whisker (calibration precedes a session)."""
-    from vibrissa.whisker.hall import calibrated_gain
-
-    return HallSensor(
-        calibrated_gain(geometry, n_elements), sample_rate_hz=sample_rate_hz, **kwargs
     )

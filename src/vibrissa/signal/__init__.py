@@ -14,7 +14,8 @@ names: ``sample_rate_hz``, ``cutoff_hz``, ``threshold_v``, ``sigma_s``.
   :func:`causal_gaussian_velocity`, :func:`causal_lowpass`, :func:`onset_index`,
   :func:`peak_index`, :func:`cut_windows`;
 - chapter-4 features: :func:`peak_magnitude` (f1, eq. 4.5) and
-  :func:`contact_duration` (f2, eqs. 4.6-4.8).
+  :func:`contact_duration` (f2, eqs. 4.6-4.8);
+- :func:`ring_down`: damped frequency and damping ratio of a free decay.
 """
 
 from vibrissa.signal._baseline import HALL_REST_V, remove_baseline
@@ -29,6 +30,7 @@ from vibrissa.signal._causal import (
 from vibrissa.signal._derivatives import DEFAULT_SIGMA_SAMPLES, acceleration, smooth, velocity
 from vibrissa.signal._features import contact_duration, peak_magnitude
 from vibrissa.signal._filters import bandpass, highpass, lowpass, notch
+from vibrissa.signal._ringdown import ring_down
 from vibrissa.signal._spectra import magnitude_spectrum, spectrum_frequencies
 
 __all__ = [
@@ -49,6 +51,7 @@ __all__ = [
     "peak_index",
     "peak_magnitude",
     "remove_baseline",
+    "ring_down",
     "smooth",
     "spectrum_frequencies",
     "velocity",

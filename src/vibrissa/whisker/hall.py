@@ -6,6 +6,11 @@ V_DD = 5 V) at rest, and scaled so that +/-60 mm applied at r = 150 mm spans
 5-95 % of V_DD. Outside that range the output clamps: close contacts saturate
 the sensor, as the thesis found (4.2).
 
+:class:`HallSettings` is a sensor's set-up (rate, bandwidth, noise, ADC, supply,
+calibrated range and calibration point); :meth:`HallSettings.calibrate` makes the
+:class:`HallSensor` for a whisker. :func:`steps_per_sample` relates a
+simulation's time step to the sample rate.
+
 Signal chain modelled here, in order: the magnet's tangents at the simulation's
 internal rate -> the sensor's own low-pass response (``bandwidth_hz``, a causal
 2nd-order Butterworth, as the IC's output filter) -> additive white noise
@@ -27,37 +32,103 @@ import scipy.signal
 from vibrissa._validate import finite, in_range, non_negative, positive
 from vibrissa.whisker.geometry import WhiskerGeometry
 
-__all__ = ["CALIBRATION_DEFLECTION_MM", "CALIBRATION_RADIUS_MM", "HallSensor", "calibrated_gain"]
+__all__ = [
+    "CALIBRATION_DEFLECTION_MM",
+    "CALIBRATION_RADIUS_MM",
+    "HallSensor",
+    "HallSettings",
+    "calibrated_gain",
+    "calibration_point_mm",
+    "steps_per_sample",
+]
 
 CALIBRATION_RADIUS_MM = 150.0
 CALIBRATION_DEFLECTION_MM = 60.0
 
 
-@dataclass(frozen=True)
-class HallSensor:
-    """Two-axis Hall sensor with calibration, bandwidth, noise and ADC.
+def steps_per_sample(dt_s: float, sample_rate_hz: float) -> int:
+    """Internal time steps per output sample, ``1 / (dt_s * sample_rate_hz)``.
+
+    The one place that relates a simulation's time step to a recording's sample
+    rate: the sensor keeps every ``steps_per_sample``-th internal step.
 
     Parameters
     ----------
-    gain_v
-        Volts per unit tangent of the magnet angle (from :func:`calibrated_gain`).
-    sample_rate_hz
-        Output sample rate (the thesis used 1, 2 and 4 kHz).
-    bandwidth_hz
-        -3 dB bandwidth of the sensor's output filter; ``None`` means no filter.
-    noise_v
+    dt_s : float
+        Internal time step of the simulation (s).
+    sample_rate_hz : float
+        Output sample rate (Hz).
+
+    Returns
+    -------
+    int
+        Steps per sample, at least 1.
+
+    Raises
+    ------
+    ValueError
+        If either is not positive, or ``dt_s`` does not divide the sample period
+        ``1 / sample_rate_hz`` evenly (to a relative 1e-6): the internal rate
+        ``1 / dt_s`` must be an integer multiple of the sample rate.
+    """
+    positive("dt_s", dt_s)
+    positive("sample_rate_hz", sample_rate_hz)
+    ratio = 1.0 / (dt_s * sample_rate_hz)
+    step = int(round(ratio))
+    if step < 1 or abs(ratio - step) > 1e-6 * ratio:
+        raise ValueError(
+            f"dt_s ({dt_s:g} s) must divide the sample period 1/{sample_rate_hz:g} s evenly "
+            f"(the internal rate {1.0 / dt_s:g} Hz an integer multiple of the sample rate)"
+        )
+    return step
+
+
+def _check_sensor_fields(s: HallSensor | HallSettings) -> None:
+    """Validate the fields :class:`HallSensor` and :class:`HallSettings` share."""
+    positive("sample_rate_hz", s.sample_rate_hz)
+    if s.bandwidth_hz is not None:
+        positive("bandwidth_hz", s.bandwidth_hz)
+    non_negative("noise_v", s.noise_v)
+    if not isinstance(s.adc_bits, int | np.integer) or not 0 <= s.adc_bits <= 24:
+        raise ValueError(f"adc_bits must be an integer in [0, 24], got {s.adc_bits!r}")
+    positive("supply_v", s.supply_v)
+    finite("offset_v", s.offset_v)
+    in_range("range_fraction", s.range_fraction, 0.0, 1.0)
+
+
+@dataclass(frozen=True)
+class HallSettings:
+    """How a Hall sensor is set up for a session, before it is calibrated on a whisker.
+
+    Everything of :class:`HallSensor` except the gain, plus where the gain is
+    calibrated; :meth:`calibrate` turns it into the sensor for a given whisker.
+    The defaults are the thesis' MLX90333 on a 5 V supply, 2.5 V at rest,
+    calibrated to 5-95 % of V_DD, read by a 12-bit ADC at 1 kHz.
+
+    Parameters
+    ----------
+    sample_rate_hz : float
+        Output sample rate (Hz; the thesis used 1, 2 and 4 kHz).
+    bandwidth_hz : float or None
+        -3 dB bandwidth of the sensor's output filter (Hz); ``None`` means no filter.
+    noise_v : float
         RMS white noise added before sampling (V).
-    adc_bits
+    adc_bits : int
         ADC resolution over 0..supply_v; 0 disables quantisation.
-    offset_v
+    offset_v : float
         Output at rest (V).
-    supply_v
+    supply_v : float
         Supply voltage V_DD (V).
-    range_fraction
-        Fraction of V_DD spanned by the calibrated deflection, centred on the offset.
+    range_fraction : float
+        Fraction of V_DD spanned by the calibrated deflection, centred on the
+        offset (0.9: 5-95 %).
+    calibration_mm : tuple of float, optional
+        (radius, deflection) in mm of the calibration push; ``None``:
+        :func:`calibration_point_mm` of the whisker (the thesis' 60 mm at
+        r = 150 mm, scaled for whiskers shorter than 185 mm). The MLX90333 is
+        re-programmable "to best suit the current experiment" (3.2.3).
     """
 
-    gain_v: float
     sample_rate_hz: float = 1000.0
     bandwidth_hz: float | None = 2000.0
     noise_v: float = 0.002
@@ -65,18 +136,101 @@ class HallSensor:
     offset_v: float = 2.5
     supply_v: float = 5.0
     range_fraction: float = 0.9
+    calibration_mm: tuple[float, float] | None = None
+
+    def __post_init__(self) -> None:
+        _check_sensor_fields(self)
+        if self.calibration_mm is not None:
+            if len(self.calibration_mm) != 2:
+                raise ValueError(
+                    "calibration_mm must be (radius, deflection) in mm, got "
+                    f"{self.calibration_mm!r}"
+                )
+            object.__setattr__(
+                self, "calibration_mm", tuple(float(v) for v in self.calibration_mm)
+            )
+            positive("calibration radius", self.calibration_mm[0])
+            positive("calibration deflection", self.calibration_mm[1])
+
+    def calibration_point(self, geometry: WhiskerGeometry) -> tuple[float, float]:
+        """Radius and deflection (mm) of the calibration push on ``geometry``.
+
+        Raises
+        ------
+        ValueError
+            If the radius lies beyond the whisker's length.
+        """
+        if self.calibration_mm is None:
+            return calibration_point_mm(geometry)
+        r, d = self.calibration_mm
+        return in_range("calibration radius", r, 1e-6, geometry.length_mm, "mm"), d
+
+    def calibrate(self, geometry: WhiskerGeometry, n_elements: int | None = None) -> HallSensor:
+        """The sensor with these settings, its gain calibrated on ``geometry``.
+
+        Parameters
+        ----------
+        geometry : WhiskerGeometry
+            The whisker calibrated (the nominal one: calibration precedes a session).
+        n_elements : int, optional
+            Discretisation of the model used (default: the model's default).
+
+        Returns
+        -------
+        HallSensor
+        """
+        gain = calibrated_gain(geometry, n_elements, self.calibration_point(geometry), self)
+        return HallSensor(
+            gain,
+            sample_rate_hz=self.sample_rate_hz,
+            bandwidth_hz=self.bandwidth_hz,
+            noise_v=self.noise_v,
+            adc_bits=self.adc_bits,
+            offset_v=self.offset_v,
+            supply_v=self.supply_v,
+            range_fraction=self.range_fraction,
+        )
+
+
+@dataclass(frozen=True)
+class HallSensor:
+    """Two-axis Hall sensor with calibration, bandwidth, noise and ADC.
+
+    Usually made by :meth:`HallSettings.calibrate`; the defaults are those of
+    :class:`HallSettings`.
+
+    Parameters
+    ----------
+    gain_v : float
+        Volts per unit tangent of the magnet angle (from :func:`calibrated_gain`).
+    sample_rate_hz : float
+        Output sample rate (Hz; the thesis used 1, 2 and 4 kHz).
+    bandwidth_hz : float or None
+        -3 dB bandwidth of the sensor's output filter (Hz); ``None`` means no filter.
+    noise_v : float
+        RMS white noise added before sampling (V).
+    adc_bits : int
+        ADC resolution over 0..supply_v; 0 disables quantisation.
+    offset_v : float
+        Output at rest (V).
+    supply_v : float
+        Supply voltage V_DD (V).
+    range_fraction : float
+        Fraction of V_DD spanned by the calibrated deflection, centred on the offset.
+    """
+
+    gain_v: float
+    sample_rate_hz: float = HallSettings.sample_rate_hz
+    bandwidth_hz: float | None = HallSettings.bandwidth_hz
+    noise_v: float = HallSettings.noise_v
+    adc_bits: int = HallSettings.adc_bits
+    offset_v: float = HallSettings.offset_v
+    supply_v: float = HallSettings.supply_v
+    range_fraction: float = HallSettings.range_fraction
 
     def __post_init__(self) -> None:
         positive("gain_v", self.gain_v)
-        positive("sample_rate_hz", self.sample_rate_hz)
-        if self.bandwidth_hz is not None:
-            positive("bandwidth_hz", self.bandwidth_hz)
-        non_negative("noise_v", self.noise_v)
-        if not isinstance(self.adc_bits, int | np.integer) or not 0 <= self.adc_bits <= 24:
-            raise ValueError(f"adc_bits must be an integer in [0, 24], got {self.adc_bits!r}")
-        positive("supply_v", self.supply_v)
-        finite("offset_v", self.offset_v)
-        in_range("range_fraction", self.range_fraction, 0.0, 1.0)
+        _check_sensor_fields(self)
 
     @property
     def v_min(self) -> float:
@@ -115,20 +269,16 @@ class HallSensor:
         Returns
         -------
         numpy.ndarray
-            Volts, shape ``(n_samples, 2)`` with ``n_samples = ceil(n_steps / ratio)``.
+            Volts, shape ``(n_samples, 2)`` with ``n_samples = ceil(n_steps / step)``,
+            ``step`` = :func:`steps_per_sample`.
         """
         t = np.asarray(tan_xy, dtype=float)
         if t.ndim != 2 or t.shape[1] != 2:
             raise ValueError(f"tan_xy must have shape (n_steps, 2), got {t.shape}")
         if not np.all(np.isfinite(t)):
             raise ValueError("tan_xy contains NaN or infinite values")
-        ratio = internal_rate_hz / self.sample_rate_hz
-        step = int(round(ratio))
-        if step < 1 or abs(ratio - step) > 1e-9 * ratio:
-            raise ValueError(
-                f"internal rate {internal_rate_hz} Hz is not an integer multiple of the "
-                f"sample rate {self.sample_rate_hz} Hz"
-            )
+        step = steps_per_sample(1.0 / positive("internal_rate_hz", internal_rate_hz),
+                                self.sample_rate_hz)
         v = self.offset_v + self.gain_v * t
         if self.bandwidth_hz is not None and self.bandwidth_hz < 0.45 * internal_rate_hz:
             sos = scipy.signal.butter(2, self.bandwidth_hz, fs=internal_rate_hz, output="sos")
@@ -168,7 +318,9 @@ def calibration_point_mm(geometry: WhiskerGeometry) -> tuple[float, float]:
 
 
 @lru_cache(maxsize=64)
-def _gain_cached(geometry_json: str, n_elements: int, r: float, d: float) -> float:
+def _gain_cached(
+    geometry_json: str, n_elements: int, r: float, d: float, supply_v: float, range_fraction: float
+) -> float:
     from vibrissa.whisker.rod import RodModel
 
     g = WhiskerGeometry.from_dict(json.loads(geometry_json))
@@ -177,30 +329,42 @@ def _gain_cached(geometry_json: str, n_elements: int, r: float, d: float) -> flo
     tan = math.hypot(res.tan_x, res.tan_y)
     if not tan > 0:
         raise ValueError("calibration push did not rotate the follicle")
-    return 0.5 * 0.9 * 5.0 / tan
+    return 0.5 * range_fraction * supply_v / tan
 
 
 def calibrated_gain(
     geometry: WhiskerGeometry,
     n_elements: int | None = None,
     calibration_mm: tuple[float, float] | None = None,
+    sensor: HallSensor | HallSettings | None = None,
 ) -> float:
-    """Hall gain (V per unit tan) that maps the calibration deflection to 5-95 % of 5 V.
+    """Hall gain (V per unit tan) that maps the calibration deflection to the sensor's range.
 
     Computed from the simulated whisker itself: a frictionless pole pushes the
     whisker by the calibration deflection at the calibration radius and the
-    follicle's tilt is read.
+    follicle's tilt is read. The gain puts that tilt at the edge of the sensor's
+    calibrated range, ``range_fraction`` of ``supply_v`` centred on the offset
+    (5-95 % of 5 V for the default sensor).
 
     Parameters
     ----------
-    geometry
+    geometry : WhiskerGeometry
         The whisker calibrated.
-    n_elements
+    n_elements : int, optional
         Discretisation of the model used (default: the model's default).
-    calibration_mm
+    calibration_mm : tuple of float, optional
         (radius, deflection) in mm; default :func:`calibration_point_mm` (the
         thesis' 60 mm at r = 150 mm). The MLX90333 is re-programmable "to best suit
         the current experiment" (3.2.3), so protocols may calibrate elsewhere.
+    sensor : HallSensor or HallSettings, optional
+        The sensor whose ``supply_v`` and ``range_fraction`` the calibration spans
+        (default: :class:`HallSettings` ()). Its ``calibration_mm`` is not read:
+        pass the point as ``calibration_mm`` (or use :meth:`HallSettings.calibrate`).
+
+    Returns
+    -------
+    float
+        Gain (V per unit tangent of the magnet angle).
     """
     from vibrissa.whisker.rod import DEFAULT_N_ELEMENTS
 
@@ -209,4 +373,8 @@ def calibrated_gain(
     else:
         r = in_range("calibration radius", calibration_mm[0], 1e-6, geometry.length_mm, "mm")
         d = positive("calibration deflection", calibration_mm[1])
-    return _gain_cached(geometry.to_json(), int(n_elements or DEFAULT_N_ELEMENTS), r, d)
+    s = HallSettings() if sensor is None else sensor
+    return _gain_cached(
+        geometry.to_json(), int(n_elements or DEFAULT_N_ELEMENTS), r, d,
+        float(s.supply_v), float(s.range_fraction),
+    )
