@@ -13,10 +13,11 @@ the rest walks its nested objects. After ``|`` comes a Python format specificati
 (``.2f``, ``.0f``, ``,d``, ``+.1f``); without one, strings and integers print as they
 are, floats with ``repr`` and lists of strings joined by ", ". Nothing else is
 supported (no expressions, no conditionals): anything a sentence depends on is
-computed by the script that writes the run file. ``{# ... #}`` (on one line) is a
-template comment, dropped from the render (a line holding only a comment is dropped
-whole); templates use it to declare the literal decimals they carry that are settings
-of the code, not measurements (``tests/docs/test_docs_rendered.py`` reads them).
+computed by the script that writes the run file. Fenced code blocks are copied
+verbatim (no placeholders there). ``{# ... #}`` (on one line) is a template comment,
+dropped from the render (a line holding only a comment is dropped whole); templates
+use it to declare the literal decimals they carry that are settings of the code, not
+measurements (``tests/docs/test_docs_rendered.py`` reads them).
 
 Every run file records how it was made, in ``meta``: ``command``,
 ``vibrissa_version``, ``date`` and ``dataset`` (the data file with its
@@ -149,8 +150,14 @@ def render_text(text: str, template_name: str, runs_dir: Path = RUNS) -> tuple[s
     """
     cache: dict[str, Any] = {}
     out = []
+    in_code = False
     for lineno, line in enumerate(text.splitlines(keepends=True), 1):
         where = f"{template_name}:{lineno}"
+        if line.lstrip().startswith("```"):
+            in_code = not in_code
+        if in_code or line.lstrip().startswith("```"):
+            out.append(line)  # fenced code is copied verbatim
+            continue
         if COMMENT.search(line):
             line = COMMENT.sub("", line)
             if not line.strip():
@@ -399,6 +406,8 @@ def extract_main(argv: list[str]) -> int:
     ap.add_argument("--command", required=True, help="the command that made RESULTS")
     ap.add_argument("--out", required=True, help="the run file (docs/runs/<source>.json)")
     ap.add_argument("--time-v", default=None, help="GNU time -v output of the command")
+    ap.add_argument("--wall-seconds", type=float, default=None,
+                    help="the command's wall time, s, when no --time-v output was kept")
     ap.add_argument("--dataset", default=None,
                     help="the data file (default: results' meta.dataset, if any)")
     args = ap.parse_args(argv)
@@ -410,6 +419,8 @@ def extract_main(argv: list[str]) -> int:
         values = EXTRACTORS[args.kind](results)
     if args.time_v:
         values["run"] = parse_time_v(Path(args.time_v).read_text(encoding="utf-8"))
+    if args.wall_seconds is not None:
+        values.setdefault("run", {})["wall_seconds"] = args.wall_seconds
     dataset = args.dataset or results.get("meta", {}).get("dataset")
     meta = run_meta(args.command, dataset)
     dates = [v["date"] for v in values.get("sources", {}).values() if v.get("date")]
