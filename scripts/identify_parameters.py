@@ -60,7 +60,7 @@ def follicle_stiffness() -> float:
 
 def _trial(p, model, gain, r, v, delay):
     stage = dataclasses.replace(p.stage, latency=LatencyModel(delay, p.stage.latency.duty_cycle_s))
-    sensor = HallSensor(gain, sample_rate_hz=p.sample_rate_hz, noise_v=0.0)
+    sensor = HallSensor(gain, sample_rate_hz=p.sensor.sample_rate_hz, noise_v=0.0)
     return run_trial(stage, model, sensor, PoleStimulus(r), v, 1, p.window_s,
                      np.random.default_rng(0), dt_s=p.dt_s)
 
@@ -142,7 +142,7 @@ def main(argv: list[str] | None = None) -> None:
     delay = p.stage.latency.latency_s
     radii = np.linspace(80.0, 180.0, 6)
     speeds = np.linspace(36.0, 216.0, 6)
-    gain = calibrated_gain(g, p.n_elements, p.hall_calibration_mm)
+    gain = calibrated_gain(g, p.n_elements, p.sensor.calibration_mm)
     for it in range(4):
         lat = [_trial(p, model, gain, r, v, delay).mi_latency_s for r in radii for v in speeds]
         print(f"iteration {it}: loop delay {delay * 1e3:.1f} ms -> median latency from first "
