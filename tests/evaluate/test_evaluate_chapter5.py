@@ -21,12 +21,11 @@ from vibrissa.evaluate.chapter5 import (
 )
 from vibrissa.evaluate.chapter5_report import (
     THESIS_CHAPTER5,
-    confusion_figure,
     discussion,
-    kappa_figure,
     markdown_chapter5,
     write_outputs,
 )
+from vibrissa.evaluate.figures import confusion_figure, kappa_figure
 from vibrissa.evaluate.metrics import kappa_from_confusion
 
 FS = 4000.0

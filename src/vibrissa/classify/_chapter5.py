@@ -483,8 +483,8 @@ def chapter5_classifiers(
     sample_rate_hz : float
         Sampling rate of the trials, Hz (4 kHz in chapter 5).
     whisker : dict or str, optional
-        The Dataset's ``whisker`` attribute; its first natural frequency is the
-        notch frequency of 5.3.1 (about 13 Hz for the simulated whisker).
+        The Dataset's ``whisker`` attribute; :func:`resonance_hz` of it is the
+        notch frequency of 5.3.1 (the tip-pinned first mode where recorded).
     notch_hz : float, optional
         Explicit notch frequency instead (one of ``whisker`` / ``notch_hz``).
 

@@ -281,7 +281,9 @@ def _static_beam_section(results: Mapping[str, Any]) -> list[str]:
                        "moment scale"], rows), "",
             "Our moment scale multiplies the modelled base moment (1 = measured sensor "
             "calibration); the thesis' S_f converts volts to moment, so only its ratio "
-            "between the fitted and measured rows (0.65) compares.", ""]
+            "between the fitted and measured rows "
+            f"({fmt(t41['fitted']['scale_factor'] / t41['measured']['scale_factor'])}) "
+            "compares.", ""]
     out += ["## Static beam radial-distance error (text of 4.4.1)", ""]
     rows = []
     for label, name in keys:

@@ -1,24 +1,8 @@
-"""Figures of the thesis' chapters 3-5, drawn from datasets and evaluation results.
+"""Result figures of chapter 4 (input: the results of
+:func:`vibrissa.evaluate.chapter4.run_chapter4`): figures 4.2-4.12.
 
-Every plotting function takes ``ax=None`` (or ``axes``/``fig``) and returns the
-axes it drew on; with ``ax=None`` it creates a standalone
-:class:`matplotlib.figure.Figure` (no pyplot state, no GUI backend, nothing is
-shown). :func:`save_figure` writes PNGs atomically.
-
-Results figures (input: the dict of :func:`vibrissa.evaluate.chapter4.run_chapter4`):
-
-- :func:`error_histogram`, :func:`error_scatter`, :func:`prediction_scatter` and
-  :func:`classifier_figure` - figures 4.2, 4.3, 4.5, 4.7, 4.9, 4.11;
-- :func:`training_size_plot` - figures 4.4, 4.6, 4.8, 4.10;
-- :func:`static_beam_speed_plot` - figures 4.2b, 4.3b;
-- :func:`comparison_plot` - figure 4.12;
-- :func:`chapter4_figures` - all of them into a directory.
-
-Dataset figures (input: an :class:`xarray.Dataset` of the package schema):
-
-- :func:`deflection_traces`, :func:`typical_traces_figure` - figure 3.7 (and 6.5);
-- :func:`angle_texture_traces` - figure 5.2;
-- :func:`feature_grid`, :func:`feature_contours` - figure 4.1.
+Every plotting function takes ``ax=None`` and returns the axes it drew on;
+:func:`classifier_figure` composes several and returns its Figure.
 """
 
 from __future__ import annotations
@@ -30,81 +14,29 @@ from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
-import xarray as xr
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from vibrissa._atomic import atomic_path
+from vibrissa.evaluate.figures.common import (
+    PARAMETER_LABELS,
+    SHORT_NAMES,
+    check_parameter,
+    new_axes,
+    save_figure,
+)
 
 __all__ = [
-    "PARAMETER_LABELS",
-    "angle_texture_traces",
     "chapter4_figures",
     "classifier_figure",
     "comparison_plot",
-    "deflection_traces",
     "error_histogram",
     "error_scatter",
-    "feature_contours",
-    "feature_grid",
     "prediction_scatter",
-    "save_figure",
     "static_beam_speed_plot",
     "training_size_plot",
-    "typical_traces_figure",
 ]
 
-#: Axis labels of the result parameters.
-PARAMETER_LABELS = {"radius_mm": "radial distance (mm)", "speed_mm_s": "speed (mm/s)"}
 
-#: Short names of the chapter-4 classifiers, as in the legend of figure 4.12.
-SHORT_NAMES = {
-    "static_beam_measured": "Static (meas.)",
-    "static_beam_fitted": "Static (fit)",
-    "frequency": "Freq",
-    "template": "Temp",
-    "feature": "Feat",
-    "naive_bayes_raw": "NB (raw)",
-    "naive_bayes_velocity": "NB (vel.)",
-}
-
-
-def _axes(ax: Axes | None, figsize: tuple[float, float] = (5.0, 4.0)) -> Axes:
-    if ax is not None:
-        return ax
-    fig = Figure(figsize=figsize, layout="constrained")
-    return fig.add_subplot()
-
-
-def _check_parameter(parameter: str) -> str:
-    if parameter not in PARAMETER_LABELS:
-        raise ValueError(f"parameter must be one of {sorted(PARAMETER_LABELS)}, got {parameter!r}")
-    return parameter
-
-
-def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: int = 200) -> Path:
-    """Write ``fig`` as a PNG atomically (never a half-written file at ``path``).
-
-    Parameters
-    ----------
-    fig : matplotlib.figure.Figure
-        The figure (e.g. ``ax.figure``).
-    path : path-like
-        Destination; parent directories are created.
-    dpi : int, default=200
-        Resolution.
-
-    Returns
-    -------
-    pathlib.Path
-        ``path``.
-    """
-    with atomic_path(path, suffix=".png") as tmp:
-        fig.savefig(tmp, format="png", dpi=dpi)
-    return Path(path)
-
-
-# ----------------------------------------------------------------------------- results
 def _predictions(results: Mapping[str, Any], name: str) -> tuple[dict, dict]:
     pr = results.get("predictions")
     if not pr or name not in pr.get("classifiers", {}):
@@ -158,9 +90,9 @@ def error_histogram(
     -------
     matplotlib.axes.Axes
     """
-    _check_parameter(parameter)
+    check_parameter(parameter)
     err = np.asarray(errors, dtype=float).ravel()
-    ax = _axes(ax)
+    ax = new_axes(ax)
     ax.hist(err, bins=_bins(err) if bins is None else bins, color="0.35")
     ax.axvline(0.0, color="C3", lw=0.8)
     ax.set_xlabel(f"{PARAMETER_LABELS[parameter]} error")
@@ -190,7 +122,7 @@ def error_scatter(
     s = np.asarray(speed_errors, float).ravel()
     if r.shape != s.shape:
         raise ValueError(f"radius_errors and speed_errors differ in length: {r.size} vs {s.size}")
-    ax = _axes(ax)
+    ax = new_axes(ax)
     ax.scatter(s, r, s=6, alpha=0.3, color="C0", edgecolors="none")
     ax.axhline(0.0, color="0.6", lw=0.6)
     ax.axvline(0.0, color="0.6", lw=0.6)
@@ -226,12 +158,12 @@ def prediction_scatter(
     -------
     matplotlib.axes.Axes
     """
-    _check_parameter(parameter)
+    check_parameter(parameter)
     t = np.asarray(y_true, float).ravel()
     p = np.asarray(y_pred, float).ravel()
     if t.shape != p.shape:
         raise ValueError(f"y_true and y_pred differ in length: {t.size} vs {p.size}")
-    ax = _axes(ax)
+    ax = new_axes(ax)
     pairs, counts = np.unique(np.column_stack([t, p]), axis=0, return_counts=True)
     ax.scatter(pairs[:, 0], pairs[:, 1], s=4 + 6 * np.sqrt(counts), alpha=0.5, color="C0",
                edgecolors="none")
@@ -283,7 +215,7 @@ def static_beam_speed_plot(
     s = np.array([r["speed_mm_s"] for r in rows], float)
     m = np.array([np.nan if r["mean"] is None else r["mean"] for r in rows], float)
     e = np.array([0.0 if r[errorbar] is None else r[errorbar] for r in rows], float)
-    ax = _axes(ax)
+    ax = new_axes(ax)
     ax.errorbar(s, m, yerr=e, fmt="o-", ms=3, capsize=2, color="C0")
     ax.axhline(0.0, color="0.6", lw=0.6)
     ax.set_xlabel("contact speed (mm/s)")
@@ -316,7 +248,7 @@ def training_size_plot(
     -------
     matplotlib.axes.Axes
     """
-    _check_parameter(parameter)
+    check_parameter(parameter)
     pts: dict[float, tuple[float, float]] = {}
     full = _entry(results, name).get(parameter)
     if full is not None and full.get("mean") is not None:
@@ -325,7 +257,7 @@ def training_size_plot(
         e = (per.get(name) or {}).get(parameter)
         if e is not None and e.get("mean") is not None:
             pts[100.0 * float(key)] = (e["mean"], e.get("std") or 0.0)
-    ax = _axes(ax)
+    ax = new_axes(ax)
     ax.set_xscale("log")
     if pts:
         x = np.array(sorted(pts))
@@ -374,7 +306,7 @@ def comparison_plot(
     -------
     matplotlib.axes.Axes
     """
-    _check_parameter(parameter)
+    check_parameter(parameter)
     names = list(results["classifiers"]) if names is None else list(names)
     xs, ms, ss, labels = [], [], [], []
     for i, n in enumerate(names):
@@ -385,7 +317,7 @@ def comparison_plot(
         ms.append(e["mean"])
         ss.append(e.get("std") or 0.0)
         labels.append(SHORT_NAMES.get(n, n))
-    ax = _axes(ax, figsize=(6.5, 4.0))
+    ax = new_axes(ax, figsize=(6.5, 4.0))
     width = 0.4 if thesis else 0.8
     shift = width / 2 if thesis else 0.0
     ax.bar(np.asarray(xs) - shift, ms, width, yerr=ss, capsize=3, color="0.6",
@@ -509,314 +441,3 @@ def chapter4_figures(
     b.set_title("(b) speed")
     written["comparison"] = save_figure(fig, out / "comparison.png", dpi)
     return written
-
-
-# ----------------------------------------------------------------------------- datasets
-def _channel_index(ds: xr.Dataset, channel: int | str) -> int:
-    if isinstance(channel, str):
-        names = [str(c) for c in ds["channel"].values] if "channel" in ds.coords else []
-        if channel not in names:
-            raise ValueError(f"channel {channel!r} not in dataset channels {names}")
-        return names.index(channel)
-    n = ds.sizes.get("channel", 0)
-    if isinstance(channel, bool) or not 0 <= int(channel) < n:
-        raise ValueError(f"channel must lie in [0, {n - 1}], got {channel!r}")
-    return int(channel)
-
-
-def _require(ds: xr.Dataset, *coords: str) -> None:
-    if not isinstance(ds, xr.Dataset) or "signal" not in ds.data_vars:
-        raise ValueError("dataset must be an xarray.Dataset with a 'signal' variable")
-    missing = [c for c in coords if c not in ds.coords and c not in ds.data_vars]
-    if missing:
-        raise ValueError(
-            "dataset lacks the per-trial coordinate(s) " + ", ".join(repr(m) for m in missing)
-        )
-
-
-def _signal(ds: xr.Dataset) -> np.ndarray:
-    return np.asarray(ds["signal"].transpose("trial", "channel", "time").values, dtype=float)
-
-
-def _time_ms(ds: xr.Dataset) -> np.ndarray:
-    if "time" in ds.coords:
-        return 1000.0 * np.asarray(ds["time"].values, dtype=float)
-    fs = float(ds.attrs.get("sample_rate_hz", 1000.0))
-    return 1000.0 * np.arange(ds.sizes["time"]) / fs
-
-
-def _nearest(values: np.ndarray, targets: Sequence[float]) -> list[float]:
-    u = np.unique(values)
-    return [float(u[np.argmin(np.abs(u - t))]) for t in targets]
-
-
-def _spread(values: np.ndarray, k: int = 3) -> list[float]:
-    u = np.unique(values)
-    idx = np.unique(np.round(np.linspace(0, len(u) - 1, min(k, len(u)))).astype(int))
-    return [float(u[i]) for i in idx]
-
-
-def _median_value(values: np.ndarray) -> float:
-    u = np.unique(values)
-    return float(u[len(u) // 2])
-
-
-def deflection_traces(
-    ds: xr.Dataset,
-    *,
-    radial_distances_mm: Sequence[float] | None = None,
-    speeds_mm_s: Sequence[float] | None = None,
-    channel: int | str = 0,
-    set_value: Any = None,
-    ax: Axes | None = None,
-    title: str | None = None,
-) -> Axes:
-    """Typical deflection traces for a few radial distances and speeds (figure 3.7).
-
-    One trace (the first trial, optionally of one recorded set) is drawn for each
-    combination of the requested values; values snap to the nearest on the grid.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        Needs ``signal`` and the coordinates ``radial_distance_mm`` and ``speed_mm_s``.
-    radial_distances_mm : sequence of float, optional
-        Default: the smallest, middle and largest radial distance.
-    speeds_mm_s : sequence of float, optional
-        Default: the median speed.
-    channel : int or str, default=0
-        Channel index or name (e.g. ``"x"``).
-    set_value : optional
-        Restrict to trials whose ``set`` equals this.
-    ax : matplotlib.axes.Axes, optional
-    title : str, optional
-
-    Returns
-    -------
-    matplotlib.axes.Axes
-    """
-    _require(ds, "radial_distance_mm", "speed_mm_s")
-    ch = _channel_index(ds, channel)
-    r = np.asarray(ds["radial_distance_mm"].values, float)
-    s = np.asarray(ds["speed_mm_s"].values, float)
-    keep = np.ones(r.shape, bool)
-    if set_value is not None:
-        if "set" not in ds.coords:
-            raise ValueError("set_value given but the dataset has no 'set' coordinate")
-        keep = np.asarray(ds["set"].values) == set_value
-        if not keep.any():
-            raise ValueError(f"no trials with set == {set_value!r}")
-    radii = _spread(r) if radial_distances_mm is None else _nearest(r, radial_distances_mm)
-    speeds = [_median_value(s)] if speeds_mm_s is None else _nearest(s, speeds_mm_s)
-    x = _signal(ds)
-    t = _time_ms(ds)
-    ax = _axes(ax, figsize=(6.0, 4.0))
-    i = 0
-    for sp in speeds:
-        for rd in radii:
-            idx = np.flatnonzero(keep & np.isclose(r, rd) & np.isclose(s, sp))
-            if idx.size == 0:
-                continue
-            ax.plot(t, x[idx[0], ch], lw=1.0, color=f"C{i % 10}",
-                    label=f"R = {rd:g} mm, S = {sp:g} mm/s")
-            i += 1
-    ax.set_xlabel("time from peak deflection (ms)")
-    units = ds["signal"].attrs.get("units", "V")
-    ax.set_ylabel(f"sensor output ({units})")
-    if i:
-        ax.legend(fontsize="small")
-    if title:
-        ax.set_title(title)
-    return ax
-
-
-def typical_traces_figure(ds: xr.Dataset, *, channel: int | str = 0) -> Figure:
-    """Figure 3.7 style pair: (a) three radial distances at the median speed, (b) three
-    speeds at the median radial distance.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        Needs ``signal``, ``radial_distance_mm`` and ``speed_mm_s``.
-    channel : int or str, default=0
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    _require(ds, "radial_distance_mm", "speed_mm_s")
-    r = np.asarray(ds["radial_distance_mm"].values, float)
-    s = np.asarray(ds["speed_mm_s"].values, float)
-    fig = Figure(figsize=(11.0, 4.0), layout="constrained")
-    a, b = fig.subplots(1, 2)
-    deflection_traces(ds, speeds_mm_s=[_median_value(s)], channel=channel, ax=a,
-                      title="(a) radial distances at the median speed")
-    deflection_traces(ds, radial_distances_mm=[_median_value(r)], speeds_mm_s=_spread(s),
-                      channel=channel, ax=b, title="(b) speeds at the median radial distance")
-    return fig
-
-
-def angle_texture_traces(
-    ds: xr.Dataset,
-    *,
-    speeds_mm_s: Sequence[float] | None = None,
-    channel: int | str = 0,
-    fig: Figure | None = None,
-) -> np.ndarray:
-    """Typical deflections per angle (rows) and texture (columns), colour by speed (figure 5.2).
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        Needs ``signal`` and the coordinates ``angle_deg``, ``texture`` and ``speed_mm_s``.
-    speeds_mm_s : sequence of float, optional
-        Speeds drawn (nearest on the grid); default three spread over the range
-        (the thesis shows 36, 72 and 108 mm/s).
-    channel : int or str, default=0
-    fig : matplotlib.figure.Figure, optional
-        Figure to draw into (a new one if omitted).
-
-    Returns
-    -------
-    numpy.ndarray of matplotlib.axes.Axes, shape (n_angles, n_textures)
-    """
-    _require(ds, "angle_deg", "texture", "speed_mm_s")
-    ch = _channel_index(ds, channel)
-    ang = np.asarray(ds["angle_deg"].values, float)
-    tex = np.asarray(ds["texture"].values).astype(str)
-    s = np.asarray(ds["speed_mm_s"].values, float)
-    angles = np.unique(ang)
-    textures = list(dict.fromkeys(tex.tolist()))  # order of first appearance
-    speeds = _spread(s) if speeds_mm_s is None else _nearest(s, speeds_mm_s)
-    x = _signal(ds)
-    t = _time_ms(ds)
-    if fig is None:
-        fig = Figure(figsize=(2.6 * len(textures) + 1, 1.4 * len(angles) + 1),
-                     layout="constrained")
-    axs = np.asarray(fig.subplots(len(angles), len(textures), sharex=True, sharey=True,
-                                  squeeze=False))
-    for i, a in enumerate(angles):
-        for j, tx in enumerate(textures):
-            ax = axs[i, j]
-            for k, sp in enumerate(speeds):
-                idx = np.flatnonzero(np.isclose(ang, a) & (tex == tx) & np.isclose(s, sp))
-                if idx.size:
-                    ax.plot(t, x[idx[0], ch], lw=0.8, color=f"C{k % 10}",
-                            label=f"{sp:g} mm/s")
-            if i == 0:
-                ax.set_title(tx)
-            if j == 0:
-                ax.set_ylabel(f"{a:g}°")
-    axs[-1, 0].set_xlabel("time (ms)")
-    handles, labels = axs[0, 0].get_legend_handles_labels()
-    if handles:
-        axs[0, -1].legend(handles, labels, fontsize="x-small")
-    return axs
-
-
-def feature_grid(
-    ds: xr.Dataset,
-    *,
-    channel: int | str = 0,
-    threshold_v: float = 0.05,
-    rest_v: float | None = 2.5,
-) -> dict[str, np.ndarray]:
-    """Mean peak deflection f1 (V) and contact duration f2 (ms) per grid cell (figure 4.1).
-
-    Uses :func:`vibrissa.signal.peak_magnitude` (eq. 4.5) and
-    :func:`vibrissa.signal.contact_duration` (eqs. 4.6-4.8) on one channel, and
-    averages over the trials (sets) of each (radial distance, speed) cell.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        Needs ``signal``, ``radial_distance_mm``, ``speed_mm_s`` and ``sample_rate_hz``
-        in its attrs.
-    channel : int or str, default=0
-    threshold_v : float, default=0.05
-        Threshold ``gamma`` of the duration, V (thesis: 0.05 V).
-    rest_v : float or None, default=2.5
-        Sensor rest output, V.
-
-    Returns
-    -------
-    dict
-        ``radial_distance_mm`` (n_r,), ``speed_mm_s`` (n_s,), ``peak_v`` and
-        ``duration_ms`` (n_r, n_s), NaN where a cell has no trial.
-    """
-    from vibrissa import signal as vsig
-
-    _require(ds, "radial_distance_mm", "speed_mm_s")
-    if "sample_rate_hz" not in ds.attrs:
-        raise ValueError("dataset lacks the attr 'sample_rate_hz'")
-    ch = _channel_index(ds, channel)
-    x = _signal(ds)[:, ch]
-    peak = vsig.peak_magnitude(x, rest_v=rest_v)
-    dur = 1000.0 * vsig.contact_duration(
-        x, float(ds.attrs["sample_rate_hz"]), threshold_v=threshold_v, rest_v=rest_v
-    )
-    r = np.asarray(ds["radial_distance_mm"].values, float)
-    s = np.asarray(ds["speed_mm_s"].values, float)
-    radii, ri = np.unique(r, return_inverse=True)
-    speeds, si = np.unique(s, return_inverse=True)
-    shape = (radii.size, speeds.size)
-    n = np.zeros(shape)
-    np.add.at(n, (ri, si), 1.0)
-    out = {"radial_distance_mm": radii, "speed_mm_s": speeds}
-    for key, v in (("peak_v", peak), ("duration_ms", dur)):
-        acc = np.zeros(shape)
-        np.add.at(acc, (ri, si), v)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            out[key] = np.where(n > 0, acc / n, np.nan)
-    return out
-
-
-def feature_contours(
-    ds: xr.Dataset,
-    *,
-    channel: int | str = 0,
-    threshold_v: float = 0.05,
-    axes: Sequence[Axes] | None = None,
-    levels: int = 15,
-) -> np.ndarray:
-    """Contour maps of peak deflection (a) and contact duration (b) over speed x radius
-    (figure 4.1).
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        See :func:`feature_grid`.
-    channel : int or str, default=0
-    threshold_v : float, default=0.05
-        Duration threshold, V.
-    axes : pair of matplotlib.axes.Axes, optional
-        Where to draw (a new two-panel figure if omitted).
-    levels : int, default=15
-        Contour levels.
-
-    Returns
-    -------
-    numpy.ndarray of two matplotlib.axes.Axes
-    """
-    g = feature_grid(ds, channel=channel, threshold_v=threshold_v)
-    if axes is None:
-        fig = Figure(figsize=(11.0, 4.2), layout="constrained")
-        axes = fig.subplots(1, 2)
-    axes = np.asarray(axes, dtype=object).ravel()
-    if axes.size != 2:
-        raise ValueError(f"axes must hold two axes, got {axes.size}")
-    s, r = g["speed_mm_s"], g["radial_distance_mm"]
-    for ax, key, label, title in (
-        (axes[0], "peak_v", "peak deflection f1 (V)", "(a) peak deflection magnitude"),
-        (axes[1], "duration_ms", "contact duration f2 (ms)", "(b) deflection duration"),
-    ):
-        z = np.ma.masked_invalid(g[key])
-        if r.size >= 2 and s.size >= 2:
-            im = ax.contourf(s, r, z, levels=levels, cmap="gray")
-        else:
-            im = ax.pcolormesh(s, r, z, cmap="gray", shading="nearest")
-        ax.figure.colorbar(im, ax=ax, label=label)
-        ax.set_xlabel("contact speed (mm/s)")
-        ax.set_ylabel("radial distance (mm)")
-        ax.set_title(title)
-    return axes
