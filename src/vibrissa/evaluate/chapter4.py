@@ -32,7 +32,8 @@ import xarray as xr
 
 from vibrissa.classify import estimator_tags
 from vibrissa.evaluate import metrics
-from vibrissa.evaluate.loop import Progress, ProgressLike, fit_predict, json_value
+from vibrissa.evaluate.loop import FitRecord, Progress, ProgressLike, json_value
+from vibrissa.evaluate.loop import fit_and_score as loop_fit_and_score
 
 __all__ = [
     "PARAMETERS",
@@ -442,23 +443,19 @@ def fit_and_score(
         (wall time to classify the whole test set), ``n_train``, ``n_test``,
         ``n_classes_train``, ``radius_only`` and ``fitted_parameters``.
     """
-    rec = fit_predict(name, estimator, X_train, y_train, X_test)
-    y_pred = rec.y_pred
-    if y_pred.shape != y_test.shape:
-        raise ValueError(
-            f"classifier {name!r} predicted shape {y_pred.shape}, expected {y_test.shape} "
-            "(rows of [radial_distance_mm, speed_mm_s])"
+    def score(t: np.ndarray, p: np.ndarray, rec: FitRecord) -> dict[str, Any]:
+        ro = is_radius_only(estimator, p) if radius_only is None else bool(radius_only)
+        out = score_predictions(t, p, radius_only=ro)
+        out.update(
+            n_classes_train=int(np.unique(np.round(y_train, 6), axis=0).shape[0]),
+            radius_only=ro,
+            fitted_parameters=fitted_parameters(rec.estimator),
         )
-    ro = is_radius_only(estimator, y_pred) if radius_only is None else bool(radius_only)
-    out = score_predictions(y_test, y_pred, radius_only=ro)
-    out.update(rec.timing())
-    out.update(
-        n_classes_train=int(np.unique(np.round(y_train, 6), axis=0).shape[0]),
-        radius_only=ro,
-        fitted_parameters=fitted_parameters(rec.estimator),
-    )
+        return out
+
+    out, rec = loop_fit_and_score(name, estimator, X_train, y_train, X_test, y_test, score)
     if keep_predictions:
-        out["y_pred"] = y_pred
+        out["y_pred"] = rec.y_pred
     return out
 
 

@@ -138,7 +138,8 @@ def fit_and_score(
     y_test = np.asarray(y_test, dtype=float)
     if rec.y_pred.shape != y_test.shape:
         raise ValueError(
-            f"classifier {name!r} predicted shape {rec.y_pred.shape}, expected {y_test.shape}"
+            f"classifier {name!r} predicted shape {rec.y_pred.shape}, expected {y_test.shape} "
+            "(one row of labels per test trial)"
         )
     out = score(y_test, rec.y_pred, rec)
     out.update(rec.timing())
