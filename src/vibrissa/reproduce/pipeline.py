@@ -30,7 +30,7 @@ from vibrissa.data import DatasetFileError, load_dataset
 from vibrissa.experiments.generate import generate
 from vibrissa.reproduce.registry import Experiment, get_experiment
 
-__all__ = ["Progress", "cached_dataset", "check_job_arguments", "run_experiment"]
+__all__ = ["Progress", "cached_dataset", "check_job_arguments", "run_experiment", "write_reports"]
 
 #: ``progress(stage, done, total)``; stage is ``"generate"`` or ``"evaluate"``.
 Progress = Callable[[str, int, int], None]
@@ -176,12 +176,14 @@ def run_experiment(
         **evaluation_meta,
     }
     envelope = {"meta": meta, **{k: v for k, v in results.items() if k != "meta"}}
+    from vibrissa.evaluate.report_common import write_json
+
+    # the results are saved before the reports are drawn: a failing figure loses nothing
+    write_json(envelope, out / "results.json")
     write_reports(exp, envelope, out, dataset=ds if figures else None, figures=figures,
                   baseline=baseline)
     meta["wall_seconds"]["report"] = round(time.perf_counter() - t2, 3)
     meta["wall_seconds"]["total"] = round(time.perf_counter() - t0, 3)
-    from vibrissa.evaluate.report_common import write_json
-
     write_json(envelope, out / "results.json")
     return envelope
 

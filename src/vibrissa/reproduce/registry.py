@@ -86,10 +86,6 @@ class Experiment(ABC):
         """Trials of the simulated session."""
         return int(self.protocol(quick, 0).n_trials)
 
-    def evaluation_steps(self, quick: bool, options: Mapping[str, int]) -> int | None:
-        """Steps the evaluation will report (for the work announced up front), if known."""
-        return None
-
     # ------------------------------------------------------------------ evaluation
     @abstractmethod
     def evaluate(self, ds: xr.Dataset, *, seed: int, progress: Callable | None,
