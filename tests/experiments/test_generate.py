@@ -200,3 +200,54 @@ def test_cli_sensor_options_set_the_protocols_sensor(tmp_path):
     whisker = json.loads(ds.attrs["whisker"])
     assert whisker["hall_sensor"]["sample_rate_hz"] == 2000.0
     assert whisker["hall_calibration_mm"] == [80.0, 60.0]
+
+
+# ----------------------------------------------------------------- issue 13, finding 4
+@pytest.mark.parametrize(("kwargs", "message"), [
+    ({"workers": 0}, "workers must be a positive integer"),
+    ({"workers": -1}, "workers must be a positive integer"),
+    ({"chunk_size": 0}, "chunk_size must be a positive integer"),
+])
+def test_refused_generation_leaves_nothing_on_disk(tmp_path, kwargs, message):
+    out = tmp_path / "x.nc"
+    with pytest.raises(ValueError, match=message):
+        generate(small(), out, **kwargs)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_negative_seed_is_refused_by_the_protocol(tmp_path):
+    with pytest.raises(ValueError, match="seed must be a non-negative integer"):
+        small(seed=-1)
+
+
+def test_changed_options_are_refused_with_a_restart_hint_and_nothing_is_lost(tmp_path):
+    out = tmp_path / "x.nc"
+    generate(small(), out, workers=1, chunk_size=1, max_chunks=2)
+    shards = sorted(parts_dir(out).glob("chunk-*.npz"))
+    with pytest.raises(GenerationError, match="add --restart"):
+        generate(small(seed=7), out, workers=1, chunk_size=1)
+    assert sorted(parts_dir(out).glob("chunk-*.npz")) == shards  # the first run's work is kept
+    assert issubclass(GenerationError, ValueError)  # the CLI reports it in one line, exit 2
+
+
+def test_a_second_writer_fails_at_once(tmp_path):
+    import fcntl
+
+    out = tmp_path / "x.nc"
+    parts_dir(out).mkdir()
+    with open(parts_dir(out) / ".lock", "a+") as fh:
+        fcntl.flock(fh.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)  # another writer holds it
+        with pytest.raises(GenerationError, match="another vibrissa generate is writing"):
+            generate(small(), out, workers=1)
+    assert not out.exists() and parts_dir(out).exists()
+
+
+def test_stale_temporaries_of_a_killed_write_are_removed(tmp_path):
+    out = tmp_path / "x.nc"
+    stale = tmp_path / ".x.nc.abc123.nc.tmp"
+    stale.write_bytes(b"half a file")
+    other = tmp_path / ".y.nc.abc123.nc.tmp"  # another output's: not ours to remove
+    other.write_bytes(b"keep")
+    generate(small(), out, workers=1)
+    assert not stale.exists() and other.exists() and out.exists()
+    assert not parts_dir(out).exists()

@@ -7,6 +7,11 @@ shards are kept and only the missing chunks are simulated, so no trial is lost o
 simulated twice. When all chunks are present they are assembled into the NetCDF
 dataset (written atomically, with a checksum) and the shards are removed.
 
+Every argument is checked before anything is created on disk. While a generation
+runs it holds an exclusive lock on ``<out>.parts/.lock``: a second writer of the
+same output fails at once (:class:`GenerationError`). Temporary files left by a
+write that was killed are removed by the next run.
+
 Chunks run on local worker processes (all cores by default) or, with
 ``scheduler=ADDRESS``, on an existing Dask cluster. Every trial is seeded from
 ``(seed, trial index)``, so the signals are the same bytes however the work is
@@ -16,6 +21,8 @@ distributed.
 from __future__ import annotations
 
 import concurrent.futures as cf
+import contextlib
+import fcntl
 import json
 import multiprocessing
 import os
@@ -42,8 +49,9 @@ __all__ = ["GenerationError", "build_dataset", "generate", "parts_dir"]
 ProgressCallback = Callable[[int, int], None]
 
 
-class GenerationError(RuntimeError):
-    """A generation cannot proceed (e.g. leftover shards of another protocol)."""
+class GenerationError(ValueError):
+    """A generation cannot proceed as asked (leftover shards of another protocol, another
+    writer of the same output): the user's choice, so a ``ValueError``."""
 
 
 def parts_dir(out: str | os.PathLike[str]) -> Path:
@@ -87,9 +95,12 @@ def _prepare_parts(protocol: Protocol, out: Path, chunk_size: int, restart: bool
         "protocol": protocol.to_dict(),
     }
     mpath = parts / "manifest.json"
-    if parts.exists() and restart:
-        shutil.rmtree(parts)
-    if parts.exists():
+    parts.mkdir(parents=True, exist_ok=True)
+    if restart:  # discard everything but the lock file we hold
+        for f in parts.iterdir():
+            if f.name != ".lock":
+                shutil.rmtree(f) if f.is_dir() else f.unlink()
+    if mpath.exists():
         try:
             old = json.loads(mpath.read_text())
         except (OSError, ValueError):
@@ -97,12 +108,44 @@ def _prepare_parts(protocol: Protocol, out: Path, chunk_size: int, restart: bool
         if old is None or any(old.get(k) != manifest[k] for k in ("fingerprint", "chunk_size")):
             raise GenerationError(
                 f"{parts} holds a partial generation of a different protocol or chunking; "
-                "remove it or pass restart=True (--restart)"
+                "add --restart (restart=True) to discard it, or rerun the original command "
+                "to resume it"
             )
+    elif any(parts.glob("chunk-*.npz")):
+        raise GenerationError(f"{parts} holds shards without a manifest; add --restart "
+                              "(restart=True) to discard them")
     else:
-        parts.mkdir(parents=True)
         atomic_write_text(mpath, json.dumps(manifest, indent=2, default=str))
     return parts
+
+
+@contextlib.contextmanager
+def _exclusive(out: Path) -> Iterator[None]:
+    """Hold an exclusive lock on the generation of ``out`` (``<out>.parts/.lock``)."""
+    parts = parts_dir(out)
+    parts.mkdir(parents=True, exist_ok=True)
+    with open(parts / ".lock", "a+") as fh:
+        try:
+            fcntl.flock(fh.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise GenerationError(
+                f"another vibrissa generate is writing {out} (lock {parts / '.lock'} is held); "
+                "wait for it to finish or stop it"
+            ) from None
+        try:
+            yield
+        finally:
+            fcntl.flock(fh.fileno(), fcntl.LOCK_UN)
+
+
+def _remove_stale_temporaries(out: Path) -> list[Path]:
+    """Temporary files of a killed write of ``out`` or of its shards (we hold the lock)."""
+    stale = list(out.parent.glob(f".{out.name}.*.tmp"))
+    stale += list(parts_dir(out).glob(".chunk-*.tmp"))
+    for f in stale:
+        with contextlib.suppress(FileNotFoundError):
+            f.unlink()
+    return stale
 
 
 def _run_chunk(protocol: Protocol, indices: np.ndarray) -> dict[str, np.ndarray]:
@@ -218,13 +261,35 @@ def generate(
     xarray.Dataset or None
         The dataset written, or None if stopped by ``max_chunks``.
     """
-    from vibrissa.data import save_dataset
-
-    if not isinstance(chunk_size, int) or chunk_size < 1:
+    if isinstance(chunk_size, bool) or not isinstance(chunk_size, int) or chunk_size < 1:
         raise ValueError(f"chunk_size must be a positive integer, got {chunk_size!r}")
+    if scheduler is None:
+        w = workers if workers is not None else (os.cpu_count() or 1)
+        if isinstance(w, bool) or not isinstance(w, int) or w < 1:
+            raise ValueError(f"workers must be a positive integer, got {workers!r}")
     out = Path(out)
     if out.exists() and out.is_dir():
         raise ValueError(f"output path {out} is a directory")
+    if not out.parent.exists():
+        raise ValueError(f"output directory {out.parent} does not exist")
+    created = not parts_dir(out).exists()
+    try:
+        with _exclusive(out):
+            _remove_stale_temporaries(out)
+            return _generate_locked(protocol, out, workers, scheduler, chunk_size, restart,
+                                    progress, max_chunks)
+    except GenerationError:
+        if created:  # a refused run leaves nothing behind
+            shutil.rmtree(parts_dir(out), ignore_errors=True)
+        raise
+
+
+def _generate_locked(
+    protocol: Protocol, out: Path, workers: int | None, scheduler: str | None,
+    chunk_size: int, restart: bool, progress: ProgressCallback | None, max_chunks: int | None,
+) -> xr.Dataset | None:
+    from vibrissa.data import save_dataset
+
     parts = _prepare_parts(protocol, out, chunk_size, restart)
     chunks = _chunks(protocol.n_trials, chunk_size)
     done: dict[int, dict[str, np.ndarray]] = {}
@@ -245,8 +310,6 @@ def generate(
             it = _dask_results(protocol, todo, scheduler)
         else:
             w = workers if workers is not None else (os.cpu_count() or 1)
-            if not isinstance(w, int) or w < 1:
-                raise ValueError(f"workers must be a positive integer, got {workers!r}")
             it = _local_results(protocol, todo, min(w, len(todo)))
         for k, res in it:
             _write_shard(parts, k, res)
