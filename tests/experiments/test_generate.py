@@ -251,3 +251,11 @@ def test_stale_temporaries_of_a_killed_write_are_removed(tmp_path):
     generate(small(), out, workers=1)
     assert not stale.exists() and other.exists() and out.exists()
     assert not parts_dir(out).exists()
+
+
+def test_output_under_a_file_is_refused_before_work(tmp_path):
+    blocker = tmp_path / "a-file"
+    blocker.write_text("keep")
+    with pytest.raises(ValueError, match="is a file, not a directory"):
+        generate(small(), blocker / "sub" / "x.nc", workers=1)
+    assert blocker.read_text() == "keep" and sorted(tmp_path.iterdir()) == [blocker]

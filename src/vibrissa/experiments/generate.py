@@ -270,8 +270,11 @@ def generate(
     out = Path(out)
     if out.exists() and out.is_dir():
         raise ValueError(f"output path {out} is a directory")
-    if not out.parent.exists():
-        raise ValueError(f"output directory {out.parent} does not exist")
+    for parent in (out.parent, *out.parent.parents):
+        if parent.exists():
+            if not parent.is_dir():
+                raise ValueError(f"cannot write {out}: {parent} is a file, not a directory")
+            break
     created = not parts_dir(out).exists()
     try:
         with _exclusive(out):
