@@ -11,6 +11,7 @@ import xarray as xr
 from vibrissa.data import (
     as_arrays,
     concat_datasets,
+    encode_texture,
     label_names,
     make_dataset,
     select,
@@ -128,8 +129,17 @@ def test_as_arrays() -> None:
     np.testing.assert_allclose(y[:, 1], ds["speed_mm_s"].values)
     _, y1 = as_arrays(ds, "speed_mm_s")
     assert y1.shape == (6, 1)
+    # numeric labels stay numeric beside strings (issue 13: every label became a string)
     _, ys = as_arrays(ds, ["texture", "speed_mm_s"])
-    assert ys.dtype.kind == "U" and ys[0, 0] == "P80"
+    assert ys.dtype == object and ys[0, 0] == "P80"
+    assert isinstance(ys[0, 1], float) and ys[0, 1] == ds["speed_mm_s"].values[0]
+    _, yt = as_arrays(ds, ["texture"])
+    assert yt.dtype.kind == "U"
+    lower = ds.assign_coords(texture=("trial", np.char.lower(ds["texture"].values.astype(str))))
+    _, ye = as_arrays(lower, ["speed_mm_s", "texture"], encode_textures=True)
+    assert ye.dtype == float and ye[0, 1] == encode_texture(["p80"])[0]
+    with pytest.raises(ValueError, match="unknown texture"):
+        as_arrays(ds, ["texture"], encode_textures=True)
     _, y0 = as_arrays(ds, [])
     assert y0.shape == (6, 0)
     with pytest.raises(KeyError, match="angle_deg"):

@@ -24,7 +24,52 @@ from scipy.special import softmax
 from sklearn.base import BaseEstimator, ClassifierMixin
 from sklearn.utils.validation import check_array, check_is_fitted, validate_data
 
-__all__ = ["EstimatorTags", "TrialClassifier", "estimator_tags", "nearest_values", "target_column"]
+__all__ = [
+    "MAX_ABS_INPUT",
+    "EstimatorTags",
+    "TrialClassifier",
+    "check_magnitude",
+    "estimator_tags",
+    "nearest_values",
+    "target_column",
+]
+
+#: Largest magnitude of an input sample the estimators accept. Signals are volts (or
+#: volts per second after a derivative); squared errors, filters and derivatives of
+#: values beyond this overflow float64 (1e300 squared is inf), which used to give an
+#: overflow warning and the same class for every trial instead of an error.
+MAX_ABS_INPUT = 1e100
+
+
+def check_magnitude(X: np.ndarray, name: str = "X") -> np.ndarray:
+    """Refuse inputs whose magnitude would overflow the estimators' arithmetic.
+
+    Parameters
+    ----------
+    X : ndarray
+        Finite, validated float input.
+    name : str, default="X"
+        Name of the input in the message.
+
+    Returns
+    -------
+    ndarray
+        ``X`` itself.
+
+    Raises
+    ------
+    ValueError
+        If any ``|X|`` exceeds :data:`MAX_ABS_INPUT`, naming the largest value.
+    """
+    if X.size:
+        largest = float(np.max(np.abs(X)))
+        if not largest <= MAX_ABS_INPUT:
+            raise ValueError(
+                f"{name} has values as large as {largest:.3g} in magnitude; the classifiers "
+                f"accept |{name}| <= {MAX_ABS_INPUT:.0e} (larger values overflow their "
+                "arithmetic); rescale the signals (e.g. to volts)"
+            )
+    return X
 
 
 @dataclass(frozen=True)
@@ -140,7 +185,7 @@ class TrialClassifier(ClassifierMixin, BaseEstimator):
                     f"X has {n_t} timepoints, but {name} is expecting "
                     f"{self.n_timepoints_} timepoints as input"
                 )
-        return arr
+        return check_magnitude(arr)
 
     def _encode_y(self, y: Any, n_trials: int) -> np.ndarray:
         """Set ``classes_`` from ``y`` and return each trial's class index."""
@@ -163,6 +208,14 @@ class TrialClassifier(ClassifierMixin, BaseEstimator):
             y_arr = y_arr.astype(str) if all(isinstance(v, str) for v in y_arr.ravel()) else y_arr
         if y_arr.ndim == 1:
             classes, y_idx = np.unique(y_arr, return_inverse=True)
+        elif y_arr.dtype.kind == "O":
+            # mixed columns (numbers and strings, see vibrissa.data.as_arrays): each
+            # column is sorted on its own, rows in lexicographic order of the columns
+            codes = np.column_stack(
+                [np.unique(y_arr[:, k], return_inverse=True)[1].ravel()
+                 for k in range(y_arr.shape[1])])
+            _, first, y_idx = np.unique(codes, axis=0, return_index=True, return_inverse=True)
+            classes = y_arr[first]
         else:
             classes, y_idx = np.unique(y_arr, axis=0, return_inverse=True)
         if len(classes) < 2:

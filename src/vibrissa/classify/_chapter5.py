@@ -27,7 +27,7 @@ from typing import Any, Literal
 import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin, clone
 from sklearn.pipeline import Pipeline
-from sklearn.utils.validation import check_is_fitted
+from sklearn.utils.validation import check_is_fitted, validate_data
 
 from vibrissa import signal as vsig
 from vibrissa._validate import positive
@@ -87,13 +87,20 @@ def resonance_hz(whisker: Mapping[str, Any] | str) -> float:
     return positive("natural_frequencies_hz[0]", float(f[0]))
 
 
+def _input_ndim(X: Any) -> int:
+    """Number of dimensions of an input as given (before it becomes 3-D)."""
+    nd = getattr(X, "ndim", None)
+    return int(nd) if nd is not None else np.asarray(X).ndim
+
+
 _KINDS = ("raw", "lowpass", "highpass", "velocity", "acceleration", "causal_velocity")
 
 
 class SignalTransform(TransformerMixin, BaseEstimator):
     """Chapter-5 preprocessing of trials ``(n, channels, time)`` as a Pipeline step (5.3.1).
 
-    Stateless: ``fit`` only validates the parameters.
+    ``fit`` validates the parameters and records the shape of a trial; ``transform``
+    refuses trials of another shape (as every scikit-learn transformer does).
 
     Parameters
     ----------
@@ -157,11 +164,11 @@ class SignalTransform(TransformerMixin, BaseEstimator):
         positive("sample_rate_hz", self.sample_rate_hz)
 
     def fit(self, X: Any, y: Any = None) -> SignalTransform:
-        """Validate the parameters (nothing is learned).
+        """Validate the parameters and record the shape of a trial (nothing else is learned).
 
         Parameters
         ----------
-        X : array-like of shape (n_trials, n_channels, n_timepoints)
+        X : array-like of shape (n_trials, n_channels, n_timepoints) or (n_trials, n_timepoints)
         y : ignored
 
         Returns
@@ -169,13 +176,34 @@ class SignalTransform(TransformerMixin, BaseEstimator):
         self
         """
         self._check_params()
-        self._as3d(X)
+        X3 = self._as3d(X)
+        if _input_ndim(X) == 2:
+            validate_data(self, X, reset=True, dtype=np.float64, ensure_all_finite=True)
+        else:
+            # n_features_in_ counts samples of a 2-D input; of 3-D, channels x time
+            if hasattr(self, "feature_names_in_"):
+                del self.feature_names_in_
+            self.n_features_in_ = X3.shape[1] * X3.shape[2]
+        self.n_channels_, self.n_timepoints_ = X3.shape[1], X3.shape[2]
         self.fitted_ = True
         return self
 
     @staticmethod
     def _as3d(X: Any) -> np.ndarray:
         return trials_3d(X)
+
+    def _check_shape(self, X: Any) -> np.ndarray:
+        X3 = self._as3d(X)
+        if _input_ndim(X) == 2 and self.n_channels_ == 1:
+            validate_data(self, X, reset=False, dtype=np.float64, ensure_all_finite=True)
+        name = type(self).__name__
+        if X3.shape[1] != self.n_channels_:
+            raise ValueError(f"X has {X3.shape[1]} channels, but {name} is expecting "
+                             f"{self.n_channels_} channels as input")
+        if X3.shape[2] != self.n_timepoints_:
+            raise ValueError(f"X has {X3.shape[2]} timepoints (features), but {name} is "
+                             f"expecting {self.n_timepoints_} timepoints as input")
+        return X3
 
     def transform(self, X: Any) -> np.ndarray:
         """Filter (and optionally notch and downsample) every trial along time.
@@ -190,7 +218,7 @@ class SignalTransform(TransformerMixin, BaseEstimator):
         """
         check_is_fitted(self)
         self._check_params()
-        X = self._as3d(X)
+        X = self._check_shape(X)
         fs = float(self.sample_rate_hz)
         if self.kind == "lowpass":
             X = vsig.lowpass(X, self.lowpass_hz, fs, order=self.lowpass_order)
@@ -262,7 +290,9 @@ class SpeedFirstClassifier(TrialClassifier):
         Scores the joint classes; default :class:`StationaryNaiveBayes` on
         velocity.
     speed_column : int, default=1
-        Column of ``y`` holding the speed.
+        Column of ``y`` holding the speed. A 1-D ``y`` (or one of a single column)
+        is taken as the speeds themselves (``speed_column`` is then not used): the
+        speed stage decides.
     sample_rate_hz : float, default=4000.0
         Sampling rate for the default estimators, Hz.
 
@@ -292,13 +322,28 @@ class SpeedFirstClassifier(TrialClassifier):
         tags.classifier_tags.poor_score = True
         return tags
 
+    def _speed_column(self) -> int:
+        """Column of ``classes_`` (as 2-D) holding the speed; 0 for a single column."""
+        single = self.classes_.ndim == 1 or self.classes_.shape[1] == 1
+        return 0 if single else int(self.speed_column)
+
+    def _class_speeds(self) -> np.ndarray:
+        cls = self.classes_ if self.classes_.ndim == 2 else self.classes_[:, None]
+        try:
+            return cls[:, self._speed_column()].astype(float)
+        except (TypeError, ValueError):
+            raise ValueError(
+                f"the speed labels must be numeric (mm/s), got values like {cls[:3, 0]!r}"
+            ) from None
+
     def _fit(self, X: np.ndarray, y: object, y_idx: np.ndarray) -> None:
-        if self.classes_.ndim != 2:
-            raise ValueError("SpeedFirstClassifier needs y of shape (n_trials, n_targets)")
         col = self.speed_column
-        if isinstance(col, bool) or not 0 <= int(col) < self.classes_.shape[1]:
+        if self.classes_.ndim == 2 and self.classes_.shape[1] > 1 and (
+                isinstance(col, bool) or not isinstance(col, int | np.integer)
+                or not 0 <= int(col) < self.classes_.shape[1]):
             raise ValueError(f"speed_column must lie in [0, {self.classes_.shape[1] - 1}], "
                              f"got {col!r}")
+        speeds = np.unique(self._class_speeds())
         fs = float(self.sample_rate_hz)
         y_rows = self.classes_[y_idx]
         est = (StationaryNaiveBayes(signal="velocity", sample_rate_hz=fs)
@@ -306,13 +351,14 @@ class SpeedFirstClassifier(TrialClassifier):
         self.estimator_ = clone(est).fit(X, y_rows)
         if not np.array_equal(self.estimator_.classes_, self.classes_):
             raise ValueError("estimator must keep the joint classes of y (rows of classes_)")
-        speeds = np.unique(self.classes_[:, int(col)].astype(float))
         if len(speeds) < 2:
             self.speed_estimator_ = None
             return
         sp = (FeaturePolynomialClassifier(sample_rate_hz=fs, features=(("f1",),), degree=2)
               if self.speed_estimator is None else self.speed_estimator)
-        self.speed_estimator_ = clone(sp).fit(X, y_rows[:, [int(col)]].astype(float))
+        y_speed = (y_rows[:, [self._speed_column()]] if y_rows.ndim == 2
+                   else y_rows[:, None]).astype(float)
+        self.speed_estimator_ = clone(sp).fit(X, y_speed)
 
     def predict_speed(self, X: Any) -> np.ndarray:
         """Speed class of each trial from the speed stage.
@@ -330,15 +376,14 @@ class SpeedFirstClassifier(TrialClassifier):
 
     def _speeds(self, X: np.ndarray) -> np.ndarray:
         if self.speed_estimator_ is None:
-            v = float(self.classes_[0, int(self.speed_column)])
-            return np.full(X.shape[0], v)
+            return np.full(X.shape[0], self._class_speeds()[0])
         pred = np.asarray(self.speed_estimator_.predict(X), dtype=float)
         return pred.reshape(X.shape[0], -1)[:, 0]
 
     def _joint_scores(self, X: np.ndarray) -> np.ndarray:
         s = joint_log_scores(self.estimator_, X)
         v = self._speeds(X)
-        cls_speed = self.classes_[:, int(self.speed_column)].astype(float)
+        cls_speed = self._class_speeds()
         allowed = np.isclose(cls_speed[None, :], v[:, None], rtol=0, atol=1e-9)
         return np.where(allowed, s, -np.inf)
 

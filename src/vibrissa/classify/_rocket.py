@@ -36,7 +36,9 @@ from typing import Any
 
 import numpy as np
 from scipy.special import log_softmax
+from sklearn.base import TransformerMixin
 from sklearn.linear_model import LogisticRegression, RidgeClassifierCV
+from sklearn.utils.validation import check_is_fitted
 
 from vibrissa.classify._base import TrialClassifier
 
@@ -54,11 +56,23 @@ def minirocket_kernels() -> np.ndarray:
 
 
 def _pool(X: np.ndarray, pool: int) -> np.ndarray:
+    """Block-average by ``pool``, centre each trial; zero-pad to the 9 kernel taps."""
     n, c, t = X.shape
     m = t // pool
     Z = X[..., : m * pool].reshape(n, c, m, pool).mean(axis=-1)
     Z -= Z.mean(axis=-1, keepdims=True)
+    if m < 9:
+        Z = np.concatenate([Z, np.zeros((n, c, 9 - m))], axis=-1)
     return Z.astype(np.float32)
+
+
+def effective_pool(pool: int, n_timepoints: int) -> int:
+    """``pool``, reduced for short trials so that at least 9 pooled samples remain.
+
+    Trials shorter than 9 samples are zero-padded (after centring) to 9 by
+    :func:`_pool`; neither changes anything for trials of ``9 * pool`` samples or more.
+    """
+    return max(1, min(int(pool), n_timepoints // 9))
 
 
 def _conv_stack(Z: np.ndarray, d: int) -> tuple[np.ndarray, np.ndarray]:
@@ -68,8 +82,12 @@ def _conv_stack(Z: np.ndarray, d: int) -> tuple[np.ndarray, np.ndarray]:
     return 3.0 * S, -S.sum(axis=0)
 
 
-class MiniRocketClassifier(TrialClassifier):
+class MiniRocketClassifier(TransformerMixin, TrialClassifier):
     """MiniRocket-style random-convolution features + per-target linear classifiers.
+
+    A classifier that is also a transformer (as scikit-learn's
+    ``LinearDiscriminantAnalysis`` is): :meth:`transform` gives the standardised
+    features its linear heads see, ``fit_transform(X, y)`` fits and returns them.
 
     Parameters
     ----------
@@ -93,6 +111,9 @@ class MiniRocketClassifier(TrialClassifier):
 
     Attributes
     ----------
+    pool_ : int
+        The block-average factor used: ``pool``, or less for trials shorter than
+        ``9 * pool`` samples (which are then zero-padded to 9 samples).
     dilations_ : ndarray of int
     biases_ : ndarray of shape (n_dilations, 84, n_channels, n_biases)
     feature_mean_, feature_scale_ : ndarray
@@ -127,6 +148,7 @@ class MiniRocketClassifier(TrialClassifier):
     def __sklearn_tags__(self):  # noqa: D105
         tags = super().__sklearn_tags__()
         tags.classifier_tags.poor_score = True
+        tags.transformer_tags.preserves_dtype = []  # features are float32 (PPV proportions)
         return tags
 
     def _check_params(self) -> None:
@@ -164,16 +186,14 @@ class MiniRocketClassifier(TrialClassifier):
         return out.reshape(n, -1)
 
     def _features(self, X: np.ndarray) -> np.ndarray:
-        F = self._ppv(_pool(X, int(self.pool)))
+        F = self._ppv(_pool(X, self.pool_))
         return (F - self.feature_mean_) / self.feature_scale_
 
     def _fit(self, X: np.ndarray, y: object, y_idx: np.ndarray) -> None:
         self._check_params()
-        Z = _pool(X, int(self.pool))
+        self.pool_ = effective_pool(int(self.pool), X.shape[-1])
+        Z = _pool(X, self.pool_)
         t = Z.shape[-1]
-        if t < 9:
-            raise ValueError(f"trials are too short for length-9 kernels after pool={self.pool} "
-                             f"({t} samples)")
         max_exp = np.log2(max((t - 1) / 8.0, 1.0))
         self.dilations_ = np.unique(
             np.floor(2.0 ** np.linspace(0, max_exp, int(self.n_dilations))).astype(int))
@@ -241,7 +261,5 @@ class MiniRocketClassifier(TrialClassifier):
         -------
         ndarray of shape (n_trials, n_features)
         """
-        from sklearn.utils.validation import check_is_fitted
-
         check_is_fitted(self)
         return self._features(self._check_X(X, reset=False))

@@ -115,7 +115,8 @@ class SequentialEvidenceClassifier(ClassifierMixin, BaseEstimator):
     estimator : estimator
         Probabilistic classifier of joint label rows (``predict_proba``).
     target_column : int or None, default=2
-        Column of ``y`` accumulated (2: texture code); ``None`` for 1-D ``y``.
+        Column of ``y`` accumulated (2: texture code); ``None``: the whole label
+        (1-D ``y``, or the joint rows of a 2-D ``y``).
     threshold : float, default=0.99
         Posterior at which a sequence stops (see :func:`accumulate_evidence`).
     min_probability : float, default=1e-3
@@ -126,9 +127,12 @@ class SequentialEvidenceClassifier(ClassifierMixin, BaseEstimator):
     ----------
     estimator_ : estimator
     classes_ : ndarray
-        Values of the target column.
+        Values of the target column (the joint label rows when ``target_column`` is
+        ``None`` and ``y`` is 2-D).
     class_index_ : ndarray of shape (n_joint_classes,)
         Target value index of each of ``estimator_.classes_``.
+    n_features_in_ : int
+        That of ``estimator_`` (when it has one).
     """
 
     def __init__(
@@ -184,10 +188,27 @@ class SequentialEvidenceClassifier(ClassifierMixin, BaseEstimator):
             raise ValueError(f"min_probability must lie in (0, 1), got {self.min_probability!r}")
         self.estimator_ = fitted
         jc = np.asarray(self.estimator_.classes_)
-        col = jc if self.target_column is None or jc.ndim == 1 else jc[:, int(self.target_column)]
-        self.classes_, inv = np.unique(col, return_inverse=True)
-        self.class_index_ = np.asarray(inv).ravel()
+        if self.target_column is None and jc.ndim == 2:
+            # no target column chosen: accumulate the joint classes themselves
+            self.classes_, self.class_index_ = jc, np.arange(len(jc))
+        else:
+            col = jc if jc.ndim == 1 else jc[:, int(self.target_column)]
+            self.classes_, inv = np.unique(col, return_inverse=True)
+            self.class_index_ = np.asarray(inv).ravel()
+        n_in = getattr(fitted, "n_features_in_", None)
+        if n_in is not None:
+            self.n_features_in_ = n_in
+        names = getattr(fitted, "feature_names_in_", None)
+        if names is not None:
+            self.feature_names_in_ = names
         return self
+
+    def __sklearn_tags__(self):  # noqa: D105
+        tags = super().__sklearn_tags__()
+        # y may be joint label rows (n_trials, n_targets); one column is accumulated
+        tags.target_tags.multi_output = True
+        tags.target_tags.single_output = True
+        return tags
 
     def contact_log_proba(self, X: Any) -> np.ndarray:
         """Floored log marginal posterior of the target for each single contact.
@@ -232,7 +253,8 @@ class SequentialEvidenceClassifier(ClassifierMixin, BaseEstimator):
         -------
         ndarray of shape (n_trials,)
         """
-        return self.classes_[np.argmax(self.contact_log_proba(X), axis=1)]
+        lp = self.contact_log_proba(X)  # checks that the classifier is fitted
+        return self.classes_[np.argmax(lp, axis=1)]
 
     def predict_sequences(
         self, X: Any, sequences: Any, n_contacts: int | None = None

@@ -72,6 +72,7 @@ def modulation_features(
     if not band.any():
         raise ValueError(
             f"no DFT bin between {low_hz} and {high_hz} Hz for {np.shape(x)[-1]} samples "
+            f"(n_features = {np.shape(x)[-1]} per channel) "
             f"at {sample_rate_hz} Hz"
         )
     spec = np.where(band, spec, 0.0)

@@ -19,6 +19,7 @@ from sklearn.utils.validation import check_array, check_is_fitted
 
 from vibrissa import signal as vsig
 from vibrissa._validate import finite, positive
+from vibrissa.classify._base import check_magnitude
 
 __all__ = ["RecordingWindow"]
 
@@ -29,17 +30,21 @@ _SIGNALS = ("raw", "velocity", "lowpass")
 def trials_3d(X: Any) -> np.ndarray:
     """Validate trials for a transformer step: finite float64 ``(n, channels, time)``.
 
-    A 2-D ``(n_trials, n_timepoints)`` input is one channel.
+    A 2-D ``(n_trials, n_timepoints)`` input is one channel. Values beyond
+    :data:`~vibrissa.classify._base.MAX_ABS_INPUT` in magnitude are refused.
     """
-    arr = np.asarray(X) if isinstance(X, list | tuple) else X
-    nd = getattr(arr, "ndim", None)
+    arr = X if hasattr(X, "ndim") and hasattr(X, "shape") else np.asarray(X)
+    nd = arr.ndim
     if nd not in (2, 3):
+        # check_array's own message ("Reshape your data ...") for 1-D input
+        check_array(arr, allow_nd=True, ensure_all_finite=True, input_name="X")
         raise ValueError(
             "X must have shape (n_trials, n_channels, n_timepoints) or "
             f"(n_trials, n_timepoints), got {nd}-D input"
         )
     a = check_array(arr, allow_nd=True, dtype=np.float64, ensure_all_finite=True,
                     input_name="X")
+    check_magnitude(a)
     return a if a.ndim == 3 else a[:, None, :]
 
 

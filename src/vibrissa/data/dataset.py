@@ -24,7 +24,7 @@ import numpy as np
 import xarray as xr
 
 from vibrissa import __version__
-from vibrissa.data.schema import parse_whisker
+from vibrissa.data.schema import encode_texture, parse_whisker
 
 __all__ = [
     "KNOWN_LABELS",
@@ -240,8 +240,19 @@ def label_names(ds: xr.Dataset) -> list[str]:
     return [str(k) for k, c in ds.coords.items() if c.dims == ("trial",) and k != "trial"]
 
 
-def as_arrays(ds: xr.Dataset, labels: Sequence[str]) -> tuple[np.ndarray, np.ndarray]:
+def as_arrays(
+    ds: xr.Dataset, labels: Sequence[str], *, encode_textures: bool = False
+) -> tuple[np.ndarray, np.ndarray]:
     """The arrays classifiers take: ``X`` and the multi-target label ``y``.
+
+    Numeric labels stay numbers and string labels stay strings: ``y`` is float64
+    when every requested label is numeric, an array of strings when every one is
+    a string, and otherwise an ``object`` array whose numeric columns hold Python
+    floats and whose string columns hold ``str`` (e.g. ``["angle_deg",
+    "speed_mm_s", "texture"]`` gives rows like ``[30.0, 36.0, "p80"]``). The
+    classifiers need numeric rows for mixed labels: pass ``encode_textures=True``
+    to get the ``texture`` column as its code (:func:`vibrissa.data.encode_texture`,
+    smooth to coarse), as the chapter-5 classifiers expect.
 
     Parameters
     ----------
@@ -251,14 +262,17 @@ def as_arrays(ds: xr.Dataset, labels: Sequence[str]) -> tuple[np.ndarray, np.nda
         Names of the per-trial labels forming the columns of ``y``, e.g.
         ``["radial_distance_mm", "speed_mm_s"]``. A single string is taken as
         one name.
+    encode_textures
+        Replace the texture names of a ``texture`` column by their integer codes
+        (as floats); textures without a code raise a ``ValueError`` naming them.
 
     Returns
     -------
     X : numpy.ndarray
         Shape ``(n_trials, n_channels, n_timepoints)``, float64.
     y : numpy.ndarray
-        Shape ``(n_trials, n_labels)``; float64 if every label is numeric,
-        otherwise an array of strings.
+        Shape ``(n_trials, n_labels)``: float64 if every column is numeric, str if
+        every one is a string, otherwise object (numbers as float, strings as str).
 
     Raises
     ------
@@ -274,11 +288,20 @@ def as_arrays(ds: xr.Dataset, labels: Sequence[str]) -> tuple[np.ndarray, np.nda
         raise KeyError(f"dataset has no label(s) {missing}; it has {present}")
     X = np.asarray(ds["signal"].values, dtype=float)
     cols = [np.asarray(ds[name].values) for name in labels]
+    if encode_textures:
+        cols = [encode_texture(c).astype(float) if name == "texture" else c
+                for name, c in zip(labels, cols, strict=True)]
     if not cols:
         return X, np.empty((X.shape[0], 0))
-    if all(c.dtype.kind in "fiub" for c in cols):
+    numeric = [c.dtype.kind in "fiub" for c in cols]
+    if all(numeric):
         return X, np.column_stack([c.astype(float) for c in cols])
-    return X, np.column_stack([c.astype(str) for c in cols])
+    if not any(numeric):
+        return X, np.column_stack([c.astype(str) for c in cols])
+    y = np.empty((X.shape[0], len(cols)), dtype=object)
+    for k, (c, is_num) in enumerate(zip(cols, numeric, strict=True)):
+        y[:, k] = [float(v) for v in c] if is_num else [str(v) for v in c]
+    return X, y
 
 
 def _matches(vals: np.ndarray, wanted: Any) -> np.ndarray:

@@ -4,6 +4,8 @@ Works the same on simulated and imported datasets (it never imports the simulato
 
 - :mod:`~vibrissa.evaluate.metrics`: signed errors in physical units, exact-hit
   rate, Cohen's kappa (per parameter, joint, weighted, from a confusion matrix);
+- :mod:`~vibrissa.evaluate.scorers`: ``scoring=`` objects for scikit-learn's model
+  selection on joint labels (:data:`joint_accuracy_scorer`, :data:`joint_kappa_scorer`);
 - :mod:`~vibrissa.evaluate.loop`: the fit-and-score step, progress and JSON values
   every experiment shares;
 - :mod:`~vibrissa.evaluate.chapter4`: :func:`run_chapter4` (thesis 4.2-4.4) and its
@@ -48,6 +50,7 @@ from vibrissa.evaluate.metrics import (
     signed_errors,
 )
 from vibrissa.evaluate.report_common import load_results, write_json
+from vibrissa.evaluate.scorers import joint_accuracy_scorer, joint_kappa_scorer
 
 __all__ = [
     "THESIS_CHAPTER4",
@@ -59,7 +62,9 @@ __all__ = [
     "error_summary",
     "exact_hit_rate",
     "fit_and_score",
+    "joint_accuracy_scorer",
     "joint_kappa",
+    "joint_kappa_scorer",
     "kappa",
     "kappa_from_confusion",
     "load_results",
