@@ -2,14 +2,25 @@
 
 from __future__ import annotations
 
+import json
 import os
+import pickle
+import warnings
 
 import h5py
 import numpy as np
 import pytest
 import xarray as xr
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from vibrissa.data import DatasetFileError, checksum, load_dataset, make_dataset, save_dataset
+from vibrissa.data.netcdf import (
+    SCHEMA_VERSION,
+    DatasetIntegrityWarning,
+    DatasetModifiedError,
+    DatasetSchemaError,
+)
 
 
 def _ds() -> xr.Dataset:
@@ -26,7 +37,14 @@ def _ds() -> xr.Dataset:
             "direction": [1, -1, 1, -1, 1, -1],
             "set": np.arange(1, n + 1),
         },
-        attrs={"whisker": {"length_mm": 185.0}, "protocol": "t", "seed": 7, "flag": True},
+        attrs={
+            "whisker": {"length_mm": 185.0, "base_radius_mm": 1.0},
+            "robot": {"delay_s": 0.3, "speed_mm_s": 43.2},
+            "protocol": "t",
+            "protocol_params": {"radial_distances_mm": [80.0, 100.0, 180.0], "runs": 1},
+            "seed": 7,
+            "flag": True,
+        },
     )
 
 
@@ -34,15 +52,23 @@ def test_round_trip_is_identical(tmp_path) -> None:
     ds = _ds()
     path = save_dataset(ds, tmp_path / "a.nc")
     back = load_dataset(path)
-    xr.testing.assert_identical(back.drop_attrs(), ds.drop_attrs())
+    xr.testing.assert_identical(back, ds)
     assert back["texture"].dtype.kind == "U"
     assert list(back["texture"].values) == list(ds["texture"].values)
     assert back["direction"].dtype == np.int64
     assert back.attrs["flag"] == 1
     assert back.attrs["whisker"] == ds.attrs["whisker"]
-    assert "vibrissa_checksum" not in back.attrs
+    assert not {"vibrissa_checksum", "vibrissa_checksum_parts", "vibrissa_schema"} & set(
+        back.attrs)
     with h5py.File(path) as f:
-        assert f.attrs["vibrissa_checksum"] == checksum(ds)
+        assert int(np.asarray(f.attrs["vibrissa_schema"]).item()) == SCHEMA_VERSION == 2
+        stored = f.attrs["vibrissa_checksum"]
+    # the checksum is that of the file's contents as any NetCDF reader sees them
+    assert stored == checksum(xr.load_dataset(path, engine="h5netcdf"))
+    assert stored == checksum(ds.assign_attrs(vibrissa_schema=SCHEMA_VERSION))
+    # saving what was loaded writes the same checksum again
+    with h5py.File(save_dataset(back, tmp_path / "b.nc")) as f:
+        assert f.attrs["vibrissa_checksum"] == stored
 
 
 def test_checksum_covers_signal_and_labels() -> None:
@@ -54,6 +80,16 @@ def test_checksum_covers_signal_and_labels() -> None:
     assert checksum(sig) != c
     assert checksum(ds.assign_coords(texture=("trial", ["x"] * 6))) != c
     assert checksum(ds.assign_coords(speed_mm_s=("trial", np.full(6, 43.3)))) != c
+    # ... and every attribute of the dataset and its variables, and the dtypes
+    assert checksum(ds.assign_attrs(sample_rate_hz=1001.0)) != c
+    assert checksum(ds.assign_attrs(extra="x")) != c
+    assert checksum(ds.drop_attrs(deep=False)) != c
+    units = ds.copy()
+    units["time"].attrs["units"] = "ms"
+    assert checksum(units) != c
+    assert checksum(ds.assign_coords(set=ds["set"].astype(np.int32))) != c
+    # the checksum attributes themselves are not covered
+    assert checksum(ds.assign_attrs(vibrissa_checksum="x", vibrissa_checksum_parts="y")) == c
 
 
 def test_save_is_atomic_and_keeps_old_file_on_failure(tmp_path) -> None:
@@ -106,14 +142,136 @@ def test_checksum_mismatch(tmp_path) -> None:
     # rewrite one value of the signal in place, keeping the old checksum attribute
     with h5py.File(p, "r+") as f:
         f["signal"][2, 0, 10] = f["signal"][2, 0, 10] + 0.5
-    with pytest.raises(DatasetFileError, match="checksum mismatch"):
+    with pytest.raises(DatasetModifiedError, match="modified after it was written by vibrissa "
+                       r"\(checksum mismatch\); differs: data variable 'signal'$") as err:
         load_dataset(p)
+    assert err.value.differs == ("data variable 'signal'",)
+    assert "corrupt" not in str(err.value)
     # a changed label is caught too
     p2 = save_dataset(ds, tmp_path / "b.nc")
     with h5py.File(p2, "r+") as f:
         f["radial_distance_mm"][0] = 81.0
-    with pytest.raises(DatasetFileError, match="checksum"):
+    with pytest.raises(DatasetFileError, match="differs: coordinate 'radial_distance_mm'"):
         load_dataset(p2)
+
+
+def _flip_bit(text: str, old: str, new: str) -> str:
+    """``text`` with the first ``old`` replaced by ``new``, checking that one bit differs."""
+    i = text.index(old)
+    diff = [a ^ b for a, b in zip(old.encode(), new.encode(), strict=True) if a != b]
+    assert len(diff) == 1 and bin(diff[0]).count("1") == 1
+    return text[:i] + new + text[i + len(old):]
+
+
+def _edit_attr(path, name: str, edit) -> None:
+    with h5py.File(path, "r+") as f:
+        value = f.attrs[name]
+        f.attrs[name] = edit(value.decode() if isinstance(value, bytes) else value)
+
+
+@pytest.mark.parametrize(
+    ("attr", "old", "new"),
+    [
+        ("protocol_params", "100.0", "104.0"),  # radial distance 100 -> 104 mm: '0' -> '4'
+        ("robot", "0.3", "0.2"),  # the loop delay
+        ("whisker", "length_mm", "lengtl_mm"),  # a key of the whisker
+    ],
+)
+def test_single_bit_flip_in_an_attribute_is_refused(tmp_path, attr, old, new) -> None:
+    p = save_dataset(_ds(), tmp_path / "a.nc")
+    _edit_attr(p, attr, lambda text: _flip_bit(text, old, new))
+    with pytest.raises(DatasetModifiedError) as err:
+        load_dataset(p)
+    msg = str(err.value)
+    assert msg.startswith(f"{p}: was modified after it was written by vibrissa")
+    assert err.value.differs == (f"attribute {attr!r}",)
+    assert f"differs: attribute {attr!r}" in msg
+
+
+def test_edited_sample_rate_is_refused(tmp_path) -> None:
+    p = save_dataset(_ds(), tmp_path / "a.nc")
+    _edit_attr(p, "sample_rate_hz", lambda v: np.asarray(v) * 0 + 1001.0)
+    with pytest.raises(DatasetModifiedError, match="differs: attribute 'sample_rate_hz'"):
+        load_dataset(p)
+
+
+def test_added_removed_and_variable_attributes_are_named(tmp_path) -> None:
+    p = save_dataset(_ds(), tmp_path / "a.nc")
+    with h5py.File(p, "r+") as f:
+        del f.attrs["seed"]
+        f.attrs["note"] = "added"
+        f["time"].attrs["units"] = "ms"
+    with pytest.raises(DatasetModifiedError) as err:
+        load_dataset(p)
+    assert set(err.value.differs) == {
+        "attribute 'seed' (removed)", "attribute 'note' (added)",
+        "attributes of coordinate 'time'",
+    }
+
+
+def test_subset_saved_with_plain_xarray_is_not_called_corrupt(tmp_path) -> None:
+    ds = make_dataset(np.random.default_rng(1).normal(size=(100, 2, 30)), sample_rate_hz=1000,
+                      labels={"set": np.arange(100) % 4})
+    p = save_dataset(ds, tmp_path / "all.nc")
+    sub = tmp_path / "sub.nc"
+    with xr.open_dataset(p) as f:
+        f.isel(trial=slice(0, 40)).to_netcdf(sub)  # keeps the old checksum attribute
+    with pytest.raises(DatasetModifiedError) as err:
+        load_dataset(sub)
+    msg = str(err.value)
+    assert "was modified or re-saved outside vibrissa" in msg
+    assert "trial=40, channel=2, time=30 but vibrissa wrote trial=100, channel=2, time=30" in msg
+    assert "corrupt" not in msg
+    # verify=False loads it anyway, saying why
+    with pytest.warns(DatasetIntegrityWarning, match="re-saved outside vibrissa.*verify=False"):
+        back = load_dataset(sub, verify=False)
+    np.testing.assert_array_equal(back["signal"].values, ds["signal"].values[:40])
+    assert "vibrissa_checksum" not in back.attrs
+    # saved with vibrissa, the subset is a good file of its own
+    xr.testing.assert_identical(load_dataset(save_dataset(back, sub)), back)
+
+
+def test_verify_false_loads_a_modified_file_with_a_warning(tmp_path) -> None:
+    ds = _ds()
+    p = save_dataset(ds, tmp_path / "a.nc")
+    _edit_attr(p, "robot", lambda text: _flip_bit(text, "0.3", "0.2"))
+    with pytest.warns(DatasetIntegrityWarning, match="modified after it was written by vibrissa"):
+        back = load_dataset(p, verify=False)
+    assert json.loads(back.attrs["robot"])["delay_s"] == 0.2
+    np.testing.assert_array_equal(back["signal"].values, ds["signal"].values)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        load_dataset(save_dataset(ds, tmp_path / "b.nc"), verify=False)  # a good file: silent
+
+
+def test_schema_versions(tmp_path) -> None:
+    ds = _ds()
+    p = save_dataset(ds, tmp_path / "new.nc")
+    with h5py.File(p, "r+") as f:
+        f.attrs["vibrissa_schema"] = SCHEMA_VERSION + 1
+    with pytest.raises(DatasetSchemaError, match="newer vibrissa \\(file schema 3, this vibrissa "
+                       "reads schema 2 and older\\); upgrade vibrissa") as err:
+        load_dataset(p)
+    assert err.value.schema == SCHEMA_VERSION + 1
+    # a file of vibrissa before schema versions: a checksum, no vibrissa_schema
+    old = tmp_path / "old.nc"
+    ds.assign_attrs(vibrissa_checksum="0" * 64).to_netcdf(old, engine="h5netcdf")
+    with pytest.raises(DatasetSchemaError, match="older vibrissa \\(file schema 1, this vibrissa "
+                       "reads schema 2\\).*re-create the file") as err:
+        load_dataset(old)
+    assert err.value.schema == 1 and isinstance(err.value, DatasetFileError)
+    with pytest.warns(DatasetIntegrityWarning, match="older vibrissa"):
+        back = load_dataset(old, verify=False)
+    np.testing.assert_array_equal(back["signal"].values, ds["signal"].values)
+    with h5py.File(p, "r+") as f:
+        f.attrs["vibrissa_schema"] = "two"
+    with pytest.raises(DatasetSchemaError, match="unreadable schema version 'two'"):
+        load_dataset(p)
+    p3 = save_dataset(ds, tmp_path / "c.nc")
+    with h5py.File(p3, "r+") as f:
+        del f.attrs["vibrissa_checksum"]
+    with pytest.raises(DatasetModifiedError, match="re-saved outside vibrissa.*no 'vibrissa_chec"):
+        load_dataset(p3)
 
 
 def test_missing_variables(tmp_path) -> None:
@@ -136,7 +294,56 @@ def test_foreign_file_without_checksum_is_accepted(tmp_path) -> None:
 
 
 def test_error_pickles() -> None:
-    import pickle
-
     err = pickle.loads(pickle.dumps(DatasetFileError("/a/b.nc", "bad")))
     assert str(err) == "/a/b.nc: bad" and err.problem == "bad"
+    err = pickle.loads(pickle.dumps(DatasetModifiedError("/a/b.nc", "bad", ["attribute 'x'"])))
+    assert type(err) is DatasetModifiedError and err.differs == ("attribute 'x'",)
+    err = pickle.loads(pickle.dumps(DatasetSchemaError("/a/b.nc", "old", schema=1)))
+    assert type(err) is DatasetSchemaError and err.schema == 1 and str(err) == "/a/b.nc: old"
+
+
+# --- property: save -> load gives back exactly what was saved -------------------------
+
+_NAME = st.from_regex(r"[a-z][a-z0-9_]{0,10}", fullmatch=True).filter(
+    lambda s: s not in {"trial", "channel", "time", "signal", "sample_rate_hz",
+                        "vibrissa_version", "vibrissa_schema", "vibrissa_checksum",
+                        "vibrissa_checksum_parts"})
+_TEXT = st.text(st.characters(exclude_categories=("Cs",), exclude_characters="\x00"),
+                max_size=12)
+_FLOAT = st.floats(allow_nan=False, allow_infinity=False)
+_JSONABLE = st.recursive(
+    st.none() | st.booleans() | st.integers(-(2**53), 2**53) | _FLOAT | _TEXT,
+    lambda inner: st.lists(inner, max_size=3) | st.dictionaries(_TEXT, inner, max_size=3),
+    max_leaves=8,
+)
+
+
+@st.composite
+def _datasets(draw: st.DrawFn) -> xr.Dataset:
+    n = draw(st.integers(1, 5))
+    c = draw(st.integers(1, 3))
+    t = draw(st.integers(1, 12))
+    signal = draw(st.lists(_FLOAT, min_size=n * c * t, max_size=n * c * t))
+    channels = draw(st.lists(_TEXT, min_size=c, max_size=c, unique=True))
+    kinds = {"int": st.integers(-(2**62), 2**62), "float": _FLOAT, "text": _TEXT}
+    labels = {}
+    for name in draw(st.lists(_NAME, max_size=4, unique=True)):
+        kind = draw(st.sampled_from(sorted(kinds)))
+        labels[name] = draw(st.lists(kinds[kind], min_size=n, max_size=n))
+    attrs = draw(st.dictionaries(_NAME, _JSONABLE, max_size=4))
+    return make_dataset(
+        np.array(signal, dtype=float).reshape(n, c, t),
+        sample_rate_hz=draw(st.floats(1e-3, 1e9)),
+        channels=channels, labels=labels, attrs=attrs,
+    )
+
+
+@settings(max_examples=50, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@given(ds=_datasets())
+def test_round_trip_property(tmp_path, ds: xr.Dataset) -> None:
+    path = save_dataset(ds, tmp_path / "p.nc")
+    back = load_dataset(path)
+    xr.testing.assert_identical(back, ds)
+    assert checksum(back.assign_attrs(vibrissa_schema=SCHEMA_VERSION)) == checksum(
+        ds.assign_attrs(vibrissa_schema=SCHEMA_VERSION))

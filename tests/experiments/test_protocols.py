@@ -1,6 +1,11 @@
 """Protocol grids, trial lists and their validation."""
 
+import math
+
+import numpy as np
 import pytest
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
 
 from vibrissa.experiments.protocols import get_protocol, parse_grid
 from vibrissa.whisker.geometry import preset
@@ -115,3 +120,62 @@ def test_bad_sensor_settings(sensor, match):
 def test_sensor_must_be_hall_settings():
     with pytest.raises(TypeError, match="HallSettings"):
         get_protocol("radial-distance", quick=True, sensor={"noise_v": 0.0})
+
+
+# --- properties of parse_grid ----------------------------------------------------------
+
+_QUARTERS = st.integers(-4000, 4000).map(lambda k: k / 4)  # exact binary fractions
+
+
+@settings(max_examples=50, deadline=None)
+@given(start=_QUARTERS, step=st.integers(1, 400).map(lambda k: k / 4), count=st.integers(1, 200))
+def test_parse_grid_step_ranges(start, step, count):
+    stop = start + step * (count - 1)
+    vals = parse_grid(f"{start!r}:{stop!r}:{step!r}")
+    assert len(vals) == count
+    assert list(vals) == sorted(vals) and all(math.isfinite(v) for v in vals)
+    assert vals[0] == start and vals[-1] == pytest.approx(stop)
+
+
+@settings(max_examples=50, deadline=None)
+@given(a=_QUARTERS, b=_QUARTERS, num=st.integers(1, 200))
+def test_parse_grid_counted_ranges(a, b, num):
+    start, stop = min(a, b), max(a, b)
+    vals = parse_grid(f"{start!r}:{stop!r}:#{num}")
+    assert len(vals) == num
+    assert list(vals) == sorted(vals) and all(math.isfinite(v) for v in vals)
+    assert vals[0] == start and (num == 1 or vals[-1] == stop)
+
+
+@settings(max_examples=50, deadline=None)
+@given(values=st.lists(st.floats(-1e6, 1e6), min_size=1, max_size=20,
+                       unique_by=lambda v: float(np.round(v, 9))))
+def test_parse_grid_lists(values):
+    vals = parse_grid(",".join(repr(v) for v in values))
+    assert sorted(vals) == sorted(float(np.round(v, 9)) for v in values)
+
+
+_TOKENS = st.sampled_from([":", ",", "#", " ", "-", ".", "e", "1", "0", "5", "nan", "inf",
+                           "1e308", "1e-300", "1e400", "#0", "#-1", "_", "x", "١"])
+_HOSTILE = (st.text(max_size=12)
+            | st.lists(_TOKENS | st.floats().map(repr) | st.integers().map(str),
+                       max_size=7).map("".join))
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="issue 13 finding 3: parse_grid overflows (OverflowError), allocates without bound "
+    "(MemoryError) or returns inf for hostile ranges; remove this mark when its bounds land",
+)
+@settings(max_examples=50, deadline=None)
+@example("1:1e308:1e-300")  # OverflowError today
+@example("0:1e300:#3")  # (0.0, inf, inf) today
+@example("0:10:1e-12")  # a 73 TiB allocation today
+@given(text=_HOSTILE)
+def test_parse_grid_hostile_text_is_a_value_error_or_a_finite_grid(text):
+    try:
+        vals = parse_grid(text)
+    except ValueError as exc:
+        assert "grid" in str(exc)
+    else:
+        assert vals and all(math.isfinite(v) for v in vals)

@@ -31,6 +31,7 @@ __all__ = [
     "as_arrays",
     "attr_value",
     "concat_datasets",
+    "coordinate_attrs",
     "label_names",
     "make_dataset",
     "select",
@@ -51,6 +52,59 @@ KNOWN_LABELS = (
     "set",
     "order",
 )
+
+
+#: ``long_name`` and ``units`` of the coordinates vibrissa writes (``units`` "1": a
+#: count or flag; no ``units`` for text).
+_COORD_ATTRS: dict[str, tuple[str, str | None]] = {
+    "trial": ("trial index", "1"),
+    "channel": ("sensor channel", None),
+    "time": ("time from the alignment point", "s"),
+    "radial_distance_mm": ("radial distance of the contact from the whisker base", "mm"),
+    "speed_mm_s": ("speed of the contact", "mm/s"),
+    "angle_deg": ("angle of the direction of motion", "degree"),
+    "texture": ("surface texture", None),
+    "direction": ("direction of motion (+1 or -1)", "1"),
+    "run": ("run (recording session)", "1"),
+    "set": ("recorded set", "1"),
+    "order": ("position in the recording session", "1"),
+    "contact_onset_s": ("time of contact onset", "s"),
+    "threshold_time_s": ("time the threshold was crossed", "s"),
+    "retract_start_s": ("time the retraction started", "s"),
+    "contact_end_s": ("time contact ended", "s"),
+    "slipped_off": ("the whisker slipped off the object (0 or 1)", "1"),
+    "saturated": ("the sensor saturated (0 or 1)", "1"),
+    "latency_s": ("latency of the robot's response", "s"),
+    "contact_duration_s": ("duration of contact", "s"),
+    "peak_deflection_v": ("peak deflection", "V"),
+}
+_UNIT_SUFFIXES = (("_mm_s", "mm/s"), ("_mm", "mm"), ("_ms", "ms"), ("_s", "s"), ("_hz", "Hz"),
+                  ("_deg", "degree"), ("_v", "V"))
+
+
+def coordinate_attrs(name: str, values: Any = None) -> dict[str, str]:
+    """``long_name`` and ``units`` attributes of the coordinate ``name``.
+
+    Parameters
+    ----------
+    name
+        A coordinate: the schema's own (``time``, ``radial_distance_mm``, ...) or
+        any label, whose unit is read from its name's suffix (``_mm``, ``_mm_s``,
+        ``_s``, ``_ms``, ``_hz``, ``_deg``, ``_v``).
+    values
+        The coordinate's values; text gets no ``units``.
+
+    Returns
+    -------
+    dict
+        ``long_name`` always; ``units`` when known.
+    """
+    long_name, units = _COORD_ATTRS.get(name, (name.replace("_", " "), None))
+    if name not in _COORD_ATTRS:
+        units = next((u for suffix, u in _UNIT_SUFFIXES if name.endswith(suffix)), None)
+    if values is not None and np.asarray(values).dtype.kind in "OUS":
+        units = None
+    return {"long_name": long_name} if units is None else {"long_name": long_name, "units": units}
 
 
 def make_dataset(
@@ -86,8 +140,9 @@ def make_dataset(
     Returns
     -------
     xarray.Dataset
-        Dims ``(trial, channel, time)``, labels as per-trial coordinates, attrs
-        ``sample_rate_hz``, ``vibrissa_version`` and those given (``None``
+        Dims ``(trial, channel, time)``, labels as per-trial coordinates (each
+        with ``long_name`` and, when known, ``units``: :func:`coordinate_attrs`),
+        attrs ``sample_rate_hz``, ``vibrissa_version`` and those given (``None``
         values dropped).
 
     Raises
@@ -121,9 +176,9 @@ def make_dataset(
     if tt.shape != (t,):
         raise ValueError(f"time must have {t} values, got shape {tt.shape}")
     coords: dict[str, Any] = {
-        "trial": np.arange(n),
-        "channel": np.array(channels),
-        "time": ("time", tt, {"units": "s"}),
+        "trial": ("trial", np.arange(n), coordinate_attrs("trial")),
+        "channel": ("channel", np.array(channels), coordinate_attrs("channel")),
+        "time": ("time", tt, coordinate_attrs("time")),
     }
     for name, values in (labels or {}).items():
         name = str(name)
@@ -139,7 +194,7 @@ def make_dataset(
             arr = np.array([_to_str(v) for v in arr], dtype=str)
         elif arr.dtype.kind not in "biuf":
             raise ValueError(f"label {name!r} must hold numbers or strings, got dtype {arr.dtype}")
-        coords[name] = ("trial", arr)
+        coords[name] = ("trial", arr, coordinate_attrs(name, arr))
     at: dict[str, Any] = {"sample_rate_hz": fs, "vibrissa_version": __version__}
     for k, v in (attrs or {}).items():
         if v is not None:

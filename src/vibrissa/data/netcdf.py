@@ -1,18 +1,35 @@
-"""NetCDF storage of Datasets, with atomic writes and a content checksum.
+"""NetCDF storage of Datasets, with atomic writes, a schema version and a checksum.
 
 :func:`save_dataset` writes through a temporary file that is renamed into place
-only when complete, and stores a SHA-256 checksum of the signal and of every
-coordinate in the attribute ``vibrissa_checksum``. :func:`load_dataset` reads
-the whole file into memory and verifies that checksum, so a truncated or
-corrupted file gives a :class:`DatasetFileError` naming the file instead of
-wrong numbers.
+only when complete. The file carries
+
+- ``vibrissa_schema``: the version of the file layout (:data:`SCHEMA_VERSION`);
+- ``vibrissa_checksum``: a SHA-256 over everything that defines the data: the
+  signal and every other data variable (values, dtype, shape), every coordinate
+  (values, dtype, dims) and every attribute of the dataset and of its variables
+  (canonical JSON), except the two checksum attributes themselves;
+- ``vibrissa_checksum_parts``: JSON with the dimension sizes and a short hash of
+  each part (each variable's values, each variable's attributes, each dataset
+  attribute), so that a mismatch names what changed.
+
+:func:`load_dataset` reads the whole file into memory and verifies it: a file
+changed after vibrissa wrote it raises :class:`DatasetModifiedError` naming what
+differs (a subset saved with plain xarray, which keeps the old checksum
+attribute, is recognised by its dimension sizes); a file of an older or newer
+schema raises :class:`DatasetSchemaError`. ``verify=False`` loads such a file
+anyway with a :class:`DatasetIntegrityWarning`. A file without any vibrissa
+attributes (written by other software) is accepted after the schema check.
 """
 
 from __future__ import annotations
 
 import hashlib
+import json
 import os
+import warnings
+from collections.abc import Iterable, Mapping
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -20,9 +37,29 @@ import xarray as xr
 from vibrissa._atomic import atomic_path
 from vibrissa.data.dataset import attr_value, validate_dataset
 
-__all__ = ["DatasetFileError", "checksum", "load_dataset", "save_dataset"]
+__all__ = [
+    "SCHEMA_VERSION",
+    "DatasetFileError",
+    "DatasetIntegrityWarning",
+    "DatasetModifiedError",
+    "DatasetSchemaError",
+    "checksum",
+    "checksum_parts",
+    "load_dataset",
+    "save_dataset",
+]
+
+#: Version of the file layout written by :func:`save_dataset` (attribute
+#: ``vibrissa_schema``). 1: files of vibrissa before the attribute existed (checksum of
+#: signal and coordinates only); 2: checksum of every variable and attribute, per-part
+#: hashes, coordinates with ``units`` and ``long_name``.
+SCHEMA_VERSION = 2
 
 _CHECKSUM_ATTR = "vibrissa_checksum"
+_PARTS_ATTR = "vibrissa_checksum_parts"
+_SCHEMA_ATTR = "vibrissa_schema"
+_UNCOVERED = frozenset({_CHECKSUM_ATTR, _PARTS_ATTR})
+_PART_HEX = 16  # hex digits kept per part in the parts attribute
 _ENGINE = "h5netcdf"
 
 
@@ -37,8 +74,46 @@ class DatasetFileError(ValueError):
         self.problem = problem
         super().__init__(f"{self.path}: {problem}")
 
-    def __reduce__(self) -> tuple[type, tuple[Path, str]]:
+    def __reduce__(self) -> tuple[type, tuple[Any, ...]]:
         return (type(self), (self.path, self.problem))
+
+
+class DatasetModifiedError(DatasetFileError):
+    """A file written by vibrissa was changed afterwards (its checksum does not match).
+
+    :attr:`differs` names the parts that changed (e.g. ``"attribute 'robot'"``),
+    empty when they cannot be told.
+    """
+
+    def __init__(
+        self, path: str | os.PathLike[str], problem: str, differs: Iterable[str] = ()
+    ) -> None:
+        self.differs = tuple(differs)
+        super().__init__(path, problem)
+
+    def __reduce__(self) -> tuple[type, tuple[Any, ...]]:
+        return (type(self), (self.path, self.problem, self.differs))
+
+
+class DatasetSchemaError(DatasetFileError):
+    """A file written by an older or newer vibrissa, of another :data:`SCHEMA_VERSION`.
+
+    :attr:`schema` is the file's version (1 for files without ``vibrissa_schema``;
+    ``None`` if unreadable).
+    """
+
+    def __init__(
+        self, path: str | os.PathLike[str], problem: str, schema: int | None = None
+    ) -> None:
+        self.schema = schema
+        super().__init__(path, problem)
+
+    def __reduce__(self) -> tuple[type, tuple[Any, ...]]:
+        return (type(self), (self.path, self.problem, self.schema))
+
+
+class DatasetIntegrityWarning(UserWarning):
+    """A file failed verification and was loaded anyway (``verify=False``)."""
 
 
 _HDF5_MAGIC = b"\x89HDF\r\n\x1a\n"
@@ -62,24 +137,216 @@ def _file_kind(p: Path) -> str:
                 return "other"
 
 
-def checksum(ds: xr.Dataset) -> str:
-    """SHA-256 over the signal's bytes and every coordinate's values."""
+
+def _canonical(value: Any) -> Any:
+    """``value`` as plain JSON types, the same before writing and after reading."""
+    value = attr_value(value)
+    if isinstance(value, np.ndarray):
+        if value.size == 1:  # NetCDF gives one-element attribute arrays back as scalars
+            return _canonical(value.reshape(()).item())
+        return [_canonical(v) for v in value.tolist()]
+    if isinstance(value, bytes | np.bytes_):
+        return bytes(value).decode("utf-8", errors="replace")
+    if isinstance(value, np.generic):
+        return _canonical(value.item())
+    if isinstance(value, list | tuple):
+        return [_canonical(v) for v in value]
+    if isinstance(value, Mapping):
+        return {str(k): _canonical(v) for k, v in value.items()}
+    if isinstance(value, str | int | float) or value is None:
+        return value
+    return str(value)
+
+
+def _json(value: Any) -> str:
+    return json.dumps(value, sort_keys=True, ensure_ascii=False, separators=(",", ":"))
+
+
+def _values_digest(var: xr.DataArray) -> str:
+    """SHA-256 of a variable's dims, shape, dtype and values."""
     h = hashlib.sha256()
-    sig = np.ascontiguousarray(ds["signal"].values, dtype="<f8")
-    h.update(repr(sig.shape).encode())
-    h.update(sig.tobytes())
-    for name in sorted(str(k) for k in ds.coords):
-        vals = np.asarray(ds[name].values)
-        h.update(name.encode())
-        if vals.dtype.kind in "OUS":
-            h.update("\x1f".join(str(v) for v in vals.ravel()).encode())
-        else:
-            h.update(np.ascontiguousarray(vals, dtype=vals.dtype.newbyteorder("<")).tobytes())
+    vals = np.asarray(var.values)
+    h.update(_json([[str(d) for d in var.dims], list(vals.shape)]).encode())
+    if vals.dtype.kind in "OUS":
+        # strings: the dtype's width changes on a round trip, the text does not
+        h.update(b"str")
+        h.update(_json([_canonical(v) if not isinstance(v, str) else v
+                        for v in vals.ravel().tolist()]).encode())
+    else:
+        little = vals.dtype.newbyteorder("<") if vals.dtype.byteorder != "|" else vals.dtype
+        h.update(little.str.encode())
+        h.update(np.ascontiguousarray(vals, dtype=little).tobytes())
     return h.hexdigest()
 
 
+def _attrs_digest(attrs: Mapping[Any, Any]) -> str:
+    text = _json({str(k): _canonical(v) for k, v in attrs.items()})
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def _full_parts(ds: xr.Dataset) -> dict[str, Any]:
+    return {
+        "sizes": {str(k): int(v) for k, v in ds.sizes.items()},
+        "variables": {str(k): _values_digest(ds[k]) for k in ds.variables},
+        "variable_attrs": {str(k): _attrs_digest(ds[k].attrs) for k in ds.variables},
+        "attrs": {
+            str(k): hashlib.sha256(_json(_canonical(v)).encode()).hexdigest()
+            for k, v in ds.attrs.items() if str(k) not in _UNCOVERED
+        },
+    }
+
+
+def checksum(ds: xr.Dataset) -> str:
+    """SHA-256 over everything that defines the data of ``ds``.
+
+    Covers every data variable and coordinate (dims, shape, dtype, values; strings by
+    their text), the attributes of each (canonical JSON, keys sorted) and every
+    attribute of the dataset except ``vibrissa_checksum`` and
+    ``vibrissa_checksum_parts``; attributes count in the form NetCDF stores them
+    (:func:`vibrissa.data.attr_value`: ``True`` as 1, dicts as JSON).
+
+    Parameters
+    ----------
+    ds
+        Any dataset.
+
+    Returns
+    -------
+    str
+        64 hexadecimal digits.
+    """
+    return hashlib.sha256(_json(_full_parts(ds)).encode()).hexdigest()
+
+
+def checksum_parts(ds: xr.Dataset) -> dict[str, Any]:
+    """The dimension sizes and a short hash of each part of ``ds``.
+
+    Stored beside :func:`checksum` (attribute ``vibrissa_checksum_parts``) so that a
+    mismatch can name what changed.
+
+    Returns
+    -------
+    dict
+        ``sizes`` (dim -> length), ``variables`` and ``variable_attrs`` (name ->
+        hash of the values, of the attributes), ``attrs`` (dataset attribute ->
+        hash); hashes are the first 16 hex digits of SHA-256.
+    """
+    full = _full_parts(ds)
+    return {
+        "sizes": full["sizes"],
+        **{
+            key: {k: v[:_PART_HEX] for k, v in full[key].items()}
+            for key in ("variables", "variable_attrs", "attrs")
+        },
+    }
+
+
+def _kind(ds: xr.Dataset, name: str) -> str:
+    return "data variable" if name in ds.data_vars else "coordinate"
+
+
+def _differences(ds: xr.Dataset, stored: Mapping[str, Any]) -> list[str]:
+    """What differs between ``ds`` and the stored parts, as ``"attribute 'robot'"``..."""
+    now = checksum_parts(ds)
+    out: list[str] = []
+    for key, what in (("variables", "{kind} {name!r}"),
+                      ("variable_attrs", "attributes of {kind} {name!r}"),
+                      ("attrs", "attribute {name!r}")):
+        old = stored.get(key)
+        if not isinstance(old, Mapping):
+            continue
+        new = now[key]
+        for name in sorted(set(old) | set(new)):
+            kind = _kind(ds, name) if name in ds.variables else "variable"
+            label = what.format(kind=kind, name=name)
+            if name not in new:
+                out.append(f"{label} (removed)")
+            elif name not in old:
+                out.append(f"{label} (added)")
+            elif old[name] != new[name]:
+                out.append(label)
+    return out
+
+
+def _sizes_text(sizes: Mapping[str, Any], order: Iterable[str]) -> str:
+    names = [k for k in order if k in sizes] + sorted(k for k in sizes if k not in order)
+    return ", ".join(f"{k}={sizes[k]}" for k in names)
+
+
+def _schema_version(value: Any) -> int | None:
+    try:
+        v = _canonical(value)
+        if isinstance(v, str | int | float) and float(v) == int(float(v)):
+            return int(float(v))
+    except (TypeError, ValueError, OverflowError):
+        pass
+    return None
+
+
+def _integrity_problem(
+    p: Path, ds: xr.Dataset, stored: Any, parts_raw: Any
+) -> DatasetFileError | None:
+    """The verification error of the file ``p`` loaded as ``ds``, or ``None``."""
+    has_schema = _SCHEMA_ATTR in ds.attrs
+    if not has_schema and stored is None and parts_raw is None:
+        return None  # written by other software: nothing to verify
+    if not has_schema:
+        return DatasetSchemaError(
+            p, "was written by an older vibrissa (file schema 1, this vibrissa reads schema "
+            f"{SCHEMA_VERSION}), whose checksum does not cover the attributes; re-create the "
+            "file (rerun the command that made it), or load it with "
+            "load_dataset(path, verify=False) and write it again with save_dataset",
+            schema=1,
+        )
+    version = _schema_version(ds.attrs[_SCHEMA_ATTR])
+    if version is None:
+        return DatasetSchemaError(
+            p, f"has an unreadable schema version {ds.attrs[_SCHEMA_ATTR]!r} "
+            f"(attribute {_SCHEMA_ATTR!r}; this vibrissa reads schema {SCHEMA_VERSION})",
+        )
+    if version > SCHEMA_VERSION:
+        return DatasetSchemaError(
+            p, f"was written by a newer vibrissa (file schema {version}, this vibrissa reads "
+            f"schema {SCHEMA_VERSION} and older); upgrade vibrissa to read it", schema=version,
+        )
+    if version < SCHEMA_VERSION:
+        return DatasetSchemaError(
+            p, f"was written by an older vibrissa (file schema {version}, this vibrissa reads "
+            f"schema {SCHEMA_VERSION}); re-create the file, or load it with verify=False",
+            schema=version,
+        )
+    if stored is None:
+        return DatasetModifiedError(
+            p, f"was modified or re-saved outside vibrissa: it has attribute {_SCHEMA_ATTR!r} "
+            f"but no {_CHECKSUM_ATTR!r}", differs=(f"attribute {_CHECKSUM_ATTR!r} (removed)",),
+        )
+    try:
+        parts = json.loads(str(_canonical(parts_raw))) if parts_raw is not None else {}
+    except ValueError:
+        parts = {}
+    parts = parts if isinstance(parts, dict) else {}
+    sizes = parts.get("sizes")
+    now_sizes = {str(k): int(v) for k, v in ds.sizes.items()}
+    if isinstance(sizes, dict) and sizes != now_sizes:
+        return DatasetModifiedError(
+            p, f"was modified or re-saved outside vibrissa: it holds "
+            f"{_sizes_text(now_sizes, now_sizes)} but vibrissa wrote "
+            f"{_sizes_text(sizes, list(now_sizes))} (a subset saved with xarray's to_netcdf "
+            "keeps the old checksum attribute); save subsets with vibrissa.data.save_dataset, "
+            "or load with verify=False", differs=("sizes",),
+        )
+    if str(_canonical(stored)) == checksum(ds):
+        return None
+    differs = _differences(ds, parts)
+    what = ("; differs: " + ", ".join(differs)) if differs else ""
+    return DatasetModifiedError(
+        p, f"was modified after it was written by vibrissa (checksum mismatch){what}",
+        differs=differs,
+    )
+
+
 def save_dataset(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
-    """Write ``ds`` to ``path`` (NetCDF-4/HDF5) atomically with a checksum.
+    """Write ``ds`` to ``path`` (NetCDF-4/HDF5) atomically with a schema version and checksum.
 
     Parameters
     ----------
@@ -103,40 +370,55 @@ def save_dataset(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
     validate_dataset(ds)
     out = ds.copy()
     out.attrs = {
-        k: attr_value(v) for k, v in ds.attrs.items() if v is not None and k != _CHECKSUM_ATTR
+        k: attr_value(v) for k, v in ds.attrs.items() if v is not None and k not in _UNCOVERED
     }
-    out.attrs[_CHECKSUM_ATTR] = checksum(ds)
+    out.attrs[_SCHEMA_ATTR] = SCHEMA_VERSION
     for name in out.coords:
         if out[name].dtype.kind in "OU":
             out[name] = out[name].astype(str)
+    for var in out.variables.values():
+        var.attrs = {k: attr_value(v) for k, v in var.attrs.items() if v is not None}
+    out.attrs[_CHECKSUM_ATTR] = checksum(out)
+    out.attrs[_PARTS_ATTR] = _json(checksum_parts(out))
     with atomic_path(path, suffix=".nc") as tmp:
         out.to_netcdf(tmp, engine=_ENGINE)
     return Path(path)
 
 
-def load_dataset(path: str | os.PathLike[str]) -> xr.Dataset:
+def load_dataset(path: str | os.PathLike[str], *, verify: bool = True) -> xr.Dataset:
     """Read a dataset written by :func:`save_dataset` (or any schema-conforming NetCDF).
 
-    The whole file is read into memory (the file is closed on return). A file
-    without the checksum attribute (written by other software) is accepted
-    after the schema check; NetCDF-3 files are read with the ``scipy`` engine.
+    The whole file is read into memory (the file is closed on return) and checked
+    against the schema; a file written by vibrissa is verified against its
+    checksum. A file without vibrissa's attributes (written by other software) is
+    accepted after the schema check; NetCDF-3 files are read with the ``scipy``
+    engine.
 
     Parameters
     ----------
     path
         The file.
+    verify
+        ``False`` loads a file that fails verification (modified, other schema)
+        anyway, with a :class:`DatasetIntegrityWarning` saying why.
 
     Returns
     -------
     xarray.Dataset
-        The dataset, string labels as ``str`` arrays, without the checksum
-        attribute.
+        The dataset, string labels as ``str`` arrays, without the attributes
+        ``vibrissa_schema``, ``vibrissa_checksum`` and ``vibrissa_checksum_parts``.
 
     Raises
     ------
+    DatasetModifiedError
+        If the file was changed after vibrissa wrote it (the message says
+        "modified after it was written by vibrissa" and names what differs) or
+        re-saved outside vibrissa (e.g. a subset written with xarray).
+    DatasetSchemaError
+        If the file was written by an older or newer vibrissa.
     DatasetFileError
-        If the file is missing, not NetCDF/HDF5, truncated, fails its checksum or
-        lacks the schema's variables.
+        If the file is missing, not NetCDF/HDF5, truncated or lacks the schema's
+        variables.
     """
     p = Path(path)
     if not p.exists():
@@ -165,6 +447,14 @@ def load_dataset(path: str | os.PathLike[str]) -> xr.Dataset:
     except (ValueError, TypeError) as exc:
         raise DatasetFileError(p, str(exc)) from None
     stored = ds.attrs.pop(_CHECKSUM_ATTR, None)
-    if stored is not None and stored != checksum(ds):
-        raise DatasetFileError(p, "checksum mismatch - the file's contents are corrupt")
+    parts_raw = ds.attrs.pop(_PARTS_ATTR, None)
+    problem = _integrity_problem(p, ds, stored, parts_raw)
+    ds.attrs.pop(_SCHEMA_ATTR, None)
+    if problem is not None:
+        if verify:
+            raise problem
+        warnings.warn(
+            f"{p}: {problem.problem}; loaded anyway (verify=False)",
+            DatasetIntegrityWarning, stacklevel=2,
+        )
     return ds

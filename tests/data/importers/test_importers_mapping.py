@@ -6,8 +6,10 @@ import json
 
 import pytest
 from data_recordings import XY_MAPPING
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
-from vibrissa.data import ImportMapping, load_mapping
+from vibrissa.data import ImportMapping, ImportMappingError, load_mapping
 from vibrissa.data.importers import parse_axis_option, parse_range
 
 
@@ -64,3 +66,44 @@ def test_parse_range_and_axis_option() -> None:
     assert parse_axis_option("trial") == {"name": "trial"}
     with pytest.raises(ValueError, match="--axis"):
         parse_axis_option("=1,2")
+
+
+# --- property: any dict is a valid mapping or an ImportMappingError, never a crash ---
+
+_KEYS = sorted({
+    "format", "sample_rate_hz", "channels", "labels", "constants", "ragged", "empty", "t0_s",
+    "units", "attrs", "signal", "cell_axes", "time_axis", "trial_axes", "layout",
+    "trial_column", "time_column",
+})
+_SCALARS = (st.none() | st.booleans() | st.integers() | st.floats() | st.text(max_size=8)
+            | st.sampled_from(["mat", "csv", "npz", "long", "wide", "crop", "skip", "error",
+                               "first", "last", "x,y", "trial", "set", "1:4", "data"]))
+_VALUES = st.recursive(
+    _SCALARS,
+    lambda inner: (st.lists(inner, max_size=4)
+                   | st.dictionaries(st.sampled_from(["name", "values", "start", "stop",
+                                                      "step", "num", "from", "x"])
+                                     | st.text(max_size=5), inner, max_size=4)),
+    max_leaves=10,
+)
+
+
+@settings(max_examples=50, deadline=None)
+@given(raw=st.dictionaries(st.sampled_from(_KEYS) | st.text(max_size=6), _VALUES, max_size=6))
+def test_load_mapping_property(raw) -> None:
+    try:
+        m = load_mapping(raw)
+    except ImportMappingError as exc:  # an ImportMappingError is a ValueError
+        assert str(exc)
+    else:
+        assert isinstance(m, ImportMapping)
+        assert set(m.raw) <= set(_KEYS)
+
+
+@settings(max_examples=50, deadline=None)
+@given(raw=st.fixed_dictionaries({}, optional={k: _VALUES for k in _KEYS}))
+def test_load_mapping_property_known_keys(raw) -> None:
+    try:
+        assert isinstance(load_mapping(raw), ImportMapping)
+    except ImportMappingError as exc:
+        assert str(exc)

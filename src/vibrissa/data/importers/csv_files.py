@@ -76,13 +76,16 @@ def import_csv(path: Path, mapping: ImportMapping) -> dict[str, Any]:
             raise ImportMappingError(f"{path}: no channel column(s) {missing}; columns: {cols}")
     else:
         chans = [c for c in cols if c not in used and df[c].dtype.kind in "iuf"]
+        for c in cols:
+            if c not in used and c not in chans:
+                _refuse_mixed_column(df, c, path)
         if not chans:
             raise ImportMappingError(f"{path}: no numeric channel columns; give 'channels'")
     values = np.column_stack([_numeric_column(df, c, path) for c in chans])
     trial_ids = df[tcol].to_numpy()
     if df[tcol].isna().any():
         raise ImportMappingError(f"{path}: column {tcol!r} has empty cells")
-    times = _numeric_column(df, time_col, path) if time_col else None
+    times = _time_column(df, time_col, path) if time_col else None
     _, first, inverse = np.unique(trial_ids.astype(str), return_index=True, return_inverse=True)
     order = np.argsort(first, kind="stable")  # trials in order of first appearance
     recs, names, rec_times, labels_rows = [], [], [], []
@@ -93,6 +96,7 @@ def import_csv(path: Path, mapping: ImportMapping) -> dict[str, Any]:
         nm = f"trial {tid!r} of {path.name}"
         if times is not None:
             rows = rows[np.argsort(times[rows], kind="stable")]
+            _check_time_steps(times[rows], rows, nm, time_col)
             rec_times.append(times[rows])
         block = values[rows]
         finite = np.isfinite(block)
@@ -120,11 +124,8 @@ def import_csv(path: Path, mapping: ImportMapping) -> dict[str, Any]:
     fs = mapping.sample_rate_hz
     if times is not None:
         tt = [t[:n_t] for t in rec_times]
-        if n_t > 1 and fs is None:
-            d = np.median(np.diff(tt[0]))
-            if not d > 0:
-                raise ImportMappingError(f"{path}: time column {time_col!r} does not increase")
-            fs = 1.0 / float(d)
+        if n_t > 1:
+            fs = _time_column_rate(tt, names, path, time_col, fs)
         if all(np.allclose(t, tt[0], rtol=0, atol=1e-9) for t in tt):
             time = tt[0]
     if fs is None:
@@ -161,6 +162,113 @@ def _numeric_column(df: Any, col: str, path: Path) -> np.ndarray:
             f"{path}: column {col!r} must hold numbers; line {row + 2} has {s.iloc[row]!r}"
         )
     return num.to_numpy(dtype=float)
+
+
+def _refuse_mixed_column(df: Any, col: str, path: Path) -> None:
+    """Refuse a column of numbers with a non-numeric cell (it would be dropped as text)."""
+    import pandas as pd
+
+    s = df[col]
+    if s.dtype.kind == "b":
+        return
+    num = pd.to_numeric(s, errors="coerce")
+    bad = num.isna() & s.notna()
+    if bool(num.notna().any()) and bool(bad.any()):
+        row = int(np.flatnonzero(bad.to_numpy())[0])
+        raise ImportMappingError(
+            f"{path}: column {col!r} holds numbers but line {row + 2} has {s.iloc[row]!r}; "
+            "a channel column must hold only numbers (or list the channels in 'channels', "
+            "or map the column as a label)"
+        )
+
+
+def _time_column(df: Any, col: str, path: Path) -> np.ndarray:
+    """The time column (s), refusing empty, NaN or infinite cells."""
+    times = _numeric_column(df, col, path)
+    bad = ~np.isfinite(times)
+    if bad.any():
+        row = int(np.flatnonzero(bad)[0])
+        cell = df[col].iloc[row]
+        raise ImportMappingError(
+            f"{path}: time column {col!r} must hold finite times (s); line {row + 2} has "
+            f"{'an empty cell' if _is_empty(cell) else _cell_text(cell)}"
+        )
+    return times
+
+
+def _cell_text(cell: Any) -> str:
+    return repr(cell) if isinstance(cell, str) else f"{float(cell):g}"
+
+
+def _is_empty(value: Any) -> bool:
+    """Whether a cell read by pandas is empty (NaN/None)."""
+    import pandas as pd
+
+    return bool(pd.isna(value))
+
+
+#: How far one time step may stray from a trial's median step (fraction of it).
+_STEP_TOLERANCE = 0.5
+#: How far a trial's median time step may differ from the first trial's (fraction).
+_RATE_TOLERANCE = 0.01
+
+
+def _check_time_steps(t: np.ndarray, rows: np.ndarray, nm: str, col: str) -> None:
+    """Refuse repeated times and uneven steps of one trial (``t`` sorted, ``rows`` its rows)."""
+    if t.size < 2:
+        return
+    with np.errstate(over="ignore", invalid="ignore"):
+        steps = np.diff(t)
+    same = np.flatnonzero(steps == 0)
+    if same.size:
+        i = int(same[0])
+        a, b = sorted((int(rows[i]) + 2, int(rows[i + 1]) + 2))
+        raise ImportMappingError(
+            f"{nm}: time column {col!r} repeats the time {t[i]:g} s on lines {a} and {b}; "
+            "every sample of a trial needs its own time"
+        )
+    med = float(np.median(steps))
+    with np.errstate(over="ignore", invalid="ignore"):
+        off = ~np.isfinite(steps) | (np.abs(steps - med) > _STEP_TOLERANCE * med)
+    if not np.isfinite(med) or med <= 0 or off.any():
+        i = int(np.flatnonzero(off)[0]) if off.any() else 0
+        a, b = int(rows[i]) + 2, int(rows[i + 1]) + 2
+        raise ImportMappingError(
+            f"{nm}: time column {col!r} is not evenly spaced: it steps from {t[i]:g} s "
+            f"(line {a}) to {t[i + 1]:g} s (line {b}) where the median step is {med:g} s "
+            "(a missing sample or a wrong time?)"
+        )
+
+
+def _time_column_rate(
+    tt: list[np.ndarray], names: list[str], path: Path, col: str, given: Any
+) -> float:
+    """The sampling rate (Hz) the time column says, checked across trials and against ``given``."""
+    steps = [float(np.median(np.diff(t))) for t in tt]
+    for nm, d in zip(names, steps, strict=True):
+        if abs(d - steps[0]) > _RATE_TOLERANCE * steps[0]:
+            raise ImportMappingError(
+                f"{nm}: time column {col!r} is sampled at {1 / d:g} Hz but {names[0]} at "
+                f"{1 / steps[0]:g} Hz; every trial must have the same sampling rate"
+            )
+    rate = 1.0 / steps[0]
+    if not np.isfinite(rate) or rate <= 0:
+        raise ImportMappingError(
+            f"{path}: time column {col!r} gives no finite sampling rate (step {steps[0]:g} s)"
+        )
+    if abs(rate - round(rate)) <= 1e-6 * rate:  # 999.9999999999991 Hz from 0.001 s steps
+        rate = float(round(rate))
+    if given is None:
+        return rate
+    if isinstance(given, str):
+        raise ImportMappingError("'sample_rate_hz' must be a number for CSV files")
+    if abs(rate - float(given)) > _RATE_TOLERANCE * float(given):
+        raise ImportMappingError(
+            f"{path}: time column {col!r} is sampled at {rate:g} Hz but 'sample_rate_hz' is "
+            f"{float(given):g} Hz; correct 'sample_rate_hz', or set \"time_column\": null "
+            "to ignore the time column"
+        )
+    return float(given)
 
 
 def _label_values(vals: list[Any]) -> np.ndarray:
