@@ -5,6 +5,7 @@ from vibrissa.data.dataset import (
     as_arrays,
     attr_value,
     concat_datasets,
+    coordinate_attrs,
     label_names,
     make_dataset,
     select,
@@ -18,18 +19,34 @@ from vibrissa.data.importers import (
     import_recording,
     load_mapping,
 )
-from vibrissa.data.netcdf import DatasetFileError, checksum, load_dataset, save_dataset
+from vibrissa.data.netcdf import (
+    SCHEMA_VERSION,
+    DatasetFileError,
+    DatasetIntegrityWarning,
+    DatasetModifiedError,
+    DatasetSchemaError,
+    checksum,
+    checksum_parts,
+    load_dataset,
+    save_dataset,
+)
 from vibrissa.data.schema import TEXTURE_CODES, decode_texture, encode_texture, parse_whisker
 
 __all__ = [
     "KNOWN_LABELS",
+    "SCHEMA_VERSION",
     "TEXTURE_CODES",
     "DatasetFileError",
+    "DatasetIntegrityWarning",
+    "DatasetModifiedError",
+    "DatasetSchemaError",
     "ImportMapping",
     "ImportMappingError",
     "as_arrays",
     "attr_value",
     "checksum",
+    "checksum_parts",
+    "coordinate_attrs",
     "concat_datasets",
     "decode_texture",
     "encode_texture",

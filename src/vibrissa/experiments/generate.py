@@ -36,6 +36,7 @@ import xarray as xr
 
 from vibrissa import __version__
 from vibrissa._atomic import atomic_path, atomic_write_text
+from vibrissa.data.dataset import coordinate_attrs
 from vibrissa.experiments.protocols import Protocol
 from vibrissa.experiments.runner import (
     TRIAL_DIAGNOSTICS,
@@ -197,15 +198,14 @@ def build_dataset(protocol: Protocol, results: dict[str, np.ndarray]) -> xr.Data
         "channel": np.array(["x", "y"]),
         "time": ("time", time_s, {"units": "s", "long_name": "time from peak deflection"}),
     }
-    for name in protocol.label_names:
-        vals = [s.labels[name] for s in specs]
-        coords[name] = ("trial", np.array(vals))
-    coords["run"] = ("trial", np.array([s.run for s in specs], dtype=np.int64))
-    coords["direction"] = ("trial", np.array([s.direction for s in specs], dtype=np.int64))
-    coords["set"] = ("trial", np.array([s.set for s in specs], dtype=np.int64))
-    coords["order"] = ("trial", np.array([s.order for s in specs], dtype=np.int64))
-    for name in TRIAL_DIAGNOSTICS:
-        coords[name] = ("trial", results[name])
+    per_trial: dict[str, np.ndarray] = {
+        name: np.array([s.labels[name] for s in specs]) for name in protocol.label_names
+    }
+    for name in ("run", "direction", "set", "order"):
+        per_trial[name] = np.array([getattr(s, name) for s in specs], dtype=np.int64)
+    per_trial.update({name: results[name] for name in TRIAL_DIAGNOSTICS})
+    for name, vals in per_trial.items():
+        coords[name] = ("trial", vals, coordinate_attrs(name, vals))
     ds = xr.Dataset(
         {"signal": (("trial", "channel", "time"), results["signal"], {"units": "V"})},
         coords=coords,
