@@ -141,6 +141,10 @@ def test_parse_grid_step_ranges(start, step, count):
 @given(a=_QUARTERS, b=_QUARTERS, num=st.integers(1, 200))
 def test_parse_grid_counted_ranges(a, b, num):
     start, stop = min(a, b), max(a, b)
+    if start == stop and num > 1:  # the same value num times: refused, each value once
+        with pytest.raises(ValueError, match="repeats"):
+            parse_grid(f"{start!r}:{stop!r}:#{num}")
+        return
     vals = parse_grid(f"{start!r}:{stop!r}:#{num}")
     assert len(vals) == num
     assert list(vals) == sorted(vals) and all(math.isfinite(v) for v in vals)
@@ -162,15 +166,12 @@ _HOSTILE = (st.text(max_size=12)
                        max_size=7).map("".join))
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="issue 13 finding 3: parse_grid overflows (OverflowError), allocates without bound "
-    "(MemoryError) or returns inf for hostile ranges; remove this mark when its bounds land",
-)
 @settings(max_examples=50, deadline=None)
-@example("1:1e308:1e-300")  # OverflowError today
-@example("0:1e300:#3")  # (0.0, inf, inf) today
-@example("0:10:1e-12")  # a 73 TiB allocation today
+@example("1:1e308:1e-300")  # was an OverflowError (issue 13, finding 3)
+@example("0:1e300:#3")  # was (0.0, inf, inf)
+@example("0:10:1e-12")  # was a 73 TiB allocation
+@example("1:2:#100000000")  # was a hang growing memory
+@example("100,100,100")  # silently tripled every trial (finding 8)
 @given(text=_HOSTILE)
 def test_parse_grid_hostile_text_is_a_value_error_or_a_finite_grid(text):
     try:
@@ -179,3 +180,15 @@ def test_parse_grid_hostile_text_is_a_value_error_or_a_finite_grid(text):
         assert "grid" in str(exc)
     else:
         assert vals and all(math.isfinite(v) for v in vals)
+
+
+@pytest.mark.parametrize(("text", "message"), [
+    ("1:2:#100000000", "more than 10000 values"),
+    ("50:100:0.0000001", "more than 10000 values"),
+    ("100,100,100", "repeats the value"),
+    ("", "empty grid"),
+    ("inf:5:1", "non-finite"),
+])
+def test_parse_grid_bounds_name_the_limit(text, message):
+    with pytest.raises(ValueError, match=message):
+        parse_grid(text, "--speeds")

@@ -64,18 +64,27 @@ def register(app: typer.Typer) -> None:
         """
         from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 
-        from vibrissa.experiments.generate import generate
+        from vibrissa.experiments.generate import check_size, dataset_bytes, generate
         from vibrissa.experiments.protocols import get_protocol, parse_grid
 
+        not_for = {
+            "radial-distance": {"--angles": angles, "--textures": textures},
+            "angle-texture": {"--radial-distances": radial_distances},
+        }
+        unused = [flag for flag, v in not_for.get(protocol, {}).items() if v is not None]
+        if unused:
+            raise ValueError(f"{', '.join(unused)} does not apply to the {protocol} protocol")
+        texture_list = None
+        if textures is not None:
+            texture_list = tuple(t.strip().lower() for t in textures.split(",") if t.strip())
+            if not texture_list:
+                raise ValueError("--textures: empty list; name at least one texture")
         overrides = dict(
-            radial_distances_mm=parse_grid(radial_distances, "--radial-distances")
-            if radial_distances
-            else None,
-            speeds_mm_s=parse_grid(speeds, "--speeds") if speeds else None,
-            angles_deg=parse_grid(angles, "--angles") if angles else None,
-            textures=tuple(t.strip().lower() for t in textures.split(",") if t.strip())
-            if textures
-            else None,
+            radial_distances_mm=None if radial_distances is None
+            else parse_grid(radial_distances, "--radial-distances"),
+            speeds_mm_s=None if speeds is None else parse_grid(speeds, "--speeds"),
+            angles_deg=None if angles is None else parse_grid(angles, "--angles"),
+            textures=texture_list,
             runs=runs,
             whisker=whisker,
             drift_fraction=drift,
@@ -85,6 +94,9 @@ def register(app: typer.Typer) -> None:
         proto = get_protocol(protocol, quick=quick, **overrides)
         if any(v is not None for v in sensor.values()):
             proto = proto.with_sensor(**{k: v for k, v in sensor.items() if v is not None})
+        check_size(proto)
+        typer.echo(f"{proto.name}: {proto.n_trials} trials, about "
+                   f"{dataset_bytes(proto) / 1e6:.0f} MB -> {out}", err=True)
         t0 = time.perf_counter()
         show = not json_out and os.environ.get("CI") is None
         with Progress(

@@ -45,7 +45,14 @@ from vibrissa.experiments.runner import (
     whisker_attrs,
 )
 
-__all__ = ["GenerationError", "build_dataset", "generate", "parts_dir"]
+__all__ = [
+    "GenerationError",
+    "build_dataset",
+    "check_size",
+    "dataset_bytes",
+    "generate",
+    "parts_dir",
+]
 
 ProgressCallback = Callable[[int, int], None]
 
@@ -59,6 +66,39 @@ def parts_dir(out: str | os.PathLike[str]) -> Path:
     """Directory of the shards of a generation writing ``out``."""
     p = Path(out)
     return p.with_name(p.name + ".parts")
+
+
+def dataset_bytes(protocol: Protocol) -> int:
+    """Bytes of the finished dataset's signal (trials x 2 channels x samples, float64)."""
+    return int(protocol.n_trials) * 2 * int(n_samples(protocol)) * 8
+
+
+def _memory_bytes() -> int | None:
+    try:
+        return int(os.sysconf("SC_PAGE_SIZE")) * int(os.sysconf("SC_PHYS_PAGES"))
+    except (ValueError, OSError, AttributeError):
+        return None
+
+
+def check_size(protocol: Protocol) -> None:
+    """Refuse a protocol whose dataset cannot be assembled on this machine.
+
+    The finished signal is assembled in memory (the shards, then one array): it must
+    fit in half of this machine's physical memory.
+
+    Raises
+    ------
+    ValueError
+        Naming the trials, the size and the limit.
+    """
+    need = dataset_bytes(protocol)
+    mem = _memory_bytes()
+    if mem is not None and 2 * need > mem:
+        raise ValueError(
+            f"{protocol.n_trials} trials would make a {need / 1e9:.1f} GB dataset; it is "
+            f"assembled in memory and this machine has {mem / 1e9:.1f} GB (limit: half of "
+            "it). Use a coarser grid or fewer --runs"
+        )
 
 
 def _chunks(n: int, size: int) -> list[np.ndarray]:
@@ -267,6 +307,7 @@ def generate(
         w = workers if workers is not None else (os.cpu_count() or 1)
         if isinstance(w, bool) or not isinstance(w, int) or w < 1:
             raise ValueError(f"workers must be a positive integer, got {workers!r}")
+    check_size(protocol)
     out = Path(out)
     if out.exists() and out.is_dir():
         raise ValueError(f"output path {out} is a directory")

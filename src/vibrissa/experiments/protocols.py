@@ -37,13 +37,25 @@ __all__ = [
     "Protocol",
     "TrialSpec",
     "get_protocol",
+    "MAX_GRID_VALUES",
     "parse_grid",
 ]
+
+
+#: Most values one axis of a grid may have. The thesis' finest axis has 101 values
+#: (radial distances 80-180 mm in 1 mm steps, 4.2); 100 times that is far beyond any
+#: grid a robot session could record, and refusing more stops a typo (a step of
+#: 1e-7) from asking for billions of trials.
+MAX_GRID_VALUES = 10_000
 
 
 def parse_grid(text: str, name: str = "grid") -> tuple[float, ...]:
     """Parse ``"start:stop:step"`` (inclusive), ``"start:stop:num"`` with ``#num`` or a
     comma list ``"a,b,c"`` into a tuple of floats.
+
+    Raises ValueError (naming ``name``) for anything else: an empty or malformed
+    specification, non-finite values, repeated values, or more than
+    :data:`MAX_GRID_VALUES` values.
 
     Examples
     --------
@@ -57,32 +69,50 @@ def parse_grid(text: str, name: str = "grid") -> tuple[float, ...]:
     t = str(text).strip()
     if not t:
         raise ValueError(f"{name}: empty grid specification")
+    usage = f"{name}: cannot parse {text!r}; use start:stop:step, start:stop:#count or a,b,c"
+    too_many = f"{name}: {text!r} asks for more than {MAX_GRID_VALUES} values (the limit per axis)"
     try:
         if ":" in t:
             parts = t.split(":")
             if len(parts) != 3:
                 raise ValueError
             start, stop = float(parts[0]), float(parts[1])
+            if not (np.isfinite(start) and np.isfinite(stop)):
+                raise ValueError(f"{name}: {text!r} has a non-finite end")
             if parts[2].startswith("#"):
                 num = int(parts[2][1:])
                 if num < 1:
                     raise ValueError
+                if num > MAX_GRID_VALUES:
+                    raise ValueError(too_many)
                 vals = np.linspace(start, stop, num)
             else:
                 step = float(parts[2])
-                if step <= 0 or stop < start:
+                if not np.isfinite(step) or step <= 0 or stop < start:
                     raise ValueError
-                n = int(np.floor((stop - start) / step + 1e-9)) + 1
+                with np.errstate(over="ignore"):
+                    span = (stop - start) / step
+                if not np.isfinite(span) or span + 1 > MAX_GRID_VALUES:
+                    raise ValueError(too_many)
+                n = int(np.floor(span + 1e-9)) + 1
                 vals = start + step * np.arange(n)
         else:
-            vals = np.array([float(v) for v in t.split(",") if v.strip()])
-    except ValueError:
-        raise ValueError(
-            f"{name}: cannot parse {text!r}; use start:stop:step, start:stop:#count or a,b,c"
-        ) from None
+            items = [v for v in t.split(",") if v.strip()]
+            if len(items) > MAX_GRID_VALUES:
+                raise ValueError(too_many)
+            vals = np.array([float(v) for v in items])
+    except ValueError as exc:
+        raise ValueError(str(exc) if str(exc).startswith(f"{name}:") else usage) from None
+    except OverflowError:
+        raise ValueError(too_many) from None
     if vals.size == 0 or not np.all(np.isfinite(vals)):
         raise ValueError(f"{name}: {text!r} gives no finite values")
-    return tuple(float(round(v, 9)) for v in vals)
+    with np.errstate(over="ignore", invalid="ignore"):
+        rounded = tuple(float(round(v, 9)) if abs(v) < 1e15 else float(v) for v in vals)
+    if len(set(rounded)) != len(rounded):
+        dup = sorted({v for v in rounded if rounded.count(v) > 1})
+        raise ValueError(f"{name}: {text!r} repeats the value(s) {dup[:5]}; each value once")
+    return rounded
 
 
 @dataclass(frozen=True)
