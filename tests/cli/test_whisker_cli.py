@@ -181,3 +181,18 @@ def test_help_mentions_units():
         assert res.exit_code == 0
     res = runner.invoke(app, ["whisker", "push", "--help"], terminal_width=200)
     assert "(mm)" in res.stdout
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (["info", "--length-mm", "1e300"], "--length-mm must lie in [1.0, 2000.0] mm"),
+    (["info", "--length-mm", "1e20"], "--length-mm must lie in [1.0, 2000.0] mm"),
+    (["info", "--damping-ratio", "0.7"], "--damping-ratio must lie in [0.0, 0.5]"),
+    (["ring", "--duration-s", "1e9"], "--duration-s must lie in [0.0, 600.0] s"),
+])
+def test_absurd_whisker_inputs_refused_in_one_line(args, message):
+    """Issue 13, findings 3 and 8: tracebacks, 29 TiB allocations, inconsistent bounds."""
+    res = CliRunner().invoke(app, ["whisker", *args])
+    assert res.exit_code == 2, res.output
+    assert message in res.output and "Traceback" not in res.output
+    help_text = CliRunner().invoke(app, ["whisker", "info", "--help"]).output
+    assert "0.99" not in help_text

@@ -21,6 +21,10 @@ from vibrissa._validate import in_range, positive
 __all__ = ["PRESETS", "WhiskerGeometry", "preset", "preset_names"]
 
 
+#: Longest whisker the model accepts, mm.
+MAX_LENGTH_MM = 2000.0
+
+
 @dataclass(frozen=True)
 class WhiskerGeometry:
     """A tapered (truncated-cone) elastic whisker in a rubber follicle.
@@ -72,7 +76,9 @@ class WhiskerGeometry:
     source: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
-        positive("length_mm", self.length_mm)
+        # the thesis' whiskers are 80-230 mm long; 2 m is beyond any whisker robot and
+        # keeps the modal solvers in their range (a 1e20 mm rod has no bracketed root)
+        in_range("length_mm", self.length_mm, 1.0, MAX_LENGTH_MM, "mm")
         positive("base_radius_mm", self.base_radius_mm)
         positive("tip_radius_mm", self.tip_radius_mm)
         if self.tip_radius_mm > self.base_radius_mm:
