@@ -196,3 +196,15 @@ def test_absurd_whisker_inputs_refused_in_one_line(args, message):
     assert message in res.output and "Traceback" not in res.output
     help_text = CliRunner().invoke(app, ["whisker", "info", "--help"]).output
     assert "0.99" not in help_text
+
+
+def test_push_with_a_wall_sized_pole_is_refused_not_reported():
+    """Issue 13, finding 8: `whisker push --pole-radius-mm 1e6` reported base moment 0
+    with Hall 4.75 V."""
+    res = runner.invoke(
+        app, ["whisker", "push", "--at-mm", "150", "--displacement-mm", "60",
+              "--pole-radius-mm", "1e6"]
+    )
+    assert res.exit_code == 2, res.output
+    assert "pole_radius_mm=1e+06" in res.output and "follicle" in res.output
+    assert "Traceback" not in res.output and "base_moment" not in res.output

@@ -165,3 +165,24 @@ def test_push_bad_input(tapered):
         tapered.push(100, 1, friction=-0.1)
     with pytest.raises(ValueError, match="n_elements"):
         RodModel(TAPERED, n_elements=2)
+
+
+@pytest.mark.parametrize(("radius_mm", "match"), [
+    (1e6, "reaches the whisker's base"),
+    (1000.0, "would wrap around a pole this large"),
+    (300.0, "would wrap around a pole this large"),
+])
+def test_push_refuses_a_pole_too_large_for_one_contact_point(tapered, radius_mm, match):
+    """Issue 13, finding 8: a 1 km pole pressed on the base and reported moment 0 with a
+    saturated Hall output; a 300 mm pole failed to converge. Both now name the cause."""
+    with pytest.raises(ValueError, match=match):
+        tapered.push(150, 60, pole_radius_mm=radius_mm)
+
+
+@pytest.mark.parametrize("radius_mm", [0.5, 10.0, 100.0])
+def test_push_with_a_pole_that_fits_bends_the_whisker(tapered, radius_mm):
+    """Where a push is accepted its results agree: a deflected whisker has a base moment,
+    and the contact stays on the shaft."""
+    res = tapered.push(150, 60, pole_radius_mm=radius_mm)
+    assert res.base_moment_nm > 1e-3
+    assert 0.0 < res.contact_arc_length_mm <= 185.0

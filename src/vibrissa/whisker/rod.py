@@ -508,6 +508,7 @@ class RodModel:
         x = self.x_rest.copy()
         info = np.zeros(12)
         released = False
+        s_converged = a
         for k in range(1, n_increments + 1):
             tr = np.array(
                 [px0 + ux * D * k / n_increments, a, 0.0, 0.0, uy * D * k / n_increments, 0.0]
@@ -550,12 +551,23 @@ class RodModel:
                         released = True
                         trial = xs
                         break
+                    # the usual reason: the pole reaches the shaft elsewhere (it is too
+                    # large for one contact point); say so when the last converged shape
+                    # lies within one increment of it away from the contact
+                    self._check_single_contact(
+                        x, px0 + ux * prev, a, rp, s_converged, pole_radius_mm, prev,
+                        clearance_m=D / n_increments,
+                    )
                     raise SimulationError(
                         f"push did not converge at displacement {D * k / n_increments * 1e3:.2f} mm"
                     )
             x = trial
             if released:
                 break
+            s_converged = info[1]
+            self._check_single_contact(
+                x, tr[0], a, rp, s_converged, pole_radius_mm, D * k / n_increments
+            )
         _check_finite(x)
         fvec = np.array([info[7], info[10], info[8]])
         s_c = info[1]
@@ -580,6 +592,54 @@ class RodModel:
             contact_y_mm=float(q[1] * 1e3),
             pole_y_mm=float(tr[4] * 1e3),
         )
+
+    def _check_single_contact(
+        self,
+        x: np.ndarray,
+        pole_x_m: float,
+        pole_z_m: float,
+        pole_radius_m: float,
+        contact_s_m: float,
+        pole_radius_mm: float,
+        displacement_m: float,
+        clearance_m: float = 0.0,
+    ) -> None:
+        """Refuse a push whose pole touches the whisker away from the modelled contact.
+
+        The model resolves one contact point per object. A pole whose radius is large
+        for the push (a near-flat wall) reaches the shaft away from that point, or the
+        base itself: the whisker would wrap around it, which one contact point cannot
+        represent, and the result (for instance a base moment of zero with the pole
+        pressing on the base) would be wrong. Every node outside the contact's own
+        element must stay at least ``clearance_m`` from the pole's surface (0 for a
+        converged state; one load increment when explaining a failed one, since the
+        next increment then brings those nodes into the pole).
+        """
+        near = np.abs(self.s_rest - contact_s_m) < self.element_length_m
+        # the follicle's anchor node (inside the body) is never a contact point
+        far = ~near | (self.s_rest < 0.0)
+        gap = np.hypot(x[:, 0] - pole_x_m, x[:, 2] - pole_z_m) - pole_radius_m - self.radius
+        hit = far & (gap < clearance_m)
+        if np.any(hit & (self.s_rest <= 0.0)):
+            raise ValueError(
+                f"pole_radius_mm={pole_radius_mm:g}: after {displacement_m * 1e3:.3g} mm of "
+                "the push the pole reaches the whisker's base (the follicle); a pole this "
+                "large is a wall, which the model's one contact point per object cannot "
+                "represent, so use a smaller pole radius or displacement"
+            )
+        if np.any(hit):
+            s_hit = np.clip(self.s_rest[hit], 0.0, None) * 1e3
+            where = (
+                f"{s_hit[0]:.3g} mm" if s_hit.size == 1
+                else f"{s_hit.min():.3g}-{s_hit.max():.3g} mm"
+            )
+            raise ValueError(
+                f"pole_radius_mm={pole_radius_mm:g}: after {displacement_m * 1e3:.3g} mm of "
+                f"the push the pole also reaches the whisker {where} from the base, besides "
+                f"the contact at {contact_s_m * 1e3:.3g} mm (it would wrap around a pole this "
+                "large); the model resolves one contact point per object, so use a smaller "
+                "pole radius or displacement"
+            )
 
     def _segment_of(self, s_m: float) -> tuple[int, float]:
         pos = min(max(s_m / self.element_length_m, 0.0), self.n_elements)
