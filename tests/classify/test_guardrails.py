@@ -69,7 +69,7 @@ def test_speed_first_takes_1d_speeds() -> None:
     X, y = _trials()
     m = SpeedFirstClassifier(
         speed_estimator=TimeTemplateClassifier(cutoff_hz=None),
-        estimator=TimeTemplateClassifier(cutoff_hz=None)).fit(X, y[:, 1])
+        estimator=TimeTemplateClassifier(cutoff_hz=None), sample_rate_hz=1000.0).fit(X, y[:, 1])
     assert m.classes_.ndim == 1 and set(m.predict(X)) <= {36.0, 43.2}
 
 

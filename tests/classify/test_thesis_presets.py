@@ -125,9 +125,28 @@ def test_velocity_window_is_filtered_before_it_is_cut():
 
 
 def test_window_outside_the_recording_warns():
-    X = np.stack([_recording(50, n=300)])
+    # an onset 50 samples into the recording: the window starts 49 samples before it
+    X = np.stack([_recording(50)])
     with pytest.warns(RuntimeWarning, match="outside"):
         RecordingWindow().fit(X).transform(X)
+
+
+def test_recordings_shorter_than_the_window_are_refused():
+    short = np.stack([_recording(50, n=300)])
+    with pytest.raises(ValueError, match="300 samples, shorter than the window of 750"):
+        RecordingWindow().fit(short)
+    rw = RecordingWindow().fit(np.stack([_recording(300)]))
+    with pytest.raises(ValueError, match="300 samples, shorter than the window of 750"):
+        rw.transform(short)
+
+
+def test_longer_recordings_give_the_same_window():
+    X = np.stack([_recording(300), _recording(420)])
+    rw = RecordingWindow().fit(X)
+    longer = np.concatenate([X, np.repeat(X[..., -1:], 500, axis=-1)], axis=-1)
+    np.testing.assert_array_equal(rw.transform(longer), rw.transform(X))
+    with pytest.raises(ValueError, match="1 channels, but RecordingWindow is expecting 2"):
+        rw.transform(X[:, :1])
 
 
 # ----------------------------------------------------------------- presets

@@ -9,6 +9,7 @@ import pytest
 import xarray as xr
 from sklearn.base import BaseEstimator, ClassifierMixin
 
+from vibrissa.classify import TimeTemplateClassifier
 from vibrissa.evaluate import chapter4 as protocol
 
 RADII = (80.0, 90.0, 100.0, 110.0)
@@ -290,3 +291,35 @@ def test_subsample_combinations_keeps_the_same_classes_for_one_and_three_sets() 
     kept1 = {tuple(r) for r in y1[a]}
     kept3 = {tuple(r) for r in y3[b]}
     assert kept1 == kept3 and len(b) == 3 * len(a)
+
+
+# ------------------------------------------------------- sample rates (issue 13, finding 9)
+def test_classifiers_built_for_another_rate_are_refused_before_any_fit(ds) -> None:
+    from vibrissa.classify import chapter4_classifiers
+
+    ds4k = ds.assign_attrs(sample_rate_hz=4000.0)
+    steps = []
+    # the evaluation does not adapt classifiers to the dataset: one built for 1 kHz
+    # is refused on 4 kHz data, before any classifier (even a stand-in) is fitted
+    clfs = {"c": Centroid(), **chapter4_classifiers(1000.0, {})}
+    with pytest.raises(ValueError, match="classifier 'static_beam_measured' does not fit the "
+                                         "dataset: step 'window': RecordingWindow is built for "
+                                         "sample_rate_hz=1000 Hz, but the data are sampled at "
+                                         "4000 Hz"):
+        protocol.run_chapter4(ds4k, clfs, fractions=(), progress=lambda *a: steps.append(a))
+    assert steps == []
+    with pytest.raises(ValueError, match="classifier 'template' does not fit the dataset: "
+                                         "TimeTemplateClassifier is built for "
+                                         "sample_rate_hz=1000 Hz, but the data are sampled "
+                                         "at 4000 Hz"):
+        protocol.run_chapter4(ds4k, {"template": TimeTemplateClassifier()}, fractions=())
+
+
+def test_classifiers_built_from_the_dataset_run_at_its_rate(ds) -> None:
+    ds4k = ds.assign_attrs(sample_rate_hz=4000.0)
+    clf = TimeTemplateClassifier.from_dataset(ds4k, cutoff_hz=400.0)
+    res = protocol.run_chapter4(ds4k, {"template": clf}, fractions=(0.5,), n_seeds=1)
+    assert res["meta"]["sample_rate_hz"] == 4000.0
+    assert res["classifiers"]["template"]["radius_mm"]["exact_hit"] == 1.0
+    with pytest.raises(ValueError, match="no attribute 'sample_rate_hz'"):
+        protocol.run_chapter4(ds.drop_attrs(), {"template": clf}, fractions=())

@@ -141,7 +141,7 @@ def test_run_chapter5_json_contract(dataset, tmp_path):
 
 
 def test_discussion_is_computed_from_the_results(dataset):
-    res = run_chapter5(dataset, {"nb": StationaryNaiveBayes()}, seed=0,
+    res = run_chapter5(dataset, {"nb": StationaryNaiveBayes(sample_rate_hz=FS)}, seed=0,
                        texture_alone=False, sequential_base=None)
     text = discussion(res)
     k = res["classifiers"]["nb"]["kappa"]["speed"]
@@ -159,3 +159,11 @@ def test_thesis_constant_covers_figure_5_15():
     for name, k in (("template_lowpass", 0.30), ("frequency", 0.44), ("feature", 0.11),
                     ("naive_bayes_velocity", 0.39)):
         assert THESIS_CHAPTER5[name]["kappa"]["angle"] == k
+
+
+def test_classifiers_built_for_another_rate_are_refused(dataset):
+    # StationaryNaiveBayes() is built for 1 kHz (its velocity is in V/s at that rate)
+    with pytest.raises(ValueError, match="classifier 'nb' does not fit the dataset: "
+                                         "StationaryNaiveBayes is built for sample_rate_hz=1000 "
+                                         "Hz, but the data are sampled at 4000 Hz"):
+        run_chapter5(dataset, {"nb": StationaryNaiveBayes()}, texture_alone=False)

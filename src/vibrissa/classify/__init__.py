@@ -3,7 +3,10 @@
 Inputs are trials ``X`` of shape ``(n_trials, n_channels, n_timepoints)`` (or
 2-D, one channel); labels ``y`` are 1-D or ``(n_trials, n_targets)``, each
 distinct row a joint class (e.g. radial distance and speed), see
-:mod:`vibrissa.classify._base`.
+:mod:`vibrissa.classify._base`. Every estimator records the sample rate it was
+fitted at and refuses data at another (:class:`SampleRateMixin`:
+``fit(X, y, sample_rate_hz=fs)``, ``Estimator.from_dataset(ds)``;
+:func:`sample_rate_fit_params` and :func:`check_sample_rate` for Pipelines).
 
 ========================================  ==================================
 :class:`StaticBeamClassifier`             static beam equation, 4.3.1
@@ -16,7 +19,16 @@ distinct row a joint class (e.g. radial distance and speed), see
 ========================================  ==================================
 """
 
-from vibrissa.classify._base import EstimatorTags, TrialClassifier, estimator_tags
+from vibrissa.classify._base import (
+    EstimatorTags,
+    SampleRateMixin,
+    TrialClassifier,
+    check_sample_rate,
+    dataset_sample_rate,
+    estimator_tags,
+    fitted_sample_rate,
+    sample_rate_fit_params,
+)
 from vibrissa.classify._chapter4 import (
     CHAPTER4_KEYS,
     CHAPTER4_ONE_SET,
@@ -54,8 +66,13 @@ __all__ = [
     "StationaryNaiveBayes",
     "TimeTemplateClassifier",
     "EstimatorTags",
+    "SampleRateMixin",
     "TrialClassifier",
+    "check_sample_rate",
+    "dataset_sample_rate",
     "estimator_tags",
+    "fitted_sample_rate",
+    "sample_rate_fit_params",
     "base_moment_nm",
     "chapter4_classifiers",
     "contact_features",

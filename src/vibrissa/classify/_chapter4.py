@@ -129,6 +129,8 @@ def chapter4_classifiers(
     Returns
     -------
     dict of str to estimator
+        Every step is built for ``sample_rate_hz`` and refuses data at another
+        rate (:func:`~vibrissa.classify.check_sample_rate`).
         Keys :data:`CHAPTER4_KEYS`. Thesis preset: ``static_beam_measured`` /
         ``static_beam_fitted`` (4.3.1; radius only); ``frequency`` (4.3.2:
         ``|Re DFT|`` of window samples 501-750, DC bin zeroed, L1 distance);
@@ -153,9 +155,11 @@ def chapter4_classifiers(
             return Pipeline([("window", peak_window(fs)), ("classifier", est)])
 
         return {
-            "static_beam_measured": peak(StaticBeamClassifier(whisker=whisker)),
+            "static_beam_measured": peak(StaticBeamClassifier(whisker=whisker,
+                                                              sample_rate_hz=fs)),
             "static_beam_fitted": peak(StaticBeamClassifier(whisker=whisker,
-                                                            fit_parameters=True)),
+                                                            fit_parameters=True,
+                                                            sample_rate_hz=fs)),
             "frequency": peak(FrequencyTemplateClassifier(sample_rate_hz=fs)),
             "template": peak(TimeTemplateClassifier(sample_rate_hz=fs)),
             "feature": peak(FeatureRegressionClassifier(sample_rate_hz=fs, degree=5)),
@@ -171,11 +175,13 @@ def chapter4_classifiers(
     return {
         "static_beam_measured": Pipeline([
             ("window", onset_window(fs)),
-            ("classifier", StaticBeamClassifier(whisker=whisker, fit_parameters=False)),
+            ("classifier", StaticBeamClassifier(whisker=whisker, fit_parameters=False,
+                                                sample_rate_hz=fs)),
         ]),
         "static_beam_fitted": Pipeline([
             ("window", onset_window(fs)),
-            ("classifier", StaticBeamClassifier(whisker=whisker, fit_parameters=True)),
+            ("classifier", StaticBeamClassifier(whisker=whisker, fit_parameters=True,
+                                                sample_rate_hz=fs)),
         ]),
         "frequency": Pipeline([
             ("window", onset_window(fs, start_at_1khz=500, n_at_1khz=250)),

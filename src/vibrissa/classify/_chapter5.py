@@ -31,7 +31,7 @@ from sklearn.utils.validation import check_is_fitted, validate_data
 
 from vibrissa import signal as vsig
 from vibrissa._validate import positive
-from vibrissa.classify._base import TrialClassifier
+from vibrissa.classify._base import SampleRateMixin, TrialClassifier, sample_rate_fit_params
 from vibrissa.classify._naive_bayes import StationaryNaiveBayes
 from vibrissa.classify._spectral import FrequencyTemplateClassifier
 from vibrissa.classify._template import TimeTemplateClassifier, nearest_template_scores
@@ -96,11 +96,14 @@ def _input_ndim(X: Any) -> int:
 _KINDS = ("raw", "lowpass", "highpass", "velocity", "acceleration", "causal_velocity")
 
 
-class SignalTransform(TransformerMixin, BaseEstimator):
+class SignalTransform(SampleRateMixin, TransformerMixin, BaseEstimator):
     """Chapter-5 preprocessing of trials ``(n, channels, time)`` as a Pipeline step (5.3.1).
 
-    ``fit`` validates the parameters and records the shape of a trial; ``transform``
-    refuses trials of another shape (as every scikit-learn transformer does).
+    ``fit`` validates the parameters and records the shape of a trial and the sample
+    rate (``sample_rate_hz_``); ``transform`` refuses trials of another shape (as every
+    scikit-learn transformer does) and, when given one, another rate. In a Pipeline
+    the steps after it see ``sample_rate_hz / downsample``
+    (:func:`~vibrissa.classify.sample_rate_fit_params` passes them that rate).
 
     Parameters
     ----------
@@ -163,19 +166,29 @@ class SignalTransform(TransformerMixin, BaseEstimator):
             raise ValueError(f"downsample must be a positive integer, got {ds!r}")
         positive("sample_rate_hz", self.sample_rate_hz)
 
-    def fit(self, X: Any, y: Any = None) -> SignalTransform:
-        """Validate the parameters and record the shape of a trial (nothing else is learned).
+    def _rate_after(self, sample_rate_hz: float) -> float:
+        ds = self.downsample
+        ok = not isinstance(ds, bool) and isinstance(ds, int | np.integer) and ds >= 1
+        return sample_rate_hz / int(ds) if ok else sample_rate_hz
+
+    def fit(
+        self, X: Any, y: Any = None, sample_rate_hz: float | None = None
+    ) -> SignalTransform:
+        """Validate the parameters and record the shape of a trial and the rate.
 
         Parameters
         ----------
         X : array-like of shape (n_trials, n_channels, n_timepoints) or (n_trials, n_timepoints)
         y : ignored
+        sample_rate_hz : float, optional
+            Sample rate of ``X``, Hz; refused when not the constructor's.
 
         Returns
         -------
         self
         """
         self._check_params()
+        rate = self._fit_rate(sample_rate_hz)
         X3 = self._as3d(X)
         if _input_ndim(X) == 2:
             validate_data(self, X, reset=True, dtype=np.float64, ensure_all_finite=True)
@@ -185,6 +198,7 @@ class SignalTransform(TransformerMixin, BaseEstimator):
                 del self.feature_names_in_
             self.n_features_in_ = X3.shape[1] * X3.shape[2]
         self.n_channels_, self.n_timepoints_ = X3.shape[1], X3.shape[2]
+        self.sample_rate_hz_ = rate
         self.fitted_ = True
         return self
 
@@ -205,18 +219,20 @@ class SignalTransform(TransformerMixin, BaseEstimator):
                              f"expecting {self.n_timepoints_} timepoints as input")
         return X3
 
-    def transform(self, X: Any) -> np.ndarray:
+    def transform(self, X: Any, sample_rate_hz: float | None = None) -> np.ndarray:
         """Filter (and optionally notch and downsample) every trial along time.
 
         Parameters
         ----------
         X : array-like of shape (n_trials, n_channels, n_timepoints) or (n_trials, n_timepoints)
+        sample_rate_hz : float, optional
+            Sample rate of ``X``, Hz; refused when not ``sample_rate_hz_``.
 
         Returns
         -------
         ndarray of shape (n_trials, n_channels, n_timepoints // downsample (rounded up))
         """
-        check_is_fitted(self)
+        self._check_predict_rate(sample_rate_hz)
         self._check_params()
         X = self._check_shape(X)
         fs = float(self.sample_rate_hz)
@@ -294,11 +310,14 @@ class SpeedFirstClassifier(TrialClassifier):
         is taken as the speeds themselves (``speed_column`` is then not used): the
         speed stage decides.
     sample_rate_hz : float, default=4000.0
-        Sampling rate for the default estimators, Hz.
+        Sampling rate of the trials, Hz (also of the default estimators). Given
+        estimators built for another rate are refused at ``fit``.
 
     Attributes
     ----------
     classes_ : ndarray of shape (n_classes, n_targets)
+    sample_rate_hz_ : float
+        The rate it was fitted at, Hz (both stages were fitted at it).
     speed_estimator_ : estimator or None
         ``None`` when the training data hold a single speed (then it is fixed).
     estimator_ : estimator
@@ -321,6 +340,10 @@ class SpeedFirstClassifier(TrialClassifier):
         tags = super().__sklearn_tags__()
         tags.classifier_tags.poor_score = True
         return tags
+
+    def _rate_parts(self) -> list[tuple[str, Any]]:
+        return [(k, e) for k, e in (("speed_estimator", self.speed_estimator),
+                                    ("estimator", self.estimator)) if e is not None]
 
     def _speed_column(self) -> int:
         """Column of ``classes_`` (as 2-D) holding the speed; 0 for a single column."""
@@ -348,7 +371,7 @@ class SpeedFirstClassifier(TrialClassifier):
         y_rows = self.classes_[y_idx]
         est = (StationaryNaiveBayes(signal="velocity", sample_rate_hz=fs)
                if self.estimator is None else self.estimator)
-        self.estimator_ = clone(est).fit(X, y_rows)
+        self.estimator_ = clone(est).fit(X, y_rows, **sample_rate_fit_params(est, fs))
         if not np.array_equal(self.estimator_.classes_, self.classes_):
             raise ValueError("estimator must keep the joint classes of y (rows of classes_)")
         if len(speeds) < 2:
@@ -358,21 +381,22 @@ class SpeedFirstClassifier(TrialClassifier):
               if self.speed_estimator is None else self.speed_estimator)
         y_speed = (y_rows[:, [self._speed_column()]] if y_rows.ndim == 2
                    else y_rows[:, None]).astype(float)
-        self.speed_estimator_ = clone(sp).fit(X, y_speed)
+        self.speed_estimator_ = clone(sp).fit(X, y_speed, **sample_rate_fit_params(sp, fs))
 
-    def predict_speed(self, X: Any) -> np.ndarray:
+    def predict_speed(self, X: Any, sample_rate_hz: float | None = None) -> np.ndarray:
         """Speed class of each trial from the speed stage.
 
         Parameters
         ----------
         X : array-like of shape (n_trials, n_channels, n_timepoints)
+        sample_rate_hz : float, optional
+            Sample rate of ``X``, Hz; refused when not ``sample_rate_hz_``.
 
         Returns
         -------
         ndarray of shape (n_trials,)
         """
-        check_is_fitted(self)
-        return self._speeds(self._check_X(X, reset=False))
+        return self._speeds(self._fitted_input(X, sample_rate_hz))
 
     def _speeds(self, X: np.ndarray) -> np.ndarray:
         if self.speed_estimator_ is None:
@@ -412,12 +436,16 @@ class JointLikelihoodNaiveBayes(TrialClassifier):
     template_weight : float, default=1.0
         Weight of the template log-likelihood (0: plain naive Bayes).
     sample_rate_hz : float, default=4000.0
-        Sampling rate for the defaults, Hz.
+        Sampling rate of the trials, Hz (also of the defaults). A given
+        ``histogram`` or ``template_signal`` built for another rate is refused at
+        ``fit``.
     variance_floor : float, default=1e-12
         Lower bound on ``sigma^2``.
 
     Attributes
     ----------
+    sample_rate_hz_ : float
+        The rate it was fitted at, Hz.
     histogram_ : StationaryNaiveBayes
     template_signal_ : transformer
     templates_ : ndarray of shape (n_classes, n_channels * n_template_samples)
@@ -444,6 +472,10 @@ class JointLikelihoodNaiveBayes(TrialClassifier):
         tags.classifier_tags.poor_score = True
         return tags
 
+    def _rate_parts(self) -> list[tuple[str, Any]]:
+        return [(k, e) for k, e in (("histogram", self.histogram),
+                                    ("template_signal", self.template_signal)) if e is not None]
+
     def _fit(self, X: np.ndarray, y: object, y_idx: np.ndarray) -> None:
         w = float(self.template_weight)
         if not np.isfinite(w) or w < 0:
@@ -453,8 +485,8 @@ class JointLikelihoodNaiveBayes(TrialClassifier):
                 if self.histogram is None else self.histogram)
         ts = (SignalTransform("lowpass", sample_rate_hz=fs, downsample=20)
               if self.template_signal is None else self.template_signal)
-        self.histogram_ = clone(hist).fit(X, y_idx)
-        self.template_signal_ = clone(ts).fit(X)
+        self.histogram_ = clone(hist).fit(X, y_idx, **sample_rate_fit_params(hist, fs))
+        self.template_signal_ = clone(ts).fit(X, **sample_rate_fit_params(ts, fs))
         S = self.template_signal_.transform(X)
         n, c, t = S.shape
         k = len(self.classes_)
@@ -537,7 +569,9 @@ def chapter5_classifiers(
     -------
     dict of str to estimator
         Keys :data:`CHAPTER5_KEYS`; labels are rows ``[angle_deg, speed_mm_s,
-        texture_code]`` (see :data:`TEXTURE_CODES`).
+        texture_code]`` (see :data:`TEXTURE_CODES`). Every step is built for
+        ``sample_rate_hz`` (after a downsampling step, for the reduced rate) and
+        refuses data at another rate (:func:`~vibrissa.classify.check_sample_rate`).
     """
     from vibrissa.classify._rocket import MiniRocketClassifier
 
@@ -606,5 +640,5 @@ def chapter5_classifiers(
             template_signal=SignalTransform("lowpass", sample_rate_hz=fs, downsample=lp_down),
             sample_rate_hz=fs,
         ),
-        "minirocket": MiniRocketClassifier(),
+        "minirocket": MiniRocketClassifier(sample_rate_hz=fs),
     }

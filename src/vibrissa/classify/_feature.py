@@ -5,7 +5,6 @@ from __future__ import annotations
 from typing import Literal
 
 import numpy as np
-from sklearn.utils.validation import check_is_fitted
 
 from vibrissa import signal as vsig
 from vibrissa.classify._base import TrialClassifier, target_column
@@ -259,17 +258,18 @@ class FeatureRegressionClassifier(TrialClassifier):
             scores -= 0.5 * z * z
         return scores
 
-    def predict_targets(self, X: np.ndarray) -> np.ndarray:
+    def predict_targets(self, X: np.ndarray, sample_rate_hz: float | None = None) -> np.ndarray:
         """Continuous regression estimates before snapping to a class.
 
         Parameters
         ----------
         X : array-like of shape (n_trials, n_channels, n_timepoints) or (n_trials, n_timepoints)
+        sample_rate_hz : float, optional
+            Sample rate of ``X``, Hz; refused when not ``sample_rate_hz_``.
 
         Returns
         -------
         ndarray of shape (n_trials, n_targets)
             Polynomial estimates of each target (e.g. mm and mm/s).
         """
-        check_is_fitted(self)
-        return self._design(self._check_X(X, reset=False)) @ self.coef_.T
+        return self._design(self._fitted_input(X, sample_rate_hz)) @ self.coef_.T

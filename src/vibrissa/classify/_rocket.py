@@ -38,7 +38,6 @@ import numpy as np
 from scipy.special import log_softmax
 from sklearn.base import TransformerMixin
 from sklearn.linear_model import LogisticRegression, RidgeClassifierCV
-from sklearn.utils.validation import check_is_fitted
 
 from vibrissa.classify._base import TrialClassifier
 
@@ -108,6 +107,10 @@ class MiniRocketClassifier(TransformerMixin, TrialClassifier):
         Seed of the bias draws.
     chunk_size : int, default=128
         Trials transformed at a time (bounds memory).
+    sample_rate_hz : float or None, default=None
+        Sample rate of the trials, Hz. The features do not use it (``pool`` and the
+        dilations count samples); when given, data at another rate are refused, and
+        ``fit`` records the rate it is given (``sample_rate_hz_``).
 
     Attributes
     ----------
@@ -135,6 +138,7 @@ class MiniRocketClassifier(TransformerMixin, TrialClassifier):
         alphas: tuple[float, ...] = (1e-2, 1e-1, 1.0, 1e1, 1e2, 1e3, 1e4),
         random_state: int = 0,
         chunk_size: int = 128,
+        sample_rate_hz: float | None = None,
     ) -> None:
         self.pool = pool
         self.n_dilations = n_dilations
@@ -144,6 +148,7 @@ class MiniRocketClassifier(TransformerMixin, TrialClassifier):
         self.alphas = alphas
         self.random_state = random_state
         self.chunk_size = chunk_size
+        self.sample_rate_hz = sample_rate_hz
 
     def __sklearn_tags__(self):  # noqa: D105
         tags = super().__sklearn_tags__()
@@ -250,16 +255,17 @@ class MiniRocketClassifier(TransformerMixin, TrialClassifier):
             scores += lp[:, self.target_index_[:, k]]
         return scores
 
-    def transform(self, X: Any) -> np.ndarray:
+    def transform(self, X: Any, sample_rate_hz: float | None = None) -> np.ndarray:
         """Standardised PPV features of trials (the input of the linear heads).
 
         Parameters
         ----------
         X : array-like of shape (n_trials, n_channels, n_timepoints)
+        sample_rate_hz : float, optional
+            Sample rate of ``X``, Hz; refused when not ``sample_rate_hz_``.
 
         Returns
         -------
         ndarray of shape (n_trials, n_features)
         """
-        check_is_fitted(self)
-        return self._features(self._check_X(X, reset=False))
+        return self._features(self._fitted_input(X, sample_rate_hz))

@@ -23,6 +23,13 @@ from scipy.special import log_softmax, logsumexp
 from sklearn.base import BaseEstimator, ClassifierMixin, clone
 from sklearn.utils.validation import check_is_fitted
 
+from vibrissa.classify._base import (
+    SampleRateMixin,
+    check_sample_rate,
+    fitted_sample_rate,
+    sample_rate_fit_params,
+)
+
 __all__ = ["SequentialEvidenceClassifier", "accumulate_evidence", "draw_sequences"]
 
 
@@ -107,7 +114,7 @@ def draw_sequences(
     return out
 
 
-class SequentialEvidenceClassifier(ClassifierMixin, BaseEstimator):
+class SequentialEvidenceClassifier(SampleRateMixin, ClassifierMixin, BaseEstimator):
     """Accumulate one target's posterior over repeated contacts with the same surface.
 
     Parameters
@@ -133,6 +140,9 @@ class SequentialEvidenceClassifier(ClassifierMixin, BaseEstimator):
         Target value index of each of ``estimator_.classes_``.
     n_features_in_ : int
         That of ``estimator_`` (when it has one).
+    sample_rate_hz_ : float or None
+        The rate ``estimator_`` was fitted at, Hz (it has no rate of its own: data at
+        another rate than its estimator's are refused).
     """
 
     def __init__(
@@ -147,19 +157,38 @@ class SequentialEvidenceClassifier(ClassifierMixin, BaseEstimator):
         self.threshold = threshold
         self.min_probability = min_probability
 
-    def fit(self, X: Any, y: Any) -> SequentialEvidenceClassifier:
+    def _rate_parts(self) -> list[tuple[str, Any]]:
+        return [("estimator", self.estimator)]
+
+    def _check_rate(self, sample_rate_hz: float) -> None:
+        super()._check_rate(sample_rate_hz)
+        if not hasattr(self, "estimator_"):
+            return
+        try:
+            check_sample_rate(self.estimator_, sample_rate_hz)
+        except ValueError as exc:
+            raise ValueError(f"{type(self).__name__}'s estimator_: {exc}") from None
+
+    def fit(
+        self, X: Any, y: Any, sample_rate_hz: float | None = None
+    ) -> SequentialEvidenceClassifier:
         """Fit the wrapped classifier on single contacts.
 
         Parameters
         ----------
         X : array-like of shape (n_trials, n_channels, n_timepoints)
         y : array-like of shape (n_trials, n_targets) or (n_trials,)
+        sample_rate_hz : float, optional
+            Sample rate of ``X``, Hz, passed on to ``estimator`` (each step of a
+            Pipeline); refused when ``estimator`` is built for another.
 
         Returns
         -------
         self
         """
-        return self._adopt(clone(self.estimator).fit(X, y))
+        rate = self._fit_rate(sample_rate_hz)
+        params = sample_rate_fit_params(self.estimator, rate)
+        return self._adopt(clone(self.estimator).fit(X, y, **params), rate)
 
     @classmethod
     def from_fitted(
@@ -183,10 +212,14 @@ class SequentialEvidenceClassifier(ClassifierMixin, BaseEstimator):
         check_is_fitted(estimator)
         return cls(estimator, target_column, threshold, min_probability)._adopt(estimator)
 
-    def _adopt(self, fitted: Any) -> SequentialEvidenceClassifier:
+    def _adopt(
+        self, fitted: Any, sample_rate_hz: float | None = None
+    ) -> SequentialEvidenceClassifier:
         if not 0 < float(self.min_probability) < 1:
             raise ValueError(f"min_probability must lie in (0, 1), got {self.min_probability!r}")
         self.estimator_ = fitted
+        self.sample_rate_hz_ = (fitted_sample_rate(fitted) if sample_rate_hz is None
+                                else sample_rate_hz)
         jc = np.asarray(self.estimator_.classes_)
         if self.target_column is None and jc.ndim == 2:
             # no target column chosen: accumulate the joint classes themselves
@@ -210,54 +243,72 @@ class SequentialEvidenceClassifier(ClassifierMixin, BaseEstimator):
         tags.target_tags.single_output = True
         return tags
 
-    def contact_log_proba(self, X: Any) -> np.ndarray:
+    def contact_log_proba(self, X: Any, sample_rate_hz: float | None = None) -> np.ndarray:
         """Floored log marginal posterior of the target for each single contact.
 
         Parameters
         ----------
         X : array-like of shape (n_trials, n_channels, n_timepoints)
+        sample_rate_hz : float, optional
+            Sample rate of ``X``, Hz; refused when not ``sample_rate_hz_``.
 
         Returns
         -------
         ndarray of shape (n_trials, n_classes)
             Normalised (rows are log-probabilities).
         """
-        check_is_fitted(self)
+        self._check_predict_rate(sample_rate_hz)
         p = np.asarray(self.estimator_.predict_proba(X), dtype=float)
         m = np.zeros((p.shape[0], len(self.classes_)))
         np.add.at(m.T, self.class_index_, p.T)
         lm = np.log(np.maximum(m, float(self.min_probability)))
         return lm - logsumexp(lm, axis=1, keepdims=True)
 
-    def predict_proba(self, X: Any) -> np.ndarray:
+    def predict_proba(self, X: Any, sample_rate_hz: float | None = None) -> np.ndarray:
         """Single-contact marginal posterior of the target (floored, normalised).
 
         Parameters
         ----------
         X : array-like of shape (n_trials, n_channels, n_timepoints)
+        sample_rate_hz : float, optional
+            Sample rate of ``X``, Hz; refused when not ``sample_rate_hz_``.
 
         Returns
         -------
         ndarray of shape (n_trials, n_classes)
         """
-        return np.exp(self.contact_log_proba(X))
+        return np.exp(self.contact_log_proba(X, sample_rate_hz))
 
-    def predict(self, X: Any) -> np.ndarray:
+    def predict(self, X: Any, sample_rate_hz: float | None = None) -> np.ndarray:
         """Target value of each single contact.
 
         Parameters
         ----------
         X : array-like of shape (n_trials, n_channels, n_timepoints)
+        sample_rate_hz : float, optional
+            Sample rate of ``X``, Hz; refused when not ``sample_rate_hz_``.
 
         Returns
         -------
         ndarray of shape (n_trials,)
         """
-        lp = self.contact_log_proba(X)  # checks that the classifier is fitted
+        lp = self.contact_log_proba(X, sample_rate_hz)  # checks that the classifier is fitted
         return self.classes_[np.argmax(lp, axis=1)]
 
+    def score(
+        self, X: Any, y: Any, sample_weight: Any = None, sample_rate_hz: float | None = None
+    ) -> float:
+        """Accuracy of the single-contact predictions of the target (values ``y``).
+
+        As :meth:`sklearn.base.ClassifierMixin.score`; ``sample_rate_hz`` (optional),
+        the rate of ``X`` in Hz, is refused when not ``sample_rate_hz_``.
+        """
+        self._check_predict_rate(sample_rate_hz)
+        return super().score(X, y, sample_weight=sample_weight)
+
     def predict_sequences(
-        self, X: Any, sequences: Any, n_contacts: int | None = None
+        self, X: Any, sequences: Any, n_contacts: int | None = None,
+        sample_rate_hz: float | None = None,
     ) -> tuple[np.ndarray, np.ndarray]:
         """Classify sequences of contacts with the same (unknown) target value.
 
@@ -269,6 +320,8 @@ class SequentialEvidenceClassifier(ClassifierMixin, BaseEstimator):
             Indices into ``X`` of each sequence's contacts, in order.
         n_contacts : int, optional
             Use only the first ``n_contacts`` of each sequence.
+        sample_rate_hz : float, optional
+            Sample rate of ``X``, Hz; refused when not ``sample_rate_hz_``.
 
         Returns
         -------
@@ -276,7 +329,7 @@ class SequentialEvidenceClassifier(ClassifierMixin, BaseEstimator):
         n_used : ndarray of shape (n_sequences,)
             Contacts used before the posterior passed ``threshold``.
         """
-        lp = self.contact_log_proba(X)
+        lp = self.contact_log_proba(X, sample_rate_hz)
         return self.predict_sequences_from_log_proba(lp, sequences, n_contacts)
 
     def predict_sequences_from_log_proba(

@@ -7,7 +7,6 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
-from sklearn.utils.validation import check_is_fitted
 
 from vibrissa import signal as vsig
 from vibrissa.classify._base import (
@@ -200,6 +199,10 @@ class StaticBeamClassifier(TrialClassifier):
         :data:`DEFAULT_SPEED_MM_S` (126 mm/s) when ``y`` has no speed column.
     latency_s : float, default=0.3
         Protraction duration (controller loop latency), s.
+    sample_rate_hz : float or None, default=None
+        Sample rate of the trials, Hz. The method does not use it (the peak of a
+        trial is the same at any rate); when given, data at another rate are
+        refused, and ``fit`` records the rate it is given (``sample_rate_hz_``).
 
     Attributes
     ----------
@@ -231,6 +234,7 @@ class StaticBeamClassifier(TrialClassifier):
         speed_column: int = 1,
         speed_mm_s: float | None = None,
         latency_s: float = 0.3,
+        sample_rate_hz: float | None = None,
     ) -> None:
         self.whisker = whisker
         self.fit_parameters = fit_parameters
@@ -240,6 +244,7 @@ class StaticBeamClassifier(TrialClassifier):
         self.speed_column = speed_column
         self.speed_mm_s = speed_mm_s
         self.latency_s = latency_s
+        self.sample_rate_hz = sample_rate_hz
 
     def __vibrissa_tags__(self) -> EstimatorTags:
         """Radial distance only (column ``radius_column`` of ``y``; thesis 4.3.1)."""
@@ -410,17 +415,18 @@ class StaticBeamClassifier(TrialClassifier):
         z = (est[:, None] - self.radii_mm_[None, :]) / self.residual_std_mm_
         return -0.5 * z * z
 
-    def predict_radius_mm(self, X: Any) -> np.ndarray:
+    def predict_radius_mm(self, X: Any, sample_rate_hz: float | None = None) -> np.ndarray:
         """Continuous radial-distance estimates (eq. 4.1) before snapping to a class.
 
         Parameters
         ----------
         X : array-like of shape (n_trials, n_channels, n_timepoints) or (n_trials, n_timepoints)
+        sample_rate_hz : float, optional
+            Sample rate of ``X``, Hz; refused when not ``sample_rate_hz_``.
 
         Returns
         -------
         ndarray of shape (n_trials,)
             Radial distance, mm.
         """
-        check_is_fitted(self)
-        return self._estimate(self._moment(self._check_X(X, reset=False)))
+        return self._estimate(self._moment(self._fitted_input(X, sample_rate_hz)))

@@ -27,7 +27,6 @@ from itertools import combinations_with_replacement
 from typing import Any
 
 import numpy as np
-from sklearn.utils.validation import check_is_fitted
 
 from vibrissa import signal as vsig
 from vibrissa.classify._base import TrialClassifier, target_column
@@ -306,16 +305,17 @@ class FeaturePolynomialClassifier(TrialClassifier):
         z = (est[:, None, :] - cv[None, :, :]) / self.residual_std_[None, None, :]
         return -0.5 * np.sum(z * z, axis=2)
 
-    def predict_targets(self, X: Any) -> np.ndarray:
+    def predict_targets(self, X: Any, sample_rate_hz: float | None = None) -> np.ndarray:
         """Continuous regression estimates of each target before snapping to a class.
 
         Parameters
         ----------
         X : array-like of shape (n_trials, n_channels, n_timepoints)
+        sample_rate_hz : float, optional
+            Sample rate of ``X``, Hz; refused when not ``sample_rate_hz_``.
 
         Returns
         -------
         ndarray of shape (n_trials, n_targets)
         """
-        check_is_fitted(self)
-        return self._estimates(self._check_X(X, reset=False))
+        return self._estimates(self._fitted_input(X, sample_rate_hz))

@@ -6,6 +6,11 @@ it filters each whole recording first (as the thesis author's code did, so that 
 causal filter has warmed up before the window starts), then cuts either the
 author's onset window (750 samples from 100 samples before ``x`` first exceeds
 0.1 V above rest) or the text's window about the peak (+/-325 ms, 4.2).
+
+Recordings of other lengths: the window is ``n_samples`` long whatever the length
+of the recordings, so recordings longer than the window (of any length, also
+another than at ``fit``) are accepted and give the same window; recordings
+shorter than the window are refused (a window cannot fit in them).
 """
 
 from __future__ import annotations
@@ -15,11 +20,11 @@ from typing import Any, Literal
 
 import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin
-from sklearn.utils.validation import check_array, check_is_fitted
+from sklearn.utils.validation import check_array
 
 from vibrissa import signal as vsig
 from vibrissa._validate import finite, positive
-from vibrissa.classify._base import check_magnitude
+from vibrissa.classify._base import SampleRateMixin, check_magnitude
 
 __all__ = ["RecordingWindow"]
 
@@ -56,10 +61,28 @@ def _int(name: str, value: Any, low: int | None = None) -> int:
     return int(value)
 
 
-class RecordingWindow(TransformerMixin, BaseEstimator):
+class RecordingWindow(SampleRateMixin, TransformerMixin, BaseEstimator):
     """Filter whole recordings, then cut a fixed-length window aligned to onset or peak.
 
-    Stateless: ``fit`` only validates the parameters and the input.
+    Stateless: ``fit`` only validates the parameters and the input, and records the
+    number of channels and the sample rate.
+
+    **Recording lengths.** The window is cut from whole recordings, which are
+    longer than the window (the chapter-4 datasets keep 1,301 samples per trial at
+    1 kHz for windows of 750 or 651 samples):
+
+    - a recording *shorter* than the window (``n_timepoints < n_samples``) is
+      refused by ``fit`` and ``transform`` with a ``ValueError`` naming both
+      lengths;
+    - recordings *longer* than the window give the window of the documented
+      alignment, whatever their length, so ``transform`` accepts recordings of
+      another length than those seen by ``fit`` (unlike a scikit-learn transformer
+      that keeps every input feature; the window's output always has
+      ``n_samples`` samples). The number of channels must be the one seen by
+      ``fit``;
+    - a window that still reaches outside its recording (an onset or peak close to
+      either end) repeats the recording's first or last sample, with a
+      ``RuntimeWarning`` naming the trials.
 
     Parameters
     ----------
@@ -86,7 +109,9 @@ class RecordingWindow(TransformerMixin, BaseEstimator):
         causal Butterworth low-pass (:func:`vibrissa.signal.causal_lowpass`).
         Filters run over the whole recording before the window is cut.
     sample_rate_hz : float, default=1000.0
-        Sampling rate, Hz.
+        Sampling rate, Hz (of the filters; ``offset_samples`` and ``n_samples``
+        count samples). Data at another rate are refused (see
+        :class:`~vibrissa.classify.SampleRateMixin`).
     rest_v : float, default=2.5
         Sensor output at rest, V (onset and peak are found on ``|x - rest_v|``).
     onset_threshold_v : float, default=0.1
@@ -100,9 +125,12 @@ class RecordingWindow(TransformerMixin, BaseEstimator):
 
     Attributes
     ----------
-    n_padded_ : int
-        Samples that lay outside the recordings in the last :meth:`transform`
-        (repeated end samples); a warning names the trials when non-zero.
+    n_features_in_ : int
+        ``n_channels * n_timepoints`` of the recordings seen by ``fit``.
+    n_channels_ : int
+        Channels of the recordings seen by ``fit``.
+    sample_rate_hz_ : float
+        The rate it was fitted at, Hz.
     """
 
     def __init__(
@@ -158,25 +186,41 @@ class RecordingWindow(TransformerMixin, BaseEstimator):
                 raise ValueError(f"channel {c} is out of range for X with {n_channels} channel(s)")
         return [int(c) for c in chans]
 
-    @staticmethod
-    def _as3d(X: Any) -> np.ndarray:
-        return trials_3d(X)
+    def _as3d(self, X: Any) -> np.ndarray:
+        """Validated 3-D trials, refused when shorter than the window."""
+        X3 = trials_3d(X)
+        n = _int("n_samples", self.n_samples, 1)
+        if X3.shape[2] < n:
+            raise ValueError(
+                f"X has recordings of {X3.shape[2]} samples, shorter than the window of "
+                f"{n} samples (n_samples); {type(self).__name__} needs recordings at least "
+                "as long as its window"
+            )
+        return X3
 
-    def fit(self, X: Any, y: Any = None) -> RecordingWindow:
+    def fit(
+        self, X: Any, y: Any = None, sample_rate_hz: float | None = None
+    ) -> RecordingWindow:
         """Validate the parameters against ``X`` (nothing is learned).
 
         Parameters
         ----------
         X : array-like of shape (n_trials, n_channels, n_timepoints)
+            Recordings of at least ``n_samples`` samples.
         y : ignored
+        sample_rate_hz : float, optional
+            Sample rate of ``X``, Hz; refused when not the constructor's.
 
         Returns
         -------
         self
         """
+        rate = self._fit_rate(sample_rate_hz)
         X3 = self._as3d(X)
         self._check_params(X3.shape[1])
         self.n_features_in_ = X3.shape[1] * X3.shape[2]
+        self.n_channels_ = X3.shape[1]
+        self.sample_rate_hz_ = rate
         self.fitted_ = True
         return self
 
@@ -211,19 +255,28 @@ class RecordingWindow(TransformerMixin, BaseEstimator):
             )
         return np.where(missing, peak, onset)
 
-    def transform(self, X: Any) -> np.ndarray:
+    def transform(self, X: Any, sample_rate_hz: float | None = None) -> np.ndarray:
         """Filter each whole recording, then cut its window.
 
         Parameters
         ----------
         X : array-like of shape (n_trials, n_channels, n_timepoints) or (n_trials, n_timepoints)
+            Recordings of at least ``n_samples`` samples (of any length), with the
+            channels seen by ``fit``.
+        sample_rate_hz : float, optional
+            Sample rate of ``X``, Hz; refused when not ``sample_rate_hz_``.
 
         Returns
         -------
         numpy.ndarray of shape (n_trials, len(channels), n_samples)
         """
-        check_is_fitted(self)
+        self._check_predict_rate(sample_rate_hz)
         X3 = self._as3d(X)
+        if X3.shape[1] != self.n_channels_:
+            raise ValueError(
+                f"X has {X3.shape[1]} channels, but {type(self).__name__} is expecting "
+                f"{self.n_channels_} channels as input"
+            )
         chans = self._check_params(X3.shape[1])
         start = self.alignment_index(X3) + int(self.offset_samples)
         S = X3[:, chans]
@@ -235,13 +288,12 @@ class RecordingWindow(TransformerMixin, BaseEstimator):
         elif self.signal == "lowpass":
             S = vsig.causal_lowpass(S, self.lowpass_hz, fs, self.lowpass_order)
         win, padded = vsig.cut_windows(S, start, int(self.n_samples))
-        self.n_padded_ = int(padded.sum())
-        if self.n_padded_:
+        if padded.any():
             bad = np.flatnonzero(padded)
             warnings.warn(
-                f"{bad.size} window(s) reach outside their recording ({self.n_padded_} samples "
-                f"repeated from the ends), e.g. trial(s) {bad[:5].tolist()}; the recordings "
-                "are too short for this window",
+                f"{bad.size} window(s) reach outside their recording ({int(padded.sum())} samples "
+                f"repeated from the ends), e.g. trial(s) {bad[:5].tolist()}: the onset or "
+                "peak lies too close to the start or end of the recording for this window",
                 RuntimeWarning,
                 stacklevel=2,
             )

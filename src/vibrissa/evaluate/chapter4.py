@@ -30,9 +30,9 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from vibrissa.classify import estimator_tags
+from vibrissa.classify import dataset_sample_rate, estimator_tags
 from vibrissa.evaluate import metrics
-from vibrissa.evaluate.loop import FitRecord, Progress, ProgressLike, json_value
+from vibrissa.evaluate.loop import FitRecord, Progress, ProgressLike, check_rates, json_value
 from vibrissa.evaluate.loop import fit_and_score as loop_fit_and_score
 
 __all__ = [
@@ -418,6 +418,7 @@ def fit_and_score(
     *,
     radius_only: bool | None = None,
     keep_predictions: bool = False,
+    sample_rate_hz: float | None = None,
 ) -> dict[str, Any]:
     """Fit a clone of ``estimator``, classify the test set, time both and score.
 
@@ -435,6 +436,9 @@ def fit_and_score(
         the predictions.
     keep_predictions : bool, default=False
         Also return the predictions (``"y_pred"``, an array; not JSON).
+    sample_rate_hz : float, optional
+        Sample rate of the trials, Hz, passed to the estimator at fit and checked
+        before it classifies (see :func:`vibrissa.evaluate.loop.fit_predict`).
 
     Returns
     -------
@@ -453,7 +457,8 @@ def fit_and_score(
         )
         return out
 
-    out, rec = loop_fit_and_score(name, estimator, X_train, y_train, X_test, y_test, score)
+    out, rec = loop_fit_and_score(name, estimator, X_train, y_train, X_test, y_test, score,
+                                  sample_rate_hz=sample_rate_hz)
     if keep_predictions:
         out["y_pred"] = rec.y_pred
     return out
@@ -521,12 +526,17 @@ def run_chapter4(
     Parameters
     ----------
     ds : xarray.Dataset
-        Dataset with ``signal (trial, channel, time)`` and per-trial coordinates
-        ``radial_distance_mm``, ``speed_mm_s`` and ``set`` (at least two complete grids).
+        Dataset with ``signal (trial, channel, time)``, per-trial coordinates
+        ``radial_distance_mm``, ``speed_mm_s`` and ``set`` (at least two complete
+        grids) and the attribute ``sample_rate_hz``.
     classifiers : mapping of str to sklearn estimator
-        E.g. :func:`vibrissa.classify.chapter4_classifiers`. Estimators take
-        ``X (n, n_channels, n_timepoints)`` and ``y (n, 2)`` and predict ``(n, 2)``;
-        they are cloned for every fit.
+        E.g. :func:`vibrissa.classify.chapter4_classifiers` built for the dataset's
+        rate. Estimators take ``X (n, n_channels, n_timepoints)`` and ``y (n, 2)``
+        and predict ``(n, 2)``; they are cloned for every fit. The evaluation does
+        not adapt them to the data: the dataset's ``sample_rate_hz`` is passed to
+        every rate-aware step at fit and checked before it classifies, and a
+        classifier built for another rate is refused before any is fitted
+        (``ValueError`` naming the classifier and both rates).
     fractions : sequence of float, default=(0.8, 0.6, 0.4, 0.2, 0.1, 0.05)
         Reduced training-set sizes, each in (0, 1]. May be empty.
     n_seeds : int, default=5
@@ -606,6 +616,8 @@ def run_chapter4(
     split = split_sets(
         ds, seed, train_set=train_set, test_set=test_set, require_complete=require_complete
     )
+    fs = dataset_sample_rate(ds)
+    check_rates(classifiers, fs)
     X, y = dataset_arrays(ds)
     if not np.all(np.isfinite(X)):
         raise ValueError("dataset 'signal' contains NaN or infinite values")
@@ -643,7 +655,7 @@ def run_chapter4(
     for name, est in classifiers.items():
         X_tr, y_tr = X[train_index[name]], y[train_index[name]]
         r = fit_and_score(name, est, X_tr, y_tr, X_te, y_te, radius_only=ro(name),
-                          keep_predictions=True)
+                          keep_predictions=True, sample_rate_hz=fs)
         y_pred = r.pop("y_pred")
         r["train_sets"] = [json_value(v) for v in own_sets.get(name, pooled)]
         results[name] = r
@@ -677,7 +689,7 @@ def run_chapter4(
                     # too small a subset of a small grid to train on: recorded as skipped
                     continue
                 r = fit_and_score(name, est, X_tr[idx], y_tr[idx], X_te, y_te,
-                                  radius_only=ro(name))
+                                  radius_only=ro(name), sample_rate_hz=fs)
                 r.pop("radius_error_by_speed")
                 runs.append({"seed": [int(seed), k], **r})
             fractions_out[key][name] = _average_runs(runs) if runs else None
@@ -688,7 +700,7 @@ def run_chapter4(
             "n_trials": int(X.shape[0]),
             "n_channels": int(X.shape[1]),
             "n_timepoints": int(X.shape[2]),
-            "sample_rate_hz": json_value(ds.attrs.get("sample_rate_hz")),
+            "sample_rate_hz": fs,
             "sets": [json_value(s) for s in np.unique(np.asarray(ds["set"].values))],
             "split": split.to_dict(),
             "radii_mm": np.unique(y[:, 0]).tolist(),

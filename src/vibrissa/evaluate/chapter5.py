@@ -37,10 +37,11 @@ import numpy as np
 import xarray as xr
 from sklearn.base import clone
 
+from vibrissa.classify import check_sample_rate, dataset_sample_rate, sample_rate_fit_params
 from vibrissa.data.schema import TEXTURE_CODES, encode_texture
 from vibrissa.evaluate import metrics
 from vibrissa.evaluate.chapter4 import Split
-from vibrissa.evaluate.loop import Progress, fit_predict, json_value
+from vibrissa.evaluate.loop import Progress, check_rates, fit_predict, json_value
 
 __all__ = [
     "CONTACTS",
@@ -209,13 +210,16 @@ def score_chapter5(y_true: np.ndarray, y_pred: np.ndarray) -> dict[str, Any]:
 
 
 def texture_alone_predictions(
-    estimator: Any, X_tr: np.ndarray, y_tr: np.ndarray, X_te: np.ndarray, y_te: np.ndarray
+    estimator: Any, X_tr: np.ndarray, y_tr: np.ndarray, X_te: np.ndarray, y_te: np.ndarray,
+    *, sample_rate_hz: float | None = None,
 ) -> np.ndarray:
     """Texture predicted by classifiers trained per speed-angle combination (5.3.6).
 
     For each (angle, speed) of the test set a clone of ``estimator`` is trained on
     the training trials of that combination only (their labels vary in texture
-    alone) and classifies the test trials of the combination.
+    alone) and classifies the test trials of the combination. ``sample_rate_hz``
+    (optional, Hz) is passed to every rate-aware step at fit and checked before
+    each clone classifies.
 
     Returns
     -------
@@ -229,19 +233,22 @@ def texture_alone_predictions(
         mte = np.isclose(y_te[:, 0], a) & np.isclose(y_te[:, 1], v)
         if len(np.unique(y_tr[mtr, 2])) < 2:
             raise ValueError(f"training set has fewer than 2 textures at angle {a}, speed {v}")
-        est = clone(estimator).fit(X_tr[mtr], y_tr[mtr])
+        est = clone(estimator).fit(X_tr[mtr], y_tr[mtr],
+                                   **sample_rate_fit_params(estimator, sample_rate_hz))
+        if sample_rate_hz is not None:
+            check_sample_rate(est, sample_rate_hz)
         out[mte] = np.asarray(est.predict(X_te[mte]), dtype=float)[:, 2]
     return out
 
 
 def _sequential_curve(
     fitted: Any, X_te: np.ndarray, y_te: np.ndarray,
-    contacts: Sequence[int], seed: int, threshold: float,
+    contacts: Sequence[int], seed: int, threshold: float, sample_rate_hz: float,
 ) -> dict[str, Any]:
     from vibrissa.classify import SequentialEvidenceClassifier, draw_sequences
 
     seq = SequentialEvidenceClassifier.from_fitted(fitted, target_column=2, threshold=threshold)
-    lp = seq.contact_log_proba(X_te)
+    lp = seq.contact_log_proba(X_te, sample_rate_hz=sample_rate_hz)
     seqs = draw_sequences(y_te[:, 2], max(contacts), np.random.default_rng([int(seed), 5]))
     kappas, used = {}, {}
     for n in contacts:
@@ -271,8 +278,11 @@ def run_chapter5(
     ds : xarray.Dataset
         Angle-texture dataset (see :func:`check_chapter5_dataset`).
     classifiers : mapping of str to estimator
-        E.g. :func:`vibrissa.classify.chapter5_classifiers`; fitted on rows
-        ``[angle_deg, speed_mm_s, texture_code]``, cloned for every fit.
+        E.g. :func:`vibrissa.classify.chapter5_classifiers` built for the dataset's
+        rate; fitted on rows ``[angle_deg, speed_mm_s, texture_code]``, cloned for
+        every fit. The dataset's ``sample_rate_hz`` is passed to every rate-aware
+        step at fit and checked before it classifies; a classifier built for
+        another rate is refused before any is fitted.
     seed : int, default=0
         Seeds the set assignment and the sequences of contacts.
     progress : callable or rich.progress.Progress, optional
@@ -313,6 +323,8 @@ def run_chapter5(
     if not cts or min(cts) < 1:
         raise ValueError(f"contacts must be positive integers, got {list(contacts)}")
     split = split_chapter5(ds, int(seed), require_complete=require_complete)
+    fs = dataset_sample_rate(ds)
+    check_rates(classifiers, fs)
     X, y = chapter5_arrays(ds)
     if not np.all(np.isfinite(X)):
         raise ValueError("dataset 'signal' contains NaN or infinite values")
@@ -325,7 +337,7 @@ def run_chapter5(
     preds: dict[str, Any] = {}
     seq_fitted: Any = None
     for name, est0 in classifiers.items():
-        rec = fit_predict(name, est0, X_tr, y_tr, X_te)
+        rec = fit_predict(name, est0, X_tr, y_tr, X_te, sample_rate_hz=fs)
         est, p = rec.estimator, rec.y_pred
         prog.step(f"{name}: simultaneous")
         if do_seq and name == sequential_base:
@@ -334,7 +346,7 @@ def run_chapter5(
         ta, ta_s = None, None
         if texture_alone:
             t3 = time.perf_counter()
-            ta = texture_alone_predictions(est0, X_tr, y_tr, X_te, y_te)
+            ta = texture_alone_predictions(est0, X_tr, y_tr, X_te, y_te, sample_rate_hz=fs)
             ta_s = time.perf_counter() - t3
             prog.step(f"{name}: texture alone")
         ta_scores = (None if ta is None
@@ -367,7 +379,7 @@ def run_chapter5(
     sequential: dict[str, Any] = {}
     detail: dict[str, Any] | None = None
     if do_seq:
-        detail = _sequential_curve(seq_fitted, X_te, y_te, cts, int(seed), threshold)
+        detail = _sequential_curve(seq_fitted, X_te, y_te, cts, int(seed), threshold, fs)
         detail.update(base=sequential_base, threshold=float(threshold))
         sequential = dict(detail["kappa"])
         prog.step("sequential contacts")
@@ -376,7 +388,7 @@ def run_chapter5(
             "evaluation": "evans2011_chapter5",
             "n_trials": int(X.shape[0]), "n_channels": int(X.shape[1]),
             "n_timepoints": int(X.shape[2]),
-            "sample_rate_hz": json_value(ds.attrs.get("sample_rate_hz")),
+            "sample_rate_hz": fs,
             "split": {"train_sets": [json_value(s) for s in split.train_set],
                       "test_sets": [json_value(s) for s in split.test_set],
                       "n_train": int(X_tr.shape[0]), "n_test": int(X_te.shape[0]),

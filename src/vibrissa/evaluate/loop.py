@@ -1,7 +1,10 @@
 """What every experiment's evaluation shares: one fit-and-score step, progress, JSON values.
 
 - :func:`fit_predict` clones an estimator, fits it, classifies a test set and times
-  both (a :class:`FitRecord`); :func:`fit_and_score` adds a scorer. Chapter 4
+  both (a :class:`FitRecord`); :func:`fit_and_score` adds a scorer. Both pass the
+  dataset's sample rate to the estimator at fit and check it before classifying, so
+  an estimator built for another rate is refused (:func:`check_rates` refuses it
+  before any work). Chapter 4
   (:mod:`~vibrissa.evaluate.chapter4`) and chapter 5
   (:mod:`~vibrissa.evaluate.chapter5`) both go through it, so a classifier that fails
   is named the same way and every ``fit_seconds`` / ``classify_seconds`` in a
@@ -16,14 +19,24 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from sklearn.base import clone
 
-__all__ = ["FitRecord", "Progress", "ProgressLike", "fit_and_score", "fit_predict", "json_value"]
+from vibrissa.classify import check_sample_rate, sample_rate_fit_params
+
+__all__ = [
+    "FitRecord",
+    "Progress",
+    "ProgressLike",
+    "check_rates",
+    "fit_and_score",
+    "fit_predict",
+    "json_value",
+]
 
 #: A callable ``(done, total, description)``, a rich ``Progress`` or ``None``.
 ProgressLike = Any
@@ -77,8 +90,31 @@ class FitRecord:
         }
 
 
+def check_rates(classifiers: Mapping[str, Any], sample_rate_hz: float) -> None:
+    """Refuse, before any work, classifiers built for another rate than the data's.
+
+    Parameters
+    ----------
+    classifiers : mapping of str to estimator
+    sample_rate_hz : float
+        The dataset's sample rate, Hz.
+
+    Raises
+    ------
+    ValueError
+        Naming the classifier, the step, its rate and the dataset's
+        (:func:`vibrissa.classify.check_sample_rate`).
+    """
+    for name, est in classifiers.items():
+        try:
+            check_sample_rate(est, sample_rate_hz)
+        except ValueError as exc:
+            raise ValueError(f"classifier {name!r} does not fit the dataset: {exc}") from None
+
+
 def fit_predict(
-    name: str, estimator: Any, X_train: np.ndarray, y_train: np.ndarray, X_test: np.ndarray
+    name: str, estimator: Any, X_train: np.ndarray, y_train: np.ndarray, X_test: np.ndarray,
+    *, sample_rate_hz: float | None = None,
 ) -> FitRecord:
     """Fit a clone of ``estimator`` on the training set and classify the test set.
 
@@ -90,6 +126,10 @@ def fit_predict(
         Cloned, never modified.
     X_train, y_train, X_test : numpy.ndarray
         Trials ``(n, n_channels, n_timepoints)`` and label rows.
+    sample_rate_hz : float, optional
+        Sample rate of the trials, Hz: passed to every rate-aware step at fit
+        (:func:`vibrissa.classify.sample_rate_fit_params`) and checked against the
+        fitted estimator before it classifies the test set.
 
     Returns
     -------
@@ -104,7 +144,7 @@ def fit_predict(
     est = clone(estimator)
     t0 = time.perf_counter()
     try:
-        est.fit(X_train, y_train)
+        est.fit(X_train, y_train, **sample_rate_fit_params(est, sample_rate_hz))
     except Exception as exc:  # name the classifier, keep the original type where possible
         msg = f"classifier {name!r} failed to fit: {exc}"
         try:
@@ -113,6 +153,8 @@ def fit_predict(
             raise RuntimeError(msg) from exc
         raise wrapped from exc
     t1 = time.perf_counter()
+    if sample_rate_hz is not None:
+        check_sample_rate(est, sample_rate_hz)
     y_pred = np.asarray(est.predict(X_test), dtype=float)
     t2 = time.perf_counter()
     return FitRecord(est, y_pred, t1 - t0, t2 - t1, int(X_train.shape[0]), int(X_test.shape[0]))
@@ -126,6 +168,8 @@ def fit_and_score(
     X_test: np.ndarray,
     y_test: np.ndarray,
     score: Callable[[np.ndarray, np.ndarray, FitRecord], dict[str, Any]],
+    *,
+    sample_rate_hz: float | None = None,
 ) -> tuple[dict[str, Any], FitRecord]:
     """:func:`fit_predict`, then ``score(y_test, y_pred, record)`` plus the timing record.
 
@@ -134,7 +178,7 @@ def fit_and_score(
     ValueError
         When the predictions' shape differs from ``y_test``'s.
     """
-    rec = fit_predict(name, estimator, X_train, y_train, X_test)
+    rec = fit_predict(name, estimator, X_train, y_train, X_test, sample_rate_hz=sample_rate_hz)
     y_test = np.asarray(y_test, dtype=float)
     if rec.y_pred.shape != y_test.shape:
         raise ValueError(

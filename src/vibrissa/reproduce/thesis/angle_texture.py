@@ -33,12 +33,12 @@ class AngleTexture(Experiment):
 
     def evaluate(self, ds: xr.Dataset, *, seed: int, progress: Callable | None,
                  options: Mapping[str, int]) -> dict[str, Any]:
-        from vibrissa.classify import chapter5_classifiers, resonance_hz
+        from vibrissa.classify import chapter5_classifiers, dataset_sample_rate, resonance_hz
         from vibrissa.data import whisker_params
         from vibrissa.evaluate.chapter5 import run_chapter5
 
         notch = resonance_hz(whisker_params(ds))
-        clfs = chapter5_classifiers(float(ds.attrs["sample_rate_hz"]), notch_hz=notch)
+        clfs = chapter5_classifiers(dataset_sample_rate(ds), notch_hz=notch)
         results = run_chapter5(ds, clfs, seed=seed, progress=progress)
         results["meta"]["notch_hz"] = notch
         return results

@@ -53,11 +53,11 @@ class RadialDistance(Experiment):
 
     def evaluate(self, ds: xr.Dataset, *, seed: int, progress: Callable | None,
                  options: Mapping[str, int]) -> dict[str, Any]:
-        from vibrissa.classify import CHAPTER4_ONE_SET, chapter4_classifiers
+        from vibrissa.classify import CHAPTER4_ONE_SET, chapter4_classifiers, dataset_sample_rate
         from vibrissa.data import whisker_params
         from vibrissa.evaluate.chapter4 import run_chapter4
 
-        clfs = chapter4_classifiers(float(ds.attrs["sample_rate_hz"]), whisker_params(ds))
+        clfs = chapter4_classifiers(dataset_sample_rate(ds), whisker_params(ds))
         # The split that produced table 4.7 (the author's code): test on set 1; naive
         # Bayes (and the fitted static beam) train on sets 2-4 pooled, the template,
         # frequency and feature code on set 3 alone (docs/methods.md).
