@@ -64,6 +64,7 @@ import numpy as np
 from numba import njit
 
 BW = 8  # half bandwidth of the tangent matrices (3 DOF per node, 3-node stencil)
+STEADY_STEPS = 8  # steps of unchanged contact state before long steps are tried
 
 # contact kinds
 NO_CONTACT = 0
@@ -205,6 +206,14 @@ class SolverSettings(NamedTuple):
         Store positions and velocities every that many steps (0: never).
     stop_tan : float
         Stop after the first step whose |tan_x| reaches this (0: never).
+    stop_free : int
+        Stop after this many consecutive steps without contact force (0: never): the
+        hand-over point to the linear free-flight propagator.
+    max_stride : int
+        Largest step, in units of ``dt``, taken while the contact state is steady
+        (1: fixed steps; see :func:`run_dynamics`).
+    stride_tol : float
+        Largest local error estimate (m) of an accepted long step.
     """
 
     dt: float
@@ -215,6 +224,9 @@ class SolverSettings(NamedTuple):
     max_halvings: int
     record_every: int
     stop_tan: float
+    stop_free: int
+    max_stride: int
+    stride_tol: float
 
 
 class _StepWork(NamedTuple):
@@ -247,19 +259,32 @@ def band_add_block(S, a, b, blk, coef):
 
 @njit(cache=True)
 def band_factor(A):
-    """LU-factorise band matrix ``A`` in place (no pivoting). False if a pivot vanishes."""
+    """LU-factorise band matrix ``A`` in place (no pivoting). False if a pivot vanishes.
+
+    The diagonal receives the *reciprocals* of the pivots, which
+    :func:`band_backsolve` expects.
+    """
     n = A.shape[0]
+    rowk = np.empty(BW + 1)
     for k in range(n):
         piv = A[k, BW]
         if not (abs(piv) > 1e-300) or not np.isfinite(piv):
             return False
+        inv = 1.0 / piv
+        A[k, BW] = inv
         iend = min(n, k + BW + 1)
+        m = iend - k
+        # row k's upper band, copied so that the updates below are contiguous,
+        # non-aliasing loops
+        for jj in range(1, m):
+            rowk[jj] = A[k, BW + jj]
         for i in range(k + 1, iend):
-            lik = A[i, BW + k - i] / piv
+            base = BW + k - i
+            lik = A[i, base] * inv
             if lik != 0.0:
-                A[i, BW + k - i] = lik
-                for j in range(k + 1, iend):
-                    A[i, BW + j - i] -= lik * A[k, BW + j - k]
+                A[i, base] = lik
+                for jj in range(1, m):
+                    A[i, base + jj] -= lik * rowk[jj]
     return True
 
 
@@ -276,7 +301,7 @@ def band_backsolve(A, rhs):
         s = rhs[i]
         for j in range(i + 1, min(n, i + BW + 1)):
             s -= A[i, BW + j - i] * rhs[j]
-        rhs[i] = s / A[i, BW]
+        rhs[i] = s * A[i, BW]
 
 
 @njit(cache=True)
@@ -370,28 +395,46 @@ def add_internal(x, v, rod, damping, F, S, cD, cK, jac):
     beta_d = damping.beta_shaft
     beta_f = damping.beta_follicle
     n = x.shape[0]
-    t1 = np.empty(3)
-    t2 = np.empty(3)
-    d = np.empty(3)
-    g1 = np.empty(3)
-    g2 = np.empty(3)
-    de1 = np.empty(3)
-    de2 = np.empty(3)
-    ddot = np.empty(3)
-    r1 = np.empty(3)
-    r2 = np.empty(3)
-    tmp = np.empty(3)
-    P1 = np.empty((3, 3))
-    P2 = np.empty((3, 3))
-    G1 = np.empty((3, 3))
-    G2 = np.empty((3, 3))
-    H = np.empty((3, 3))
-    J12 = np.empty((3, 3))
+    vec = np.empty((11, 3))
+    t1 = vec[0]
+    t2 = vec[1]
+    d = vec[2]
+    g1 = vec[3]
+    g2 = vec[4]
+    de1 = vec[5]
+    de2 = vec[6]
+    ddot = vec[7]
+    r1 = vec[8]
+    r2 = vec[9]
+    tmp = vec[10]
+    mat = np.empty((6, 3, 3))
+    P1 = mat[0]
+    P2 = mat[1]
+    G1 = mat[2]
+    G2 = mat[3]
+    H = mat[4]
+    J12 = mat[5]
+    # unit tangents and lengths of every edge, computed once
+    tan = np.empty((n - 1, 3))
+    lens = np.empty(n - 1)
+    for e in range(n - 1):
+        e0 = x[e + 1, 0] - x[e, 0]
+        e1 = x[e + 1, 1] - x[e, 1]
+        e2 = x[e + 1, 2] - x[e, 2]
+        ln = np.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+        il = 1.0 / ln
+        tan[e, 0] = e0 * il
+        tan[e, 1] = e1 * il
+        tan[e, 2] = e2 * il
+        lens[e] = ln
     # --- stretching of every edge
     for e in range(n - 1):
         a = e
         b = e + 1
-        ln = _edge(x, a, b, t1)
+        ln = lens[e]
+        t1[0] = tan[e, 0]
+        t1[1] = tan[e, 1]
+        t1[2] = tan[e, 2]
         ka = EA[e] / L0[e]
         rate = (
             t1[0] * (v[b, 0] - v[a, 0]) + t1[1] * (v[b, 1] - v[a, 1]) + t1[2] * (v[b, 2] - v[a, 2])
@@ -417,7 +460,10 @@ def add_internal(x, v, rod, damping, F, S, cD, cK, jac):
                     S[ra, BW + 3 * b + c - ra] -= h
                     S[rb, BW + 3 * a + c - rb] -= h
     # --- follicle: k_f/2 |t0 - axis|^2 ; only node 1 moves (node 0 is the pivot)
-    l2 = _edge(x, 0, 1, t2)
+    l2 = lens[0]
+    t2[0] = tan[0, 0]
+    t2[1] = tan[0, 1]
+    t2[2] = tan[0, 2]
     _proj_into(t2, P2)
     k = 0.5 * kf
     for c in range(3):
@@ -445,21 +491,25 @@ def add_internal(x, v, rod, damping, F, S, cD, cK, jac):
         a = i - 1
         b = i
         c = i + 1
-        l1 = _edge(x, a, b, t1)
-        l2 = _edge(x, b, c, t2)
+        l1 = lens[a]
+        l2 = lens[b]
+        il1 = 1.0 / l1
+        il2 = 1.0 / l2
         for q in range(3):
+            t1[q] = tan[a, q]
+            t2[q] = tan[b, q]
             d[q] = t2[q] - t1[q]
             de1[q] = v[b, q] - v[a, q]
             de2[q] = v[c, q] - v[b, q]
-        _pvec(t1, d, g1, -1.0 / l1)
-        _pvec(t2, d, g2, 1.0 / l2)
+        _pvec(t1, d, g1, -il1)
+        _pvec(t2, d, g2, il2)
         if beta_d != 0.0:
-            _pvec(t1, de1, r1, -1.0 / l1)
-            _pvec(t2, de2, tmp, 1.0 / l2)
+            _pvec(t1, de1, r1, -il1)
+            _pvec(t2, de2, tmp, il2)
             for q in range(3):
                 ddot[q] = r1[q] + tmp[q]
-            _pvec(t1, ddot, r1, -1.0 / l1)
-            _pvec(t2, ddot, r2, 1.0 / l2)
+            _pvec(t1, ddot, r1, -il1)
+            _pvec(t2, ddot, r2, il2)
         else:
             for q in range(3):
                 r1[q] = 0.0
@@ -550,6 +600,18 @@ def _add_weighted(S, i0, w, blk, coef):
     for p in range(m):
         for q in range(m):
             ww = w[p] * w[q] * coef
+            if ww != 0.0:
+                band_add_block(S, i0 + p, i0 + q, blk, ww)
+
+
+@njit(cache=True)
+def _add_weighted3(S, i0, w0, w1, w2, blk):
+    """Add w_p w_q blk to the blocks of nodes (i0, i0 + 1, i0 + 2)^2."""
+    for p in range(3):
+        wp = w0 if p == 0 else (w1 if p == 1 else w2)
+        for q in range(3):
+            wq = w0 if q == 0 else (w1 if q == 1 else w2)
+            ww = wp * wq * 1.0
             if ww != 0.0:
                 band_add_block(S, i0 + p, i0 + q, blk, ww)
 
@@ -703,46 +765,66 @@ def add_pole(x, v, rod, contact, pole, anchor, F, S, cD, cK, jac, info):
     j = bj
     u = bu
     w0, w1, w2, i0 = _curve_weights(n, j, u)
-    w = np.array([w0, w1, w2])
-    q = w0 * x[i0] + w1 * x[i0 + 1] + w2 * x[i0 + 2]
+    q0 = w0 * x[i0, 0] + w1 * x[i0 + 1, 0] + w2 * x[i0 + 2, 0]
+    q1 = w0 * x[i0, 1] + w1 * x[i0 + 1, 1] + w2 * x[i0 + 2, 1]
+    q2 = w0 * x[i0, 2] + w1 * x[i0 + 1, 2] + w2 * x[i0 + 2, 2]
     s_c = w0 * s_rest[i0] + w1 * s_rest[i0 + 1] + w2 * s_rest[i0 + 2]
     rad_c = w0 * radius[i0] + w1 * radius[i0 + 1] + w2 * radius[i0 + 2]
-    tw = _curve_tangent(x, n, j, u)
+    # unit tangent of the centreline at (j, u) (see _curve_tangent)
+    if j == 1:
+        tw0 = x[2, 0] - x[1, 0]
+        tw1 = x[2, 1] - x[1, 1]
+        tw2 = x[2, 2] - x[1, 2]
+    elif j == n - 1:
+        tw0 = x[n - 1, 0] - x[n - 2, 0]
+        tw1 = x[n - 1, 1] - x[n - 2, 1]
+        tw2 = x[n - 1, 2] - x[n - 2, 2]
+    else:
+        tw0 = (1.0 - u) * (x[j, 0] - x[j - 1, 0]) + u * (x[j + 1, 0] - x[j, 0])
+        tw1 = (1.0 - u) * (x[j, 1] - x[j - 1, 1]) + u * (x[j + 1, 1] - x[j, 1])
+        tw2 = (1.0 - u) * (x[j, 2] - x[j - 1, 2]) + u * (x[j + 1, 2] - x[j, 2])
+    tl = np.sqrt(tw0 * tw0 + tw1 * tw1 + tw2 * tw2)
+    tw0 = tw0 / tl
+    tw1 = tw1 / tl
+    tw2 = tw2 / tl
     info[1] = s_c
-    nx = q[0] - pole[0]
-    nz = q[2] - pole[1]
+    nx = q0 - pole[0]
+    nz = q2 - pole[1]
     nd = np.sqrt(nx * nx + nz * nz)
     if nd == 0.0:
         return
-    nvec = np.array([nx / nd, 0.0, nz / nd])
+    nv0 = nx / nd
+    nv2 = nz / nd
     # which side of the pole the shaft is on (sign of the offset across the segment);
     # remembered between steps so that a fast whisker cannot tunnel through the pole
     at_tip = j == n - 1 and u >= 1.0
     side_now = 0.0
     if not at_tip:
-        side_now = 1.0 if nx * tw[2] - nz * tw[0] >= 0.0 else -1.0
+        side_now = 1.0 if nx * tw2 - nz * tw0 >= 0.0 else -1.0
     info[11] = side_now
     pen = -best
     if anchor[4] != 0.0 and side_now != 0.0 and side_now != anchor[4]:
         # crossed to the wrong side within a step: push back out the way it came
-        nvec[0] = -nvec[0]
-        nvec[2] = -nvec[2]
+        nv0 = -nv0
+        nv2 = -nv2
         pen = nd + pole_radius + rad_c
     info[3] = -pen
     fpen, kpen, dramp = _penalty(kn, pen)
     if kpen == 0.0:
         return
-    vq = w0 * v[i0] + w1 * v[i0 + 1] + w2 * v[i0 + 2]
-    vrel = vq - pole_v
-    vn = vrel[0] * nvec[0] + vrel[2] * nvec[2]
+    vr0 = (w0 * v[i0, 0] + w1 * v[i0 + 1, 0] + w2 * v[i0 + 2, 0]) - pole_v[0]
+    vr2 = (w0 * v[i0, 2] + w1 * v[i0 + 1, 2] + w2 * v[i0 + 2, 2]) - pole_v[2]
+    vn = vr0 * nv0 + vr2 * nv2
+    blk = np.empty((3, 3))
     if fpen == 0.0:
         # just outside contact: stiffness only (see _penalty)
         if jac:
-            blk = np.empty((3, 3))
             for p in range(3):
+                np_ = nv0 if p == 0 else (0.0 if p == 1 else nv2)
                 for r in range(3):
-                    blk[p, r] = cK * kpen * nvec[p] * nvec[r]
-            _add_weighted(S, i0, w, blk, 1.0)
+                    nr_ = nv0 if r == 0 else (0.0 if r == 1 else nv2)
+                    blk[p, r] = cK * kpen * np_ * nr_
+            _add_weighted3(S, i0, w0, w1, w2, blk)
         return
     ramp = kpen / kn  # damping ramps in with the penalty (no force jump at touch)
     damp = -cn * ramp * vn if vn < 0.0 else 0.0
@@ -751,28 +833,31 @@ def add_pole(x, v, rod, contact, pole, anchor, F, S, cD, cK, jac, info):
     if fn < 0.0:
         fn = 0.0
     # tangential directions: along the whisker (in contact plane) and along the pole (y)
-    tn = tw[0] * nvec[0] + tw[2] * nvec[2]
-    for c in range(3):
-        tw[c] -= tn * nvec[c]
-    tw, _ = _unit(tw)
+    tn = tw0 * nv0 + tw2 * nv2
+    tw0 -= tn * nv0
+    tw2 -= tn * nv2
+    tl = np.sqrt(tw0 * tw0 + tw1 * tw1 + tw2 * tw2)
+    tw0 = tw0 / tl
+    tw1 = tw1 / tl
+    tw2 = tw2 / tl
     # angle of the contact normal about +y: the contact point's position on the pole
-    psi = np.arctan2(-nvec[2], nvec[0])
+    psi = np.arctan2(-nv2, nv0)
     if anchor[2] <= 0.0:
         # first touch: stick where the contact is first found
         anchor[0] = s_c
-        anchor[1] = q[1] - pole[4]
+        anchor[1] = q1 - pole[4]
         anchor[2] = 1.0
         anchor[3] = psi
     # slip = arc travelled by the contact along the whisker minus that along the pole's
     # surface (rolling on the round pole moves the contact without any slip)
-    sigma = nvec[2] * tw[0] - nvec[0] * tw[2]
+    sigma = nv2 * tw0 - nv0 * tw2
     dpsi = psi - anchor[3]
     if dpsi > np.pi:
         dpsi -= 2.0 * np.pi
     elif dpsi < -np.pi:
         dpsi += 2.0 * np.pi
     rel_s = -(s_c - anchor[0]) + sigma * pole_radius * dpsi
-    rel_y = q[1] - pole[4] - anchor[1]  # anchor[1] is in the pole's own frame
+    rel_y = q1 - pole[4] - anchor[1]  # anchor[1] is in the pole's own frame
     # elasto-plastic Coulomb friction with a presliding distance: the tangential
     # stiffness is mu * N / d_slip, so the contact slips once the elastic tangential
     # displacement exceeds d_slip (``kt`` holds d_slip in metres)
@@ -790,42 +875,49 @@ def add_pole(x, v, rod, contact, pole, anchor, F, S, cD, cK, jac, info):
         ft_y *= scale
         rel_s *= scale
         rel_y *= scale
-    fvec = np.empty(3)
-    for c in range(3):
-        fvec[c] = fn * nvec[c] + ft_s * tw[c]
-    fvec[1] += ft_y
-    for c in range(3):
-        F[i0, c] += w0 * fvec[c]
-        F[i0 + 1, c] += w1 * fvec[c]
-        F[i0 + 2, c] += w2 * fvec[c]
+    fv0 = fn * nv0 + ft_s * tw0
+    fv1 = fn * 0.0 + ft_s * tw1
+    fv2 = fn * nv2 + ft_s * tw2
+    fv1 += ft_y
+    F[i0, 0] += w0 * fv0
+    F[i0, 1] += w0 * fv1
+    F[i0, 2] += w0 * fv2
+    F[i0 + 1, 0] += w1 * fv0
+    F[i0 + 1, 1] += w1 * fv1
+    F[i0 + 1, 2] += w1 * fv2
+    F[i0 + 2, 0] += w2 * fv0
+    F[i0 + 2, 1] += w2 * fv1
+    F[i0 + 2, 2] += w2 * fv2
     info[0] = fn
     info[2] = 1.0 if slipping else 0.0
     info[4] = s_c + rel_s  # re-anchored at the current pole angle, same elastic slip
-    info[5] = q[1] - pole[4] - rel_y
+    info[5] = q1 - pole[4] - rel_y
     info[6] = 1.0
     info[9] = psi
-    info[10] = fvec[1]
-    info[7] = fvec[0]
-    info[8] = fvec[2]
+    info[10] = fv1
+    info[7] = fv0
+    info[8] = fv2
     if jac:
-        blk = np.empty((3, 3))
-        ey = np.array([0.0, 1.0, 0.0])
         # friction scales with the normal force (non-symmetric term); when slipping,
         # the consistent tangent of the return map kt * ratio * (P_t - f f^T)
-        fdir = np.empty(3)
-        for c in range(3):
-            fdir[c] = (ft_s * tw[c] + ft_y * ey[c]) / max(lim, 1e-300)
+        inv_lim = 1.0 / max(lim, 1e-300)
         for p in range(3):
+            twp = tw0 if p == 0 else (tw1 if p == 1 else tw2)
+            eyp = 1.0 if p == 1 else 0.0
+            nvp = nv0 if p == 0 else (0.0 if p == 1 else nv2)
+            fdp = (ft_s * twp + ft_y * eyp) * inv_lim
             for r in range(3):
-                pt = tw[p] * tw[r] + ey[p] * ey[r]
+                twr = tw0 if r == 0 else (tw1 if r == 1 else tw2)
+                eyr = 1.0 if r == 1 else 0.0
+                nvr = nv0 if r == 0 else (0.0 if r == 1 else nv2)
+                fdr = (ft_s * twr + ft_y * eyr) * inv_lim
+                pt = twp * twr + eyp * eyr
                 if slipping:
-                    pt = scale * (pt - fdir[p] * fdir[r])
-                blk[p, r] = cK * (
-                    kpen * nvec[p] * nvec[r] + mu * kpen * fdir[p] * nvec[r] + kt_eff * pt
-                )
+                    pt = scale * (pt - fdp * fdr)
+                blk[p, r] = cK * (kpen * nvp * nvr + mu * kpen * fdp * nvr + kt_eff * pt)
                 if vn < 0.0:
-                    blk[p, r] += cD * cn * ramp * nvec[p] * nvec[r]
-        _add_weighted(S, i0, w, blk, 1.0)
+                    blk[p, r] += cD * cn * ramp * nvp * nvr
+        _add_weighted3(S, i0, w0, w1, w2, blk)
 
 
 @njit(cache=True)
@@ -1224,7 +1316,101 @@ def _ga_step(state, work, rod, damping, contact, tr, anchors, h, settings):
 
 
 @njit(cache=True)
-def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, records):
+def _try_stride(state, work, rod, damping, contact, traj, anchors, settings, k, K,
+                prev_contact, prev_slip, out):
+    """Try one step of ``K * dt`` from step ``k``; keep it only if the contact state
+    stayed the same and the local error estimate is within ``settings.stride_tol``.
+
+    On success rows ``out[k + 1 .. k + K]`` are filled (the intermediate rows by
+    cubic Hermite interpolation of the magnet's motion, forces linearly) and True is
+    returned; otherwise the state and anchors are restored and False is returned.
+    The error estimate is Zienkiewicz and Xie's for the Newmark family,
+    ``(beta - 1/6) h^2 max |a_{n+1} - a_n|``.
+    """
+    x = state.x
+    v = state.v
+    a = state.a
+    xn = work.xn
+    vn = work.vn
+    an = work.an
+    info = work.info
+    dt = settings.dt
+    af = settings.rho_inf / (settings.rho_inf + 1.0)
+    am = (2.0 * settings.rho_inf - 1.0) / (settings.rho_inf + 1.0)
+    beta = 0.25 * (1.0 - am + af) ** 2
+    h = K * dt
+    pa_save = anchors.pole.copy()
+    pl_save = anchors.plane.copy()
+    tf = k + (1.0 - af) * K  # the alpha point, in steps
+    i0 = int(tf)
+    w = tf - i0
+    tr = np.empty(traj.shape[1])
+    for c in range(traj.shape[1]):
+        tr[c] = (1.0 - w) * traj[i0, c] + w * traj[i0 + 1, c]
+    ok = _ga_step(state, work, rod, damping, contact, tr, anchors, h, settings)
+    if ok:
+        contact_now = 1.0 if info[0] > 0.0 else 0.0
+        ok = contact_now == prev_contact and info[2] == prev_slip
+    if ok:
+        da = 0.0
+        for i in range(x.shape[0]):
+            for c in range(3):
+                d = abs(a[i, c] - an[i, c])
+                if d > da:
+                    da = d
+        ok = (beta - 1.0 / 6.0) * h * h * da <= settings.stride_tol
+    if not ok:
+        x[:, :] = xn
+        v[:, :] = vn
+        a[:, :] = an
+        anchors.pole[:] = pa_save
+        anchors.plane[:, :] = pl_save
+        work.newton[0] = 1.0
+        return False
+    commit_anchors(contact.kind, info, anchors)
+    # outputs: the end of the step, and the rows in between interpolated
+    p00 = xn[0, 0]
+    p01 = xn[0, 1]
+    p02 = xn[0, 2]
+    end = np.empty(8)
+    end[2] = info[0]
+    end[3] = info[1]
+    end[4] = info[2]
+    if contact.kind == POLE:
+        end[5] = info[7]
+        end[6] = info[8]
+    else:
+        end[5] = info[4]
+        end[6] = info[5]
+    for j in range(1, K + 1):
+        sj = j / K
+        h00 = (2.0 * sj - 3.0) * sj * sj + 1.0
+        h10 = ((sj - 2.0) * sj + 1.0) * sj
+        h01 = (3.0 - 2.0 * sj) * sj * sj
+        h11 = (sj - 1.0) * sj * sj
+        q = np.empty(3)
+        for c in range(3):
+            q[c] = h00 * xn[1, c] + h10 * h * vn[1, c] + h01 * x[1, c] + h11 * h * v[1, c]
+        if j == K:
+            for c in range(3):
+                q[c] = x[1, c]
+        row = k + j
+        out[row, 0] = (q[0] - p00) / (q[2] - p02)
+        out[row, 1] = (q[1] - p01) / (q[2] - p02)
+        for c in range(2, 7):
+            if c == 4:
+                out[row, c] = end[4]
+            else:
+                out[row, c] = (1.0 - sj) * out[k, c] + sj * end[c]
+        out[row, 7] = work.newton[3] if j == K else 0.0
+    xn[:, :] = x
+    vn[:, :] = v
+    an[:, :] = a
+    return True
+
+
+@njit(cache=True)
+def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, records, status):
     """Integrate ``len(traj) - 1`` steps of size ``settings.dt`` from ``state`` in place.
 
     ``state`` (:class:`NodeState`) and ``anchors`` (:class:`Anchors`) are advanced in
@@ -1245,10 +1431,12 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
 
     If ``settings.stop_tan > 0`` the integration stops after the first step whose
     |tan_x| reaches it (an event for closed-loop control); ``state`` and ``anchors``
-    then hold the state at that step, ready to continue.
+    then hold the state at that step, ready to continue. If ``settings.stop_free > 0``
+    it likewise stops after that many consecutive steps without contact force.
 
     Returns the number of completed steps (less than requested if a step failed or
-    the stop event fired).
+    a stop event fired); ``status[0]`` says why it returned: 0 all steps done, 1 the
+    ``stop_tan`` event, 2 the ``stop_free`` event, -1 a step failed.
     """
     x = state.x
     v = state.v
@@ -1262,6 +1450,9 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
     max_halvings = settings.max_halvings
     state_every = settings.record_every
     stop_tan = settings.stop_tan
+    stop_free = settings.stop_free
+    n_free = 0
+    status[0] = 0
     n = x.shape[0]
     nsteps = traj.shape[0] - 1
     af = rho_inf / (rho_inf + 1.0)
@@ -1296,9 +1487,33 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
     prev_contact = 0.0
     prev_slip = 0.0
     max_sub = 1 << max_halvings
-    for k in range(nsteps):
+    max_stride = settings.max_stride if state_every == 0 else 1
+    steady = 0  # steps since the contact state last changed (or a long step failed)
+    k = 0
+    while k < nsteps:
         if newton[1] >= refactor_every:
             newton[0] = 1.0
+        # a long step while the contact state is steady
+        K = max_stride
+        while K > 1 and (steady < STEADY_STEPS or k + K > nsteps):
+            K //= 2
+        if K > 1:
+            if _try_stride(state, work, rod, damping, contact, traj, anchors, settings, k, K,
+                           prev_contact, prev_slip, out):
+                stop = False
+                for j in range(k + 1, k + K + 1):
+                    if stop_tan > 0.0 and abs(out[j, 0]) >= stop_tan:
+                        status[0] = 1
+                        return j
+                    n_free = n_free + 1 if out[j, 2] == 0.0 else 0
+                    if stop_free > 0 and n_free >= stop_free:
+                        stop = True
+                k += K
+                if stop:
+                    status[0] = 2
+                    return k
+                continue
+            steady = 0
         sub = 1
         done = 0  # completed sub-steps, in units of 1/sub
         iters = 0
@@ -1314,6 +1529,7 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
                 pole_anchor[:] = pa_save
                 plane_anchors[:, :] = pl_save
                 if sub >= max_sub:
+                    status[0] = -1
                     return k
                 sub *= 2
                 done *= 2
@@ -1323,6 +1539,9 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
             contact_now = 1.0 if info[0] > 0.0 else 0.0
             if contact_now != prev_contact or info[2] != prev_slip:
                 newton[0] = 1.0
+                steady = 0
+            else:
+                steady += 1
             prev_contact = contact_now
             prev_slip = info[2]
             xn[:, :] = x
@@ -1346,5 +1565,127 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
             records[si, 1] = v
             si += 1
         if stop_tan > 0.0 and abs(out[k + 1, 0]) >= stop_tan:
+            status[0] = 1
             return k + 1
+        n_free = n_free + 1 if info[0] == 0.0 else 0
+        if stop_free > 0 and n_free >= stop_free:
+            status[0] = 2
+            return k + 1
+        k += 1
     return nsteps
+
+
+# ----------------------------------------------------------------------------------
+# linear free flight (see vibrissa.whisker.modal)
+# ----------------------------------------------------------------------------------
+@njit(cache=True)
+def modal_advance(z, decay, out_modes, pivot, magnet_rest, steps, stop_tan, out):
+    """Advance complex modal amplitudes ``z`` by ``steps`` exact steps, in place.
+
+    ``decay[k] = exp(lambda_k dt)``; ``out_modes`` (3, m) maps the amplitudes to the
+    displacement of node 1 (the magnet end of the follicle's rigid edge) so that its
+    position is ``magnet_rest + Re(out_modes @ z)``; ``pivot`` is node 0. Rows
+    ``out[1..]`` receive [tan_x, tan_y, 0 (no contact force), nan (no contact
+    point), 0, 0, 0, 0 (no Newton iterations)], in :func:`run_dynamics`' layout.
+    Stops after the first step whose |tan_x| reaches ``stop_tan`` (if > 0). Returns
+    the number of steps done.
+    """
+    m = z.shape[0]
+    # real and imaginary parts in separate arrays: plain multiply-adds
+    zr = np.empty(m)
+    zi = np.empty(m)
+    dr = np.empty(m)
+    di = np.empty(m)
+    wr = np.empty((3, m))
+    wi = np.empty((3, m))
+    for j in range(m):
+        zr[j] = z[j].real
+        zi[j] = z[j].imag
+        dr[j] = decay[j].real
+        di[j] = decay[j].imag
+        for c in range(3):
+            wr[c, j] = out_modes[c, j].real
+            wi[c, j] = out_modes[c, j].imag
+    done = steps
+    for k in range(steps):
+        u0 = 0.0
+        u1 = 0.0
+        u2 = 0.0
+        for j in range(m):
+            a = zr[j] * dr[j] - zi[j] * di[j]
+            b = zr[j] * di[j] + zi[j] * dr[j]
+            # a decayed mode is set to zero before it reaches the subnormal range,
+            # where floating-point arithmetic is very slow
+            if abs(a) + abs(b) < 1e-250:
+                a = 0.0
+                b = 0.0
+            zr[j] = a
+            zi[j] = b
+            u0 += wr[0, j] * a - wi[0, j] * b
+            u1 += wr[1, j] * a - wi[1, j] * b
+            u2 += wr[2, j] * a - wi[2, j] * b
+        ez = magnet_rest[2] + u2 - pivot[2]
+        out[k + 1, 0] = (magnet_rest[0] + u0 - pivot[0]) / ez
+        out[k + 1, 1] = (magnet_rest[1] + u1 - pivot[1]) / ez
+        out[k + 1, 2] = 0.0
+        out[k + 1, 3] = np.nan
+        for c in range(4, 8):
+            out[k + 1, c] = 0.0
+        if stop_tan > 0.0 and abs(out[k + 1, 0]) >= stop_tan:
+            done = k + 1
+            break
+    for j in range(m):
+        z[j] = zr[j] + 1j * zi[j]
+    return done
+
+
+@njit(cache=True)
+def first_possible_contact(kind, params, frame, h_max, traj, x_rest, radius, bound, margin,
+                           first_node):
+    """First row of ``traj`` at which the object could touch the whisker, or len(traj).
+
+    The whisker stays within ``bound[i]`` (m) of its rest position ``x_rest[i]``
+    (a decreasing bound of the free motion), so contact is impossible while every
+    node's clearance from the object, less that bound, exceeds ``margin`` (m).
+    A pole (``kind`` POLE, radius ``params[0]``, axis along y at ``traj[t, 0:2]`` =
+    (x, z)) is checked against each segment of the free shaft; a plane (``kind``
+    PLANE, rows of ``frame`` its normal and in-plane axes, origin ``traj[t, 0:3]``,
+    heights at most ``h_max``) against each node from ``first_node``.
+    """
+    nt = traj.shape[0]
+    n = x_rest.shape[0]
+    if kind == POLE:
+        rp = params[0]
+        for t in range(nt):
+            px = traj[t, 0]
+            pz = traj[t, 1]
+            for j in range(1, n - 1):
+                ax = x_rest[j, 0]
+                az = x_rest[j, 2]
+                bx = x_rest[j + 1, 0] - ax
+                bz = x_rest[j + 1, 2] - az
+                ll = bx * bx + bz * bz
+                u = ((px - ax) * bx + (pz - az) * bz) / ll if ll > 0.0 else 0.0
+                u = min(1.0, max(0.0, u))
+                dx = ax + u * bx - px
+                dz = az + u * bz - pz
+                clear = (
+                    np.sqrt(dx * dx + dz * dz) - rp - max(radius[j], radius[j + 1])
+                    - max(bound[j], bound[j + 1])
+                )
+                if clear <= margin:
+                    return t
+        return nt
+    if kind == PLANE:
+        nrm = frame[0]
+        for t in range(nt):
+            for i in range(first_node, n):
+                zc = (
+                    nrm[0] * (x_rest[i, 0] - traj[t, 0])
+                    + nrm[1] * (x_rest[i, 1] - traj[t, 1])
+                    + nrm[2] * (x_rest[i, 2] - traj[t, 2])
+                )
+                if zc - h_max - radius[i] - bound[i] <= margin:
+                    return t
+        return nt
+    return nt

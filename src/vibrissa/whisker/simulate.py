@@ -28,6 +28,9 @@ from vibrissa.whisker._kernels import (
     RodArrays,
     SolverSettings,
     add_internal,
+    add_pole,
+    first_possible_contact,
+    modal_advance,
     run_dynamics,
 )
 from vibrissa.whisker.hall import HallSensor, calibrated_gain
@@ -405,6 +408,124 @@ def _contact_spec(
     return spec, traj
 
 
+#: Consecutive contact-free steps before the hand-over to linear free flight is
+#: tried, and the contact-free steps between later tries (when the whisker was not
+#: yet linear enough).
+FREE_STEPS_FIRST = 8
+FREE_STEPS_RETRY = 40
+#: Linear free flight is used only for stretches of at least this many steps.
+MIN_LINEAR_STEPS = 16
+#: Clearance (m) kept between an object and the bound of the free whisker's motion:
+#: the nonlinear rod takes over before the object comes closer.
+CONTACT_MARGIN_M = 0.5e-3
+
+
+def _hybrid(
+    model: RodModel,
+    rod: RodArrays,
+    damping: Damping,
+    spec: ContactSpec,
+    traj: np.ndarray,
+    settings: SolverSettings,
+    out: np.ndarray,
+    states: np.ndarray,
+    node: NodeState,
+    anchors: Anchors,
+) -> tuple[int, int]:
+    """Integrate, alternating the nonlinear rod and exact linear free flight.
+
+    Returns the steps done and the status code of :func:`run_dynamics`.
+    """
+    from vibrissa.whisker.modal import (
+        ENERGY_TOL,
+        LINEARITY_TOL,
+        linear_modes,
+    )
+
+    lm = linear_modes(model)
+    n_steps = traj.shape[0] - 1
+    decay = lm.reduced(np.exp(lm.eigenvalues * settings.dt))
+    h_max = float(spec.heights.max()) if spec.kind == PLANE else 0.0
+    status_arr = np.zeros(1, dtype=np.int64)
+    k = 0
+    free_steps = FREE_STEPS_FIRST
+    x, v, a = node
+    # row 0: the initial state (the nonlinear kernel writes it too, when it starts)
+    out[0, 0] = (x[1, 0] - x[0, 0]) / (x[1, 2] - x[0, 2])
+    out[0, 1] = (x[1, 1] - x[0, 1]) / (x[1, 2] - x[0, 2])
+    while k < n_steps:
+        # --- linear free flight, if nothing can touch the whisker for a while
+        z, lost = lm.amplitudes(x, v)
+        if lost <= ENERGY_TOL and lm.nonlinearity(x) <= LINEARITY_TOL:
+            bound = np.einsum("ij,j->i", lm.node_bound, np.abs(z))
+            zr = lm.reduced(z)
+            k_end = k + first_possible_contact(
+                spec.kind, spec.params, spec.frame, h_max, traj[k:], lm.x_rest,
+                rod.radius, bound, CONTACT_MARGIN_M, spec.first_node,
+            )
+            k_end = min(max(k_end - 1, k), n_steps)
+            if k_end - k >= MIN_LINEAR_STEPS or k_end == n_steps > k:
+                row = out[k].copy()
+                wanted = k_end - k
+                n_done = modal_advance(
+                    zr, decay, lm.magnet, lm.x_rest[0], lm.x_rest[1], wanted,
+                    settings.stop_tan, out[k:],
+                )
+                out[k] = row
+                k += n_done
+                xl, vl = lm.state(lm.expanded(zr))
+                x[:, :] = xl
+                v[:, :] = vl
+                a[:, :] = _initial_acceleration(rod, damping, x, v)
+                _reset_contact_memory(spec, traj[k], rod, x, v, anchors)
+                if n_done < wanted:  # the stop event fired
+                    return k, 1
+                if k >= n_steps:
+                    return k, 0
+                free_steps = FREE_STEPS_FIRST
+        # --- the nonlinear rod until it has been free of contact for a while
+        row = out[k].copy()
+        done = run_dynamics(
+            node, anchors, rod, damping, spec, traj[k:], settings._replace(stop_free=free_steps),
+            out[k:], states, status_arr,
+        )
+        out[k] = row
+        k += done
+        status = int(status_arr[0])
+        if status != 2:
+            return k, status
+        free_steps = FREE_STEPS_RETRY
+    return k, 0
+
+
+def _reset_contact_memory(
+    spec: ContactSpec,
+    tr: np.ndarray,
+    rod: RodArrays,
+    x: np.ndarray,
+    v: np.ndarray,
+    anchors: Anchors,
+) -> None:
+    """Friction and side memory for a whisker coming out of free flight.
+
+    No stick anchor survives free flight; a pole's "side" memory is set to the side
+    the shaft is on now, as :func:`~vibrissa.whisker._kernels.add_pole` would have
+    remembered it out of contact.
+    """
+    anchors.pole[:] = 0.0
+    anchors.plane[:, :] = 0.0
+    if spec.kind != POLE:
+        return
+    n = x.shape[0]
+    info = np.zeros(12)
+    F = np.zeros((n, 3))
+    S = np.zeros((3 * n, 2 * BW + 1))
+    add_pole(x, v, rod, spec, tr, anchors.pole, F, S, 0.0, 0.0, False, info)
+    anchors.pole[:] = 0.0
+    if info[3] > 0.0:
+        anchors.pole[4] = info[11]
+
+
 def simulate(
     model: RodModel,
     contact: PoleContact | SurfaceContact | None,
@@ -421,6 +542,9 @@ def simulate(
     max_halvings: int = 6,
     initial_state: DynamicState | None = None,
     stop_when_tan_x_exceeds: float | None = None,
+    linear_free_flight: bool = True,
+    max_stride: int = 2,
+    stride_tol_m: float = 3e-7,
 ) -> SimulationResult:
     """Integrate the whisker's motion for ``duration_s`` seconds.
 
@@ -459,6 +583,20 @@ def simulate(
     stop_when_tan_x_exceeds
         Stop early after the first step at which |tan_x| of the magnet reaches this
         value (an event for closed-loop control); ``result.stopped_early`` tells.
+    linear_free_flight
+        Advance the whisker exactly in its linear modes while nothing can touch it
+        and its deflection is small (:mod:`vibrissa.whisker.modal`), switching back
+        to the nonlinear rod before any contact; False integrates every step with
+        the nonlinear rod. Always off when ``record_every`` > 0. During linear
+        free flight ``contact_arc_mm`` is nan and ``newton_iterations`` 0.
+    max_stride
+        While the contact state (touching or not, sticking or slipping) has not
+        changed for a few steps, try steps of up to this many ``dt_s``; one is kept
+        only if the contact state stays the same and its local error estimate is
+        within ``stride_tol_m``; rows inside it are interpolated (cubic Hermite for
+        the magnet, linear for forces). 1 takes every step at ``dt_s``.
+    stride_tol_m
+        Largest local error estimate (m) of a long step.
 
     Raises
     ------
@@ -516,23 +654,29 @@ def simulate(
         max_halvings=int(max_halvings),
         record_every=int(record_every),
         stop_tan=float(stop),
+        stop_free=0,
+        max_stride=int(max_stride),
+        stride_tol=float(stride_tol_m),
     )
     out = np.zeros((n_steps + 1, 8))
     n_states = (n_steps // record_every + 1) if record_every > 0 else 1
     states = np.zeros((n_states, 2, n, 3))
-    done = run_dynamics(
-        NodeState(x, v, a),
-        Anchors(pole_anchor, plane_anchors),
-        rod,
-        damping,
-        spec,
-        traj,
-        settings,
-        out,
-        states,
-    )
-    stopped = stop > 0 and done < n_steps and abs(out[done, 0]) >= stop
-    if (done < n_steps and not stopped) or not np.all(np.isfinite(out[: done + 1])):
+    node_state = NodeState(x, v, a)
+    anchors = Anchors(pole_anchor, plane_anchors)
+    if linear_free_flight and record_every == 0:
+        done, status = _hybrid(
+            model, rod, damping, spec, traj, settings, out, states, node_state, anchors
+        )
+    else:
+        status_arr = np.zeros(1, dtype=np.int64)
+        done = run_dynamics(
+            node_state, anchors, rod, damping, spec, traj, settings, out, states, status_arr
+        )
+        status = int(status_arr[0])
+    stopped = status == 1
+    if status < 0 or (done < n_steps and not stopped) or not np.all(
+        np.isfinite(out[: done + 1, [0, 1, 2, 4, 5, 6, 7]])
+    ):
         raise SimulationError(
             f"simulation diverged or failed to converge at t = {t0 + done * dt:.5f} s "
             f"(step {done} of {n_steps}); try a smaller dt_s"
