@@ -18,10 +18,19 @@ import pytest
 from vibrissa.whisker import WhiskerGeometry, preset
 
 ROOT = Path(__file__).resolve().parents[2]
-_spec = importlib.util.spec_from_file_location("bench_peers", ROOT / "benchmarks" / "bench_peers.py")
-bench_peers = importlib.util.module_from_spec(_spec)
-sys.modules["bench_peers"] = bench_peers
-_spec.loader.exec_module(bench_peers)
+
+
+def _load(name: str, path: Path):
+    """Import a script (not a package module) by its path."""
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules.setdefault(name, module)
+    spec.loader.exec_module(module)
+    return module
+
+
+bench_peers = _load("bench_peers", ROOT / "benchmarks" / "bench_peers.py")
+render_docs = _load("render_docs", ROOT / "scripts" / "render_docs.py")
 
 #: A uniform rod (no taper), for comparisons with closed-form beam theory.
 UNIFORM = WhiskerGeometry(length_mm=185.0, base_radius_mm=1.0, tip_radius_mm=1.0)
@@ -134,6 +143,13 @@ def test_quick_json_has_the_comparison(mujoco, tmp_path, capsys):
     assert len(accepted) == 1 and accepted[0]["links"] == result["mujoco_links"]
     assert result["duration_s"] == 0.2 and result["quick"]
     assert json.loads(out.read_text()) == result
+    # what docs/peers.md quotes from it
+    quoted = render_docs.extract_peers(result)
+    assert quoted["ratio"] == result["ratio"]
+    assert quoted["mujoco_dt_us"] == pytest.approx(result["mujoco_dt_s"] * 1e6)
+    table = quoted["search_table"].splitlines()
+    assert len(table) == 2 + len({row["links"] for row in result["search"]})
+    assert table[-1].startswith(f"| {result['mujoco_links']} |") and "accepted" in table[-1]
 
 
 @pytest.mark.parametrize("argv, name", [
