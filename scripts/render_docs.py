@@ -39,7 +39,8 @@ output)::
         --time-v /tmp/ch5.time --out docs/runs/chapter5.json
 
 (``chapter4`` for ``reproduce radial-distance``, ``identify`` for the output of
-``vibrissa identify --json``, ``benchmarks`` for the folder ``benchmarks/results``).
+``vibrissa identify --json``, ``benchmarks`` for the folder ``benchmarks/results``,
+``peers`` for ``benchmarks/results/peers.json`` of ``benchmarks/bench_peers.py``).
 Rendering needs the standard library only; ``extract`` imports vibrissa.
 """
 
@@ -381,8 +382,52 @@ def extract_benchmarks(folder: str | os.PathLike[str]) -> dict[str, Any]:
     return out
 
 
+def extract_peers(results: Mapping[str, Any]) -> dict[str, Any]:
+    """What the docs quote from ``benchmarks/bench_peers.py``'s JSON (MuJoCo as a peer).
+
+    Besides the headline numbers it turns the search into a markdown table, one row per
+    number of links: its largest stable step, the first-mode error against the beam
+    reference and the peak-moment error against ours there, and the verdict (the
+    accepted step where there is one).
+    """
+    keys = ("vibrissa_rtf", "mujoco_rtf", "ratio", "mujoco_links", "mujoco_dt_s",
+            "mujoco_first_mode_error_pct", "reference_first_mode_hz", "mujoco_first_mode_hz",
+            "vibrissa_first_mode_hz", "vibrissa_first_mode_error_pct",
+            "vibrissa_peak_follicle_moment_nm", "mujoco_peak_follicle_moment_nm",
+            "mujoco_peak_moment_error_pct", "damping_ratio", "mujoco_first_mode_damping_ratio",
+            "mujoco_version", "vibrissa_n_elements", "vibrissa_dt_s", "repeats", "duration_s",
+            "created_utc")
+    out: dict[str, Any] = {k: results[k] for k in keys}
+    out["mujoco_dt_us"] = results["mujoco_dt_s"] * 1e6
+    out["mujoco_max_penetration_um"] = results["mujoco_max_penetration_m"] * 1e6
+    out["vibrissa_dt_us"] = results["vibrissa_dt_s"] * 1e6
+    for who in ("vibrissa", "mujoco"):
+        out[f"{who}_peak_follicle_moment_mnm"] = results[f"{who}_peak_follicle_moment_nm"] * 1e3
+        out[f"{who}_wall_ms"] = [round(1e3 * w, 1) for w in results[f"{who}_wall_seconds_all"]]
+    out["machine"] = {k: results["machine"][k] for k in ("cpu", "cpu_count", "pinned_cpu")}
+    out["machine"]["load_average_before"] = results["machine"]["load_average_before"][0]
+    tol = results["criteria"]
+    lines = ["| links | step | first mode vs reference | peak moment vs ours | verdict |",
+             "|---|---|---|---|---|"]
+    for n in sorted({row["links"] for row in results["search"]}):
+        stable = [r for r in results["search"] if r["links"] == n and r["stable"]]
+        if not stable:
+            lines.append(f"| {n} | none stable | | | unstable |")
+            continue
+        r = next((r for r in stable if r["accepted"]), stable[0])  # else the largest step
+        moment = f"{r['peak_moment_error_pct']:+.2f} %"
+        verdict = ("accepted" if r["accepted"] else "first mode outside"
+                   if abs(r["first_mode_error_pct"]) > tol["first_mode_tolerance_pct"]
+                   else "peak moment outside")
+        lines.append(f"| {n} | {r['dt_s'] * 1e6:g} us | {r['first_mode_error_pct']:+.3f} % "
+                     f"| {moment} | {verdict} |")
+    out["search_table"] = "\n".join(lines)
+    return out
+
+
 EXTRACTORS = {"chapter4": extract_chapter4, "chapter5": extract_chapter5,
-              "identify": extract_identify, "benchmarks": extract_benchmarks}
+              "identify": extract_identify, "benchmarks": extract_benchmarks,
+              "peers": extract_peers}
 
 
 def _write_atomic(path: Path, text: str) -> None:
@@ -426,6 +471,8 @@ def extract_main(argv: list[str]) -> int:
     dates = [v["date"] for v in values.get("sources", {}).values() if v.get("date")]
     if dates:  # measured when the sources were committed, not when extracted
         meta["date"] = max(dates)
+    elif "created_utc" in values:  # measured when the results were made
+        meta["date"] = values["created_utc"]
     write_run(args.out, {"meta": meta, **values})
     print(f"wrote {args.out}")
     return 0
