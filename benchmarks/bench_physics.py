@@ -34,6 +34,9 @@ _ROW_KEYS = (
     "dt_s",
     "n_elements",
     "real_time_factor",
+    "free_flight_real_time_factor",
+    "contact_real_time_factor",
+    "linear_free_flight_fraction",
     "wall_seconds",
     "wall_seconds_all",
     "cpu_seconds",
@@ -68,12 +71,24 @@ def run(repeats: int = 3) -> dict[str, Any]:
                 f"{r['real_time_factor']:6.1f} ({r['wall_seconds']:.3f} s wall)",
                 file=sys.stderr,
             )
+    # before/after on the same machine in the same run: every speed-up off, then on
+    std_cfg = {"repeats": repeats, "measure_memory": False}
+    without = physics_benchmark(speedups=False, **std_cfg)
+    with_ = physics_benchmark(speedups=True, **std_cfg)
+    print(
+        f"standard trial: real-time factor {with_['real_time_factor']:.1f} "
+        f"(without the speed-ups {without['real_time_factor']:.1f})",
+        file=sys.stderr,
+    )
     std = physics_benchmark(repeats=1, measure_memory=True)
     print(f"memory of one standard trial: {std['peak_memory_mb']:.2f} MB", file=sys.stderr)
     return {
         "scenario": SCENARIO,
         "standard": dict(STANDARD),
         "runs": runs,
+        "standard_trial": {k: with_[k] for k in _ROW_KEYS},
+        "standard_trial_without_speedups": {k: without[k] for k in _ROW_KEYS},
+        "speedup": with_["real_time_factor"] / without["real_time_factor"],
         "memory": {
             "dt_s": std["dt_s"],
             "n_elements": std["n_elements"],

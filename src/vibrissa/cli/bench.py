@@ -80,7 +80,13 @@ def physics_cmd(
     con.print(
         f"  real-time factor [bold]{out['real_time_factor']:.1f}[/bold] "
         f"({out['duration_s']:g} s simulated in {out['wall_seconds']:.3f} s wall, "
-        f"{out['cpu_seconds']:.3f} s CPU; best of {out['repeats']})"
+        f"{out['cpu_seconds']:.3f} s CPU; best of {out['repeats']}); "
+        f"{out['linear_free_flight_fraction']:.0%} of the steps in linear free flight"
+    )
+    con.print(
+        f"  free flight {out['free_flight_real_time_factor']:.1f} x real time "
+        f"({out['free_flight_scenario']}); contact {out['contact_real_time_factor']:.1f} x "
+        f"({out['contact_scenario']})"
     )
     if out["peak_memory_mb"] is not None:
         con.print(
