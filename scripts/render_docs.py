@@ -363,6 +363,15 @@ def extract_benchmarks(folder: str | os.PathLike[str]) -> dict[str, Any]:
                  for k, r in runs.items()},
         "memory": dict(phys["memory"]),
     }
+    if "standard_trial" in phys:  # issue 14: the speed-ups on and off, in one run
+        keys = ("real_time_factor", "free_flight_real_time_factor",
+                "contact_real_time_factor", "linear_free_flight_fraction")
+        out["physics"]["standard"] = {k: phys["standard_trial"][k] for k in keys}
+        out["physics"]["standard_without_speedups"] = {
+            k: phys["standard_trial_without_speedups"][k] for k in keys}
+        out["physics"]["speedup"] = phys["speedup"]
+        out["physics"]["linear_free_flight_percent"] = (
+            100 * phys["standard_trial"]["linear_free_flight_fraction"])
     ref = runs["e24_dt250us"]["peak_follicle_moment_nm"]
     out["physics"]["moment_change_percent"] = {
         "dt_halved": 100 * abs(runs["e24_dt125us"]["peak_follicle_moment_nm"] / ref - 1),
