@@ -165,3 +165,18 @@ def test_push_bad_input(tapered):
         tapered.push(100, 1, friction=-0.1)
     with pytest.raises(ValueError, match="n_elements"):
         RodModel(TAPERED, n_elements=2)
+
+
+def test_a_pole_reaching_past_the_base_is_refused():
+    """Issue 13, finding 8: a 1 km pole gave a base moment of 0 with the Hall at 4.75 V."""
+    model = RodModel(TAPERED, 28)
+    with pytest.raises(ValueError, match=r"pole_radius_mm \(150\) must be smaller than at_mm"):
+        model.push(150, 60, pole_radius_mm=150)
+    assert model.push(150, 60, pole_radius_mm=100).base_moment_nm > 0
+
+
+def test_a_static_load_beyond_reach_says_how_far_the_solver_got():
+    from vibrissa.whisker.rod import SimulationError
+
+    with pytest.raises(SimulationError, match=r"did not converge beyond [\d.e+-]+ N of force_n"):
+        RodModel(TAPERED, 28).static_force(1000.0, 100.0)

@@ -321,15 +321,26 @@ def calibration_point_mm(geometry: WhiskerGeometry) -> tuple[float, float]:
 def _gain_cached(
     geometry_json: str, n_elements: int, r: float, d: float, supply_v: float, range_fraction: float
 ) -> float:
-    from vibrissa.whisker.rod import RodModel
+    from vibrissa.whisker.rod import RodModel, SimulationError
 
     g = WhiskerGeometry.from_dict(json.loads(geometry_json))
     model = RodModel(g, n_elements)
-    res = model.push(r, d, friction=0.0)
+    try:
+        res = model.push(r, d, friction=0.0)
+    except SimulationError as exc:
+        raise SimulationError(
+            f"the Hall sensor's calibration push ({d:g} mm at r = {r:g} mm) failed: {exc}"
+        ) from None
     tan = math.hypot(res.tan_x, res.tan_y)
-    if not tan > 0:
-        raise ValueError("calibration push did not rotate the follicle")
-    return 0.5 * range_fraction * supply_v / tan
+    gain = 0.5 * range_fraction * supply_v / tan if tan > 0 else math.inf
+    if not math.isfinite(gain):
+        raise ValueError(
+            f"the Hall sensor's calibration push ({d:g} mm at r = {r:g} mm) does not tilt "
+            f"the follicle (tan = {tan:.3g}): the shaft is too compliant for the follicle's "
+            "stiffness to be read; use a stiffer or thicker whisker (youngs_modulus_gpa, "
+            "base_radius_mm)"
+        )
+    return gain
 
 
 def calibrated_gain(
