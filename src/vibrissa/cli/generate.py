@@ -61,8 +61,8 @@ def work_statement(protocol: Any, workers: int | None = None, scheduler: str | N
         seconds = generation_seconds(protocol.n_trials, per_trial, cores, chunk_size)
         time_text = f"{format_duration(seconds)} on {cores} core{'s' * (cores > 1)}"
     mb = dataset_bytes(protocol) / 1e6
-    return f"about {time_text}, about {mb:.1f} MB" if mb < 10 else (
-        f"about {time_text}, about {mb:.0f} MB")
+    size = f"{mb:.1f}" if mb < 10 else f"{mb:.0f}"
+    return f"about {time_text}, about {size} MB"
 
 
 class _ProgressBar:
