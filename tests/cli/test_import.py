@@ -132,12 +132,12 @@ def test_ragged_crop_flag(tmp_path) -> None:
     [
         (["--axis", "set=1:4", "--axis", "speed_mm_s=36:7.2:216",
           "--axis", "radial_distance_mm=80:84"], "'speed_mm_s') has 26 values"),
-        (["--axis", "set=1:4"], "4 x 3 x 5 cell array but the mapping's cell_axes has 1"),
+        (["--axis", "set=1:4"], "4 x 3 x 5 cell array but --axis has 1"),
         (["--signal", "dat"], "no variable 'dat'"),
         (["--axis", "=3"], "--axis '=3'"),
         (["--label", "speed"], "--label 'speed': expected NAME=VALUE"),
-        (["--format", "xls"], "unknown format 'xls'"),
-        (["--time-axis", "3"], "time_axis"),
+        (["--format", "xls"], "--format must be one of auto, mat, csv, npz, got 'xls'"),
+        (["--time-axis", "3"], "--time-axis must be 0 or 1, got 3"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(data_xy, tmp_path, extra, message) -> None:

@@ -66,7 +66,7 @@ def test_plot_kind_and_channel(nc, tmp_path) -> None:
     ("args", "message"),
     [
         (["--kind", "bars"], "--kind must be one of"),
-        (["--channel", "z"], "channel 'z' not in dataset"),
+        (["--channel", "z"], "--channel must be an index in [0, 1] or a name (x, y)"),
     ],
 )
 def test_plot_bad_options_exit_2(nc, tmp_path, args, message) -> None:

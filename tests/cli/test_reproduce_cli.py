@@ -7,9 +7,12 @@ bad arguments must fail with one line and exit status 2 before any work is done.
 from __future__ import annotations
 
 import json
+import re
+import signal
 from pathlib import Path
 
 import pytest
+from console import interrupt_once_a_shard_exists
 from typer.testing import CliRunner
 
 from vibrissa.cli import app
@@ -91,8 +94,8 @@ def test_corrupt_cached_dataset_is_regenerated(radial_distance):
 
 @pytest.mark.parametrize("command", ["angle-texture", "radial-distance"])
 @pytest.mark.parametrize(("args", "message"), [
-    (["--seed", "-1"], "seed must be a non-negative integer"),
-    (["--workers", "0"], "workers must be a positive integer"),
+    (["--seed", "-1"], "error: --seed: expected a non-negative integer, got -1"),
+    (["--workers", "0"], "error: --workers: expected a positive integer, got 0"),
 ])
 def test_bad_arguments_fail_before_any_work(tmp_path, command, args, message):
     out = tmp_path / "out"
@@ -145,3 +148,38 @@ def test_every_registered_experiment_has_a_command():
 def test_unknown_experiment_is_a_usage_error():
     res = runner.invoke(app, ["reproduce", "no-such-experiment"])
     assert res.exit_code == 2
+
+
+# ----------------------------------------------------------------- issue 13, finding 7
+def test_a_reused_dataset_is_stated_before_the_evaluation(radial_distance):
+    out, first = radial_distance
+    res = runner.invoke(app, ["reproduce", "radial-distance", "--quick", "--json", "--no-figures",
+                              "--n-seeds", "1", "--workers", "1", "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    assert res.stderr.splitlines()[0] == (
+        f"radial-distance: 80 trials (quick grid), seed 0, simulated dataset reused from "
+        f"{first['meta']['dataset']['path']}; then the evaluation -> {out}")
+
+
+def test_an_interrupted_reproduction_says_what_it_kept(tmp_path):
+    """The old main was killed silently by SIGTERM (status -15)."""
+    from vibrissa.reproduce import dataset_path, get_experiment
+
+    out = tmp_path / "out"
+    data = dataset_path(get_experiment("radial-distance").protocol(True, 0), out)
+    parts = data.with_name(data.name + ".parts")
+    code, err = interrupt_once_a_shard_exists(
+        ["reproduce", "radial-distance", "--quick", "--no-figures", "--n-seeds", "1",
+         "--workers", "2", "--out", str(out)], parts, signal.SIGTERM)
+    assert code == 143, err
+    assert "Traceback" not in err
+    lines = err.splitlines()
+    assert re.fullmatch(r"radial-distance: 80 trials \(quick grid\), seed 0, simulating about "
+                        r"\d+ (s|min|h) on 2 cores, about [\d.]+ MB; then the evaluation -> .*",
+                        lines[0]), lines[0]
+    m = re.fullmatch(rf"interrupted: (\d+) of 80 trials kept in {re.escape(str(parts))}/; "
+                     "rerun the same command to resume", lines[-1])
+    assert m, err
+    kept = sorted(parts.glob("chunk-*.npz"))
+    assert int(m.group(1)) == sum(min(32, 80 - 32 * int(p.stem[6:])) for p in kept) > 0
+    assert not data.exists() and not (out / "results.json").exists()

@@ -198,13 +198,50 @@ def test_absurd_whisker_inputs_refused_in_one_line(args, message):
     assert "0.99" not in help_text
 
 
-def test_push_with_a_wall_sized_pole_is_refused_not_reported():
-    """Issue 13, finding 8: `whisker push --pole-radius-mm 1e6` reported base moment 0
-    with Hall 4.75 V."""
-    res = runner.invoke(
-        app, ["whisker", "push", "--at-mm", "150", "--displacement-mm", "60",
-              "--pole-radius-mm", "1e6"]
-    )
+# ----------------------------------------------------------------- issue 13, finding 7
+@pytest.mark.parametrize(("args", "option"), [
+    (["static", "--force-n", "1000", "--at-mm", "100"], "--force-n"),
+    (["push", "--at-mm", "150", "--displacement-mm", "200"], "--displacement-mm"),
+    (["push", "--at-mm", "150", "--displacement-mm", "60", "--friction", "1e6"], "--friction"),
+    (["ring", "--youngs-modulus-gpa", "1200", "--density-kg-m3", "1", "--base-radius-mm",
+      "0.001", "--tip-radius-mm", "0.001", "--length-mm", "1", "--tip-deflection-mm", "0.4"],
+     "--dt-ms"),
+])
+def test_a_solver_that_does_not_converge_on_the_options_is_bad_input(args, option):
+    """The old main exited 1, "simulation failed", as for a bug; the options are to blame."""
+    res = runner.invoke(app, ["whisker", *args])
+    assert res.exit_code == 2
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and res.stdout == ""
+    assert lines[0].startswith("error: the solver did not converge on these parameters")
+    assert option in lines[0]
+
+
+def test_a_static_load_beyond_the_solvers_reach_says_how_far_it_got():
+    res = runner.invoke(app, ["whisker", "static", "--force-n", "1000", "--at-mm", "100"])
+    assert "did not converge beyond" in res.stderr and "N of --force-n=1000" in res.stderr
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (["info", "--density-kg-m3", "1e300"],
+     "--density-kg-m3 must lie in [1, 23000] kg/m^3 (aerogel to osmium), got 1e+300"),
+    (["info", "--youngs-modulus-gpa", "1e-300"],
+     "--youngs-modulus-gpa must lie in [0.001, 1200] GPa (soft rubber to diamond)"),
+    (["info", "--base-radius-mm", "1e-300", "--tip-radius-mm", "1e-301"],
+     "--base-radius-mm must lie in [0.001, 500] mm"),
+    (["info", "--youngs-modulus-gpa", "1200", "--density-kg-m3", "1", "--base-radius-mm", "0.5",
+      "--tip-radius-mm", "0.001", "--rigid-follicle"],
+     "is overdamped by the shaft's own material damping"),
+    (["info", "--youngs-modulus-gpa", "0.01", "--base-radius-mm", "0.001", "--tip-radius-mm",
+      "0.001", "--length-mm", "2000"],
+     "calibration push (60 mm at r = 150 mm) does not tilt the follicle"),
+    (["push", "--at-mm", "150", "--displacement-mm", "60", "--pole-radius-mm", "1e6"],
+     "--pole-radius-mm (1e+06) must be smaller than --at-mm (150)"),
+])
+def test_whiskers_outside_physics_are_refused_in_one_line(args, message):
+    """The old main gave tracebacks (IndexError, a 7-line overflow warning, LAPACK's
+    "leading minor" message) or, for a 1 km pole, a base moment of 0 at 4.75 V."""
+    res = runner.invoke(app, ["whisker", *args])
     assert res.exit_code == 2, res.output
-    assert "pole_radius_mm=1e+06" in res.output and "follicle" in res.output
-    assert "Traceback" not in res.output and "base_moment" not in res.output
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and message in lines[0], res.stderr

@@ -5,6 +5,8 @@ from __future__ import annotations
 import json
 import os
 import pickle
+import subprocess
+import sys
 import warnings
 
 import h5py
@@ -347,3 +349,50 @@ def test_round_trip_property(tmp_path, ds: xr.Dataset) -> None:
     xr.testing.assert_identical(back, ds)
     assert checksum(back.assign_attrs(vibrissa_schema=SCHEMA_VERSION)) == checksum(
         ds.assign_attrs(vibrissa_schema=SCHEMA_VERSION))
+
+
+# ----------------------------------------------------------------- issue 13, finding 7
+def _unreadable_root_attributes(path) -> None:
+    """Damage ``path`` (a saved dataset) so that HDF5 opens it but not its attributes.
+
+    The damage is found by search (zeroing 64 bytes at a time), so that the test does
+    not depend on the file's layout; the file is the kind that made h5netcdf print a
+    finaliser's traceback after the error.
+    """
+    data = path.read_bytes()
+    for start in range(0, len(data) - 64, 16):
+        path.write_bytes(data[:start] + bytes(64) + data[start + 64:])
+        try:
+            f = h5py.File(path, "r")
+        except Exception:  # noqa: BLE001 - this damage does not keep the file openable
+            continue
+        with f:
+            try:
+                dict(f.attrs)
+            except Exception:  # noqa: BLE001 - found
+                return
+    raise AssertionError("no damage leaves the file openable with unreadable attributes")
+
+
+def test_a_corrupt_header_gives_one_error_and_nothing_else_on_stderr(tmp_path) -> None:
+    """The old main printed the right error, then 8 lines of a finaliser's traceback."""
+    p = save_dataset(_ds(), tmp_path / "a.nc")
+    _unreadable_root_attributes(p)
+    code = ("import sys\nfrom vibrissa.data import DatasetFileError, load_dataset\n"
+            "try:\n    load_dataset(sys.argv[1])\nexcept DatasetFileError as e:\n    print(e)\n")
+    proc = subprocess.run([sys.executable, "-c", code, str(p)], capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode == 0
+    assert proc.stderr == ""
+    assert proc.stdout.startswith(f"{p}: cannot be read as a NetCDF dataset")
+    assert len(proc.stdout.splitlines()) == 1
+
+
+def test_undecodable_attribute_bytes_are_a_modification_not_a_crash(tmp_path) -> None:
+    """The old main raised UnicodeEncodeError ("surrogates not allowed") from the checksum."""
+    p = save_dataset(_ds(), tmp_path / "a.nc")
+    data = bytearray(p.read_bytes())
+    data[data.index(b'"delay_s"') + 1] = 0xFF  # not UTF-8: read back as a lone surrogate
+    p.write_bytes(bytes(data))
+    with pytest.raises(DatasetModifiedError, match="differs: attribute 'robot'"):
+        load_dataset(p)

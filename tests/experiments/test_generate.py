@@ -145,7 +145,7 @@ def sha(path):
         (["no-such-protocol"], "protocol"),
         (["radial-distance", "--speeds", "fast"], "speeds"),
         (["radial-distance", "--sample-rate-hz", "3000"], "sample period"),
-        (["radial-distance", "--noise-v", "-0.1"], "noise_v"),
+        (["radial-distance", "--noise-v", "-0.1"], "--noise-v must be non-negative"),
     ],
 )
 def test_cli_bad_input_is_one_clear_line_and_leaves_files_alone(tmp_path, args, word):
@@ -259,3 +259,34 @@ def test_output_under_a_file_is_refused_before_work(tmp_path):
     with pytest.raises(ValueError, match="is a file, not a directory"):
         generate(small(), blocker / "sub" / "x.nc", workers=1)
     assert blocker.read_text() == "keep" and sorted(tmp_path.iterdir()) == [blocker]
+
+
+# ----------------------------------------------------------------- issue 13, finding 7
+@pytest.mark.parametrize(("kwargs", "message"), [
+    ({"workers": 10_000}, r"workers must be at most \d+ \(4 per core of this machine"),
+    ({"scheduler": "nonsense"}, "scheduler must be a Dask address like tcp://host:8786"),
+])
+def test_workers_beyond_the_machine_and_malformed_schedulers_are_refused(tmp_path, kwargs,
+                                                                         message):
+    with pytest.raises(ValueError, match=message):
+        generate(small(), tmp_path / "x.nc", **kwargs)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_pipe_or_device_is_not_replaced_by_the_dataset(tmp_path):
+    import os
+
+    os.mkfifo(tmp_path / "pipe")
+    with pytest.raises(ValueError, match="is not a regular file"):
+        generate(small(), tmp_path / "pipe", workers=1)
+    assert [p.name for p in tmp_path.iterdir()] == ["pipe"]
+
+
+def test_a_run_that_fails_before_keeping_a_trial_leaves_nothing(tmp_path, monkeypatch):
+    def broken(protocol, indices):
+        raise RuntimeError("a bug")
+
+    monkeypatch.setattr("vibrissa.experiments.generate.simulate_trials", broken)
+    with pytest.raises(RuntimeError, match="a bug"):
+        generate(small(), tmp_path / "x.nc", workers=1)
+    assert list(tmp_path.iterdir()) == []

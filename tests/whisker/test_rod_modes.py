@@ -45,3 +45,11 @@ def test_damping_design_hits_the_configured_first_mode_damping():
     rigid = RodModel(PRESETS["xy-robot"], rigid_follicle=True)
     zeta, _ = rigid.modal_damping(*rigid.damping)
     assert zeta[0] == pytest.approx(0.05, rel=1e-3)
+
+
+def test_a_first_mode_overdamped_by_the_material_is_refused():
+    """Issue 13: a light, stiff, clamped whisker had no oscillating first mode (IndexError)."""
+    g = PRESETS["xy-robot"].replace(youngs_modulus_gpa=1200, density_kg_m3=1,
+                                    base_radius_mm=0.5, tip_radius_mm=0.001)
+    with pytest.raises(ValueError, match="overdamped by the shaft's own material damping"):
+        _ = RodModel(g, rigid_follicle=True).damping

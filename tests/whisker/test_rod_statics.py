@@ -167,16 +167,18 @@ def test_push_bad_input(tapered):
         RodModel(TAPERED, n_elements=2)
 
 
-@pytest.mark.parametrize(("radius_mm", "match"), [
-    (1e6, "reaches the whisker's base"),
-    (1000.0, "would wrap around a pole this large"),
-    (300.0, "would wrap around a pole this large"),
+@pytest.mark.parametrize(("at_mm", "radius_mm", "displacement_mm"), [
+    (180.0, 170.0, 60.0),
+    (180.0, 150.0, 80.0),
+    (170.0, 120.0, 100.0),
 ])
-def test_push_refuses_a_pole_too_large_for_one_contact_point(tapered, radius_mm, match):
-    """Issue 13, finding 8: a 1 km pole pressed on the base and reported moment 0 with a
-    saturated Hall output; a 300 mm pole failed to converge. Both now name the cause."""
-    with pytest.raises(ValueError, match=match):
-        tapered.push(150, 60, pole_radius_mm=radius_mm)
+def test_push_refuses_a_pole_the_whisker_would_wrap_around(tapered, at_mm, radius_mm,
+                                                           displacement_mm):
+    """Issue 13, finding 8: a pole large for the push, though smaller than the contact's
+    distance, touches the shaft a second time (the whisker wraps around it); the push
+    failed to converge and now names the cause."""
+    with pytest.raises(ValueError, match="would wrap around a pole this large"):
+        tapered.push(at_mm, displacement_mm, pole_radius_mm=radius_mm)
 
 
 @pytest.mark.parametrize("radius_mm", [0.5, 10.0, 100.0])
@@ -186,3 +188,18 @@ def test_push_with_a_pole_that_fits_bends_the_whisker(tapered, radius_mm):
     res = tapered.push(150, 60, pole_radius_mm=radius_mm)
     assert res.base_moment_nm > 1e-3
     assert 0.0 < res.contact_arc_length_mm <= 185.0
+
+
+def test_a_pole_reaching_past_the_base_is_refused():
+    """Issue 13, finding 8: a 1 km pole gave a base moment of 0 with the Hall at 4.75 V."""
+    model = RodModel(TAPERED, 28)
+    with pytest.raises(ValueError, match=r"pole_radius_mm \(150\) must be smaller than at_mm"):
+        model.push(150, 60, pole_radius_mm=150)
+    assert model.push(150, 60, pole_radius_mm=100).base_moment_nm > 0
+
+
+def test_a_static_load_beyond_reach_says_how_far_the_solver_got():
+    from vibrissa.whisker.rod import SimulationError
+
+    with pytest.raises(SimulationError, match=r"did not converge beyond [\d.e+-]+ N of force_n"):
+        RodModel(TAPERED, 28).static_force(1000.0, 100.0)

@@ -11,9 +11,11 @@ import typer
 
 from vibrissa import __version__
 from vibrissa.cli import bench, data, generate, identify, plot, reproduce, whisker
+from vibrissa.cli._usage import OneLineUsageErrors
 
 app = typer.Typer(
     name="vibrissa",
+    cls=OneLineUsageErrors,
     help="Whisker-based tactile sensing after Evans (2011): simulate, generate, import, "
     "classify and reproduce the thesis' experiments.",
     no_args_is_help=True,

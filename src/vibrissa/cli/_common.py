@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import os
+import re
 import sys
 from collections.abc import Callable
 from functools import wraps
@@ -32,6 +34,23 @@ def echo_json(obj: Any) -> None:
     typer.echo(dumps(obj))
 
 
+def error_message(exc: BaseException) -> str:
+    """The one line (without ``error:``) that reports a user's bad input ``exc``.
+
+    An ``OSError`` names its path (``OUT.nc: No space left on device``), a
+    ``KeyError`` shows its message without quotes, anything else its text.
+    """
+    if isinstance(exc, KeyError) and exc.args:
+        return str(exc.args[0])
+    if isinstance(exc, OSError) and exc.filename is not None:
+        where = os.fsdecode(exc.filename)
+        if exc.filename2 is not None:
+            where += f" -> {os.fsdecode(exc.filename2)}"
+        reason = exc.strerror or (str(exc.args[0]) if exc.args else type(exc).__name__)
+        return f"{where}: {reason}"
+    return " ".join(str(exc).split()) or type(exc).__name__
+
+
 def user_errors(func: F) -> F:
     """Turn a user's bad input (``ValueError``, ``TypeError``, ``OSError``, ``KeyError``)
     into one clear line on standard error and exit status 2, instead of a traceback."""
@@ -41,16 +60,15 @@ def user_errors(func: F) -> F:
         try:
             return func(*args, **kwargs)
         except (ValueError, TypeError, OSError, KeyError) as exc:
-            msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
-            print(f"error: {msg}", file=sys.stderr)
+            print(f"error: {error_message(exc)}", file=sys.stderr)
             raise typer.Exit(code=2) from exc
 
     return wrapper  # type: ignore[return-value]
 
 
 def physics_errors(func: F) -> F:
-    """Report a solver failure (``SimulationError``) as one line on standard error and
-    exit status 1, instead of a traceback."""
+    """Report a solver failure (``SimulationError``) on inputs the command fixes itself
+    as one line on standard error and exit status 1 (a bug), instead of a traceback."""
 
     @wraps(func)
     def wrapper(*args: Any, **kwargs: Any) -> Any:
@@ -63,3 +81,74 @@ def physics_errors(func: F) -> F:
             raise typer.Exit(code=1) from exc
 
     return wrapper  # type: ignore[return-value]
+
+
+def solver_limits(remedy: str, rename: Callable[[str], str] | None = None) -> Callable[[F], F]:
+    """Report a solver that does not converge on the user's own parameters as bad input.
+
+    The command's options set everything the solver is given, so a
+    ``SimulationError`` means they lie outside the range where it converges: it
+    becomes a ``ValueError`` (one line and exit status 2 under :func:`user_errors`,
+    which must wrap this decorator) that names what to change.
+
+    Parameters
+    ----------
+    remedy
+        What to change, naming the options, e.g. ``"use a smaller --force-n"``.
+    rename
+        Applied to every ``ValueError`` message on the way out, e.g. to write the
+        library's parameter names as the command's option names.
+    """
+    named = rename if rename is not None else str
+
+    def decorate(func: F) -> F:
+        @wraps(func)
+        def wrapper(*args: Any, **kwargs: Any) -> Any:
+            from vibrissa.whisker.rod import SimulationError
+
+            try:
+                return func(*args, **kwargs)
+            except SimulationError as exc:
+                raise ValueError(named(
+                    f"the solver did not converge on these parameters ({exc}); {remedy}"
+                )) from exc
+            except ValueError as exc:
+                raise ValueError(named(str(exc))) from exc
+
+        return wrapper  # type: ignore[return-value]
+
+    return decorate
+
+
+def option_renamer(names: dict[str, str]) -> Callable[[str], str]:
+    """A function that writes a library's parameter names in a message as option names.
+
+    Parameters
+    ----------
+    names
+        Parameter name -> option, e.g. ``{"noise_v": "--noise-v"}``; only whole
+        words are replaced.
+    """
+    pattern = re.compile(r"\b(" + "|".join(map(re.escape, names)) + r")\b")
+
+    def rename(message: str) -> str:
+        return pattern.sub(lambda m: names[m.group(1)], message)
+
+    return rename
+
+
+def count_option(option: str, value: int | None, minimum: int = 1) -> int | None:
+    """Check an integer option that counts something (``None``: not given).
+
+    ``minimum`` is 1 (a positive count) or 0 (a non-negative one, e.g. a seed).
+
+    Raises
+    ------
+    ValueError
+        ``OPTION: expected a positive integer, got VALUE`` (``non-negative`` for
+        ``minimum=0``).
+    """
+    if value is not None and value < minimum:
+        kind = "non-negative" if minimum == 0 else "positive"
+        raise ValueError(f"{option}: expected a {kind} integer, got {value}")
+    return value

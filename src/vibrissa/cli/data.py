@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 from typing import Any
 
@@ -9,6 +10,7 @@ import numpy as np
 import typer
 from rich.markup import escape
 
+from vibrissa._atomic import check_writable
 from vibrissa.cli._common import echo_json, user_errors
 
 _IMPORT_HELP = "\n\n".join(
@@ -47,6 +49,32 @@ _IMPORT_HELP = "\n\n".join(
         "and example_path('data_XY_small.mapping.json').",
     ]
 )
+
+
+_FORMATS = ("auto", "mat", "csv", "npz")
+#: Mapping keys and the options that set them.
+_MAPPING_OPTIONS = {
+    "signal": "--signal", "cell_axes": "--axis", "channels": "--channels",
+    "sample_rate_hz": "--sample-rate-hz", "time_axis": "--time-axis", "labels": "--label",
+    "constants": "--const", "ragged": "--crop", "empty": "--skip-empty",
+    "trial_axes": "--trials-last", "t0_s": "--t0-s",
+}
+
+
+def _name_options(message: str, given: dict[str, str], mapping: Path | None) -> str:
+    """A mapping error naming the option that set the key (else the mapping file).
+
+    ``given`` maps the keys the options set (all of them without a mapping file) to
+    their options.
+    """
+
+    def name(match: re.Match[str]) -> str:
+        key = match.group(1) or match.group(2)
+        if key in given:
+            return given[key]
+        return f"{mapping}: {key!r}" if mapping is not None else match.group(0)
+
+    return re.sub(r"the mapping's (\w+)|mapping '(\w+)'", name, message)
 
 
 def _pairs(items: list[str] | None, option: str) -> dict[str, str]:
@@ -150,6 +178,12 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         from vibrissa.data.importers import import_file, load_mapping, parse_axis_option
 
+        if fmt not in _FORMATS:
+            raise ValueError(f"--format must be one of {', '.join(_FORMATS)}, got {fmt!r}")
+        try:
+            check_writable(out)
+        except ValueError as exc:
+            raise ValueError(f"--out: {exc}") from None
         raw = dict(load_mapping(mapping).raw) if mapping is not None else {}
         if signal is not None:
             raw["signal"] = signal
@@ -174,7 +208,16 @@ def register(app: typer.Typer) -> None:
             raw["trial_axes"] = "last"
         if t0_s is not None:
             raw["t0_s"] = t0_s
-        ds = import_file(source, load_mapping(raw), out, format=fmt)
+        options = {"signal": signal, "cell_axes": axis, "channels": channels,
+                   "sample_rate_hz": sample_rate_hz, "time_axis": time_axis, "labels": label,
+                   "constants": const, "ragged": crop or None, "empty": skip_empty or None,
+                   "trial_axes": trials_last or None, "t0_s": t0_s}
+        given = {key: _MAPPING_OPTIONS[key] for key, v in options.items()
+                 if v is not None or mapping is None}
+        try:
+            ds = import_file(source, load_mapping(raw), out, format=fmt)
+        except ValueError as exc:
+            raise ValueError(_name_options(str(exc), given, mapping)) from exc
         summary = _summary(ds, out)
         if as_json:
             echo_json(summary)

@@ -3,14 +3,101 @@
 from __future__ import annotations
 
 import os
+import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import typer
 
-from vibrissa.cli._common import echo_json, user_errors
+from vibrissa.cli._common import count_option, echo_json, option_renamer, user_errors
+from vibrissa.cli._interrupt import interruptible
 
 _GRID_HELP = "start:stop:step (inclusive), start:stop:#count, or a comma list"
+
+
+#: The protocol's parameters (in the library's messages) and the options that set them.
+_RENAME = option_renamer({
+    "sample_rate_hz": "--sample-rate-hz", "noise_v": "--noise-v", "drift_fraction": "--drift",
+    "workers": "--workers", "chunk_size": "--chunk-size", "scheduler": "--scheduler",
+})
+#: Words of a message that does not name an option, and the option it is about.
+_ABOUT = (("unknown protocol", "PROTOCOL"), ("radial_distance_mm", "--radial-distances"),
+          ("speed_mm_s", "--speeds"), ("angle_deg", "--angles"), ("texture", "--textures"),
+          ("whisker", "--whisker"), ("sample period", "--sample-rate-hz"))
+
+
+def _name_options(message: str) -> str:
+    """A library message about the protocol, naming the option it is about."""
+    message = _RENAME(message)
+    if "--" in message:
+        return message
+    about = next((opt for word, opt in _ABOUT if word in message), None)
+    return f"{about}: {message}" if about else message
+
+
+def work_statement(protocol: Any, workers: int | None = None, scheduler: str | None = None,
+                   chunk_size: int = 32) -> str:
+    """The work of generating ``protocol`` here: ``"about 3 min on 2 cores, about 14 MB"``.
+
+    The time is measured on a few of the protocol's own trials
+    (:mod:`vibrissa.experiments.estimate`, well under a second); on a Dask cluster,
+    whose cores are not known here, it is the time of one local core. The size is
+    the dataset's signal.
+    """
+    from vibrissa.experiments.estimate import (
+        format_duration,
+        generation_seconds,
+        seconds_per_trial,
+    )
+    from vibrissa.experiments.generate import dataset_bytes
+
+    per_trial = seconds_per_trial(protocol)
+    if scheduler:
+        time_text = (f"{format_duration(protocol.n_trials * per_trial)} of one core's time "
+                     "on the Dask cluster")
+    else:
+        cores = workers if workers is not None else (os.cpu_count() or 1)
+        seconds = generation_seconds(protocol.n_trials, per_trial, cores, chunk_size)
+        time_text = f"{format_duration(seconds)} on {cores} core{'s' * (cores > 1)}"
+    mb = dataset_bytes(protocol) / 1e6
+    size = f"{mb:.1f}" if mb < 10 else f"{mb:.0f}"
+    return f"about {time_text}, about {size} MB"
+
+
+class _ProgressBar:
+    """A progress bar on standard error, shown only on a terminal and only once the work
+    has started (the first report), so that a refused run prints no bar."""
+
+    def __init__(self, description: str, enabled: bool = True) -> None:
+        self.description = description
+        self.enabled = enabled and sys.stderr.isatty() and os.environ.get("CI") is None
+        self._progress: Any = None
+        self._task: Any = None
+
+    def __enter__(self) -> _ProgressBar:
+        return self
+
+    def update(self, done: int, total: int) -> None:
+        """Show ``done`` of ``total`` trials (starting the bar on the first call)."""
+        if not self.enabled:
+            return
+        if self._progress is None:
+            from rich.console import Console
+            from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
+
+            self._progress = Progress(
+                TextColumn("[bold]{task.description}"), BarColumn(),
+                TextColumn("{task.completed}/{task.total} trials"), TimeRemainingColumn(),
+                console=Console(stderr=True),
+            )
+            self._progress.start()
+            self._task = self._progress.add_task(self.description, total=total)
+        self._progress.update(self._task, completed=done, total=total)
+
+    def __exit__(self, *exc: object) -> None:
+        if self._progress is not None:
+            self._progress.stop()
 
 
 def register(app: typer.Typer) -> None:
@@ -62,11 +149,17 @@ def register(app: typer.Typer) -> None:
 
         Runs in parallel and resumes after an interruption (rerun the same command).
         """
-        from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
-
-        from vibrissa.experiments.generate import check_size, dataset_bytes, generate
+        from vibrissa.experiments.generate import (
+            check_generation,
+            generate,
+            parts_dir,
+        )
         from vibrissa.experiments.protocols import get_protocol, parse_grid
 
+        count_option("--seed", seed, minimum=0)
+        count_option("--workers", workers)
+        count_option("--runs", runs)
+        count_option("--chunk-size", chunk_size)
         not_for = {
             "radial-distance": {"--angles": angles, "--textures": textures},
             "angle-texture": {"--radial-distances": radial_distances},
@@ -79,48 +172,61 @@ def register(app: typer.Typer) -> None:
             texture_list = tuple(t.strip().lower() for t in textures.split(",") if t.strip())
             if not texture_list:
                 raise ValueError("--textures: empty list; name at least one texture")
-        overrides = dict(
-            radial_distances_mm=None if radial_distances is None
-            else parse_grid(radial_distances, "--radial-distances"),
-            speeds_mm_s=None if speeds is None else parse_grid(speeds, "--speeds"),
-            angles_deg=None if angles is None else parse_grid(angles, "--angles"),
-            textures=texture_list,
-            runs=runs,
-            whisker=whisker,
-            drift_fraction=drift,
-            seed=seed,
-        )
-        sensor = {"sample_rate_hz": sample_rate_hz, "noise_v": noise_v}
-        proto = get_protocol(protocol, quick=quick, **overrides)
-        if any(v is not None for v in sensor.values()):
-            proto = proto.with_sensor(**{k: v for k, v in sensor.items() if v is not None})
-        check_size(proto)
-        typer.echo(f"{proto.name}: {proto.n_trials} trials, about "
-                   f"{dataset_bytes(proto) / 1e6:.0f} MB -> {out}", err=True)
-        t0 = time.perf_counter()
-        show = not json_out and os.environ.get("CI") is None
-        with Progress(
-            TextColumn("[bold]{task.description}"),
-            BarColumn(),
-            TextColumn("{task.completed}/{task.total} trials"),
-            TimeRemainingColumn(),
-            disable=not show,
-            transient=False,
-        ) as bar:
-            task = bar.add_task(f"generate {proto.name}", total=proto.n_trials)
-
-            def report(done: int, total: int) -> None:
-                bar.update(task, completed=done, total=total)
-
-            ds = generate(
-                proto,
-                out,
-                workers=workers,
-                scheduler=scheduler,
-                chunk_size=chunk_size,
-                restart=restart,
-                progress=report,
+        try:
+            overrides = dict(
+                radial_distances_mm=None if radial_distances is None
+                else parse_grid(radial_distances, "--radial-distances"),
+                speeds_mm_s=None if speeds is None else parse_grid(speeds, "--speeds"),
+                angles_deg=None if angles is None else parse_grid(angles, "--angles"),
+                textures=texture_list,
+                runs=runs,
+                whisker=whisker,
+                drift_fraction=drift,
+                seed=seed,
             )
+            sensor = {"sample_rate_hz": sample_rate_hz, "noise_v": noise_v}
+            proto = get_protocol(protocol, quick=quick, **overrides)
+            if any(v is not None for v in sensor.values()):
+                proto = proto.with_sensor(**{k: v for k, v in sensor.items() if v is not None})
+        except ValueError as exc:
+            raise ValueError(_name_options(str(exc))) from exc
+        try:
+            check_generation(proto, out, workers, scheduler, chunk_size)
+        except ValueError as exc:  # the messages name the output path or the parameter
+            raise ValueError(_RENAME(str(exc))) from exc
+        kept: list[int | None] = [None]  # trials kept in the shards, once known
+
+        def interrupted() -> str:
+            parts = parts_dir(out)
+            if kept[0] is None:
+                if not parts.exists():
+                    return "before any trial was simulated; nothing was written"
+                return (f"before the generation started; {parts}/ is kept as it was; rerun "
+                        "the same command to resume")
+            return (f"{kept[0]} of {proto.n_trials} trials kept in {parts}/; rerun the same "
+                    "command to resume")
+
+        with interruptible(interrupted):
+            # every option is checked: state the work, then start it
+            typer.echo(f"{proto.name}: {proto.n_trials} trials, "
+                       f"{work_statement(proto, workers, scheduler, chunk_size)} -> {out}",
+                       err=True)
+            t0 = time.perf_counter()
+            with _ProgressBar(f"generate {proto.name}", enabled=not json_out) as bar:
+
+                def report(done: int, total: int) -> None:
+                    kept[0] = done
+                    bar.update(done, total)
+
+                ds = generate(
+                    proto,
+                    out,
+                    workers=workers,
+                    scheduler=scheduler,
+                    chunk_size=chunk_size,
+                    restart=restart,
+                    progress=report,
+                )
         elapsed = time.perf_counter() - t0
         assert ds is not None
         summary = {

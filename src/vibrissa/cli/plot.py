@@ -7,6 +7,7 @@ from typing import Any
 
 import typer
 
+from vibrissa._atomic import check_writable
 from vibrissa.cli._common import echo_json, user_errors
 
 KINDS = ("traces", "contours", "all")
@@ -32,8 +33,14 @@ def _load(path: Path) -> Any:
     return load_dataset(path)
 
 
-def _channel(value: str) -> int | str:
-    return int(value) if value.strip().lstrip("-").isdigit() else value
+def _check_channel(ds: Any, value: str) -> int | str:
+    """``--channel`` as an index or a name of one of the dataset's channels."""
+    channel: int | str = int(value) if value.strip().lstrip("-").isdigit() else value
+    names = [str(c) for c in ds["channel"].values] if "channel" in ds.coords else []
+    if (channel not in names) if isinstance(channel, str) else not 0 <= channel < len(names):
+        raise ValueError(f"--channel must be an index in [0, {len(names) - 1}] or a name "
+                         f"({', '.join(names)}) of the dataset's channels, got {value!r}")
+    return channel
 
 
 def plot_dataset(
@@ -112,6 +119,10 @@ def register(app: typer.Typer) -> None:
         """
         if kind not in KINDS:
             raise ValueError(f"--kind must be one of {', '.join(KINDS)}, got {kind!r}")
+        try:
+            check_writable(out, directory=True)
+        except ValueError as exc:
+            raise ValueError(f"--out: {exc}") from None
         ds = _load(dataset)
-        paths = plot_dataset(ds, out, kind=kind, channel=_channel(channel), dpi=dpi)
+        paths = plot_dataset(ds, out, kind=kind, channel=_check_channel(ds, channel), dpi=dpi)
         echo_json({"written": [str(p) for p in paths]})

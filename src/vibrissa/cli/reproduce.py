@@ -15,7 +15,10 @@ from typing import Any
 
 import typer
 
-from vibrissa.cli._common import echo_json, user_errors
+from vibrissa._atomic import check_writable
+from vibrissa.cli._common import count_option, echo_json, option_renamer, user_errors
+from vibrissa.cli._interrupt import interruptible
+from vibrissa.cli.generate import work_statement
 from vibrissa.reproduce import Experiment, experiments
 
 reproduce_app = typer.Typer(
@@ -54,39 +57,71 @@ def _group(
     raise typer.Exit()
 
 
+_RENAME = option_renamer({"seed": "--seed", "workers": "--workers"})
+
+
 def _run(exp: Experiment, quick: bool, json_out: bool, out: Path, seed: int,
          workers: int | None, figures: bool, baseline: Path | None, **options: Any) -> None:
     from rich.console import Console
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     from vibrissa.evaluate.baseline import load_baseline
-    from vibrissa.reproduce import check_job_arguments, run_experiment
+    from vibrissa.experiments.generate import parts_dir
+    from vibrissa.reproduce import check_job_arguments, dataset_path, run_experiment
 
-    check_job_arguments(out, seed, workers)
+    count_option("--seed", seed, minimum=0)
+    count_option("--workers", workers)
+    try:
+        check_job_arguments(out, seed, workers)
+    except ValueError as exc:
+        raise ValueError(_RENAME(str(exc))) from None
+    try:
+        check_writable(out, directory=True)
+    except ValueError as exc:
+        raise ValueError(f"--out: {exc}") from None
     opts = {o.name: o.check(options[o.name]) for o in exp.options}
     before = load_baseline(baseline) if baseline is not None else None
     console = Console(stderr=True)
-    n = exp.n_trials(quick)
-    console.print(f"{exp.name}: {n} trials ({'quick' if quick else 'full'} grid), seed {seed} "
-                  f"-> {out}", highlight=False)
-    labels = {"generate": "simulating trials", "evaluate": "evaluating classifiers"}
-    with Progress(
-        TextColumn("[bold]{task.description}"), BarColumn(),
-        TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
-        console=console, disable=os.environ.get("CI") is not None,
-    ) as bar:
-        tasks: dict[str, Any] = {}
+    protocol = exp.protocol(quick, seed)
+    data = dataset_path(protocol, out)
+    stages: dict[str, int] = {}
 
-        def progress(stage: str, done: int, total: int) -> None:
-            if stage not in tasks:
-                tasks[stage] = bar.add_task(labels.get(stage, stage), total=total)
-            bar.update(tasks[stage], completed=done, total=total)
+    def interrupted() -> str:
+        if "evaluate" in stages or data.exists():
+            return (f"the simulated dataset is kept in {data}; rerun the same command to "
+                    "evaluate it without simulating again")
+        if "generate" in stages:
+            return (f"{stages['generate']} of {protocol.n_trials} trials kept in "
+                    f"{parts_dir(data)}/; rerun the same command to resume")
+        return "before any trial was simulated; rerun the same command to start again"
 
-        res = run_experiment(
-            exp.name, out, quick=quick, seed=seed, workers=workers, progress=progress,
-            figures=figures, baseline=before,
-            command=shlex.join(["vibrissa", *sys.argv[1:]]), **opts,
-        )
+    with interruptible(interrupted):
+        grid = "quick" if quick else "full"
+        if data.exists():
+            work = f"simulated dataset reused from {data}"
+        else:
+            work = f"simulating {work_statement(protocol, workers)}"
+        console.print(f"{exp.name}: {protocol.n_trials} trials ({grid} grid), seed {seed}, "
+                      f"{work}; then the evaluation -> {out}", highlight=False, soft_wrap=True)
+        labels = {"generate": "simulating trials", "evaluate": "evaluating classifiers"}
+        with Progress(
+            TextColumn("[bold]{task.description}"), BarColumn(),
+            TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
+            console=console, disable=os.environ.get("CI") is not None,
+        ) as bar:
+            tasks: dict[str, Any] = {}
+
+            def progress(stage: str, done: int, total: int) -> None:
+                stages[stage] = done
+                if stage not in tasks:
+                    tasks[stage] = bar.add_task(labels.get(stage, stage), total=total)
+                bar.update(tasks[stage], completed=done, total=total)
+
+            res = run_experiment(
+                exp.name, out, quick=quick, seed=seed, workers=workers, progress=progress,
+                figures=figures, baseline=before,
+                command=shlex.join(["vibrissa", *sys.argv[1:]]), **opts,
+            )
     summary = {
         "experiment": exp.name,
         "chapter": exp.chapter,

@@ -21,7 +21,6 @@ Every command that takes a whisker accepts the same geometry options
 from __future__ import annotations
 
 import math
-import re
 from typing import Annotated, Any
 
 import numpy as np
@@ -29,7 +28,7 @@ import scipy.signal
 import typer
 
 from vibrissa._validate import finite, in_range, non_negative, positive
-from vibrissa.cli._common import echo_json, physics_errors, user_errors
+from vibrissa.cli._common import echo_json, option_renamer, solver_limits, user_errors
 from vibrissa.signal import ring_down
 
 DEFAULT_PRESET = "xy-robot"
@@ -122,10 +121,15 @@ JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON instead of tex
 
 
 # --------------------------------------------------------------------------- helpers
-def _option_names(message: str) -> str:
-    """Rewrite geometry field names in an error message as command-line option names."""
-    pattern = r"\b(" + "|".join(GEOMETRY_OPTIONS) + r")\b"
-    return re.sub(pattern, lambda m: GEOMETRY_OPTIONS[m.group(1)], message)
+def _renamer(extra: dict[str, str] | None = None) -> Any:
+    """Rewrites the model's parameter names in a message as option names: always the
+    geometry's (``length_mm`` -> ``--length-mm`` ...), plus ``extra``."""
+    return option_renamer({**GEOMETRY_OPTIONS, **(extra or {})})
+
+
+_option_names = _renamer()
+#: What to change when a command's whisker (geometry and material) is out of reach.
+_STIFFER = "or a stiffer, thicker whisker (--youngs-modulus-gpa, --base-radius-mm)"
 
 
 def build_geometry(
@@ -295,7 +299,7 @@ def presets_cmd(json_out: JsonOpt = False) -> None:
 
 @whisker_app.command("info")
 @user_errors
-@physics_errors
+@solver_limits(f"use another whisker: {_STIFFER[3:]}", _option_names)
 def info_cmd(
     preset: PresetOpt = None,
     length_mm: LengthOpt = None,
@@ -351,7 +355,8 @@ def info_cmd(
 
 @whisker_app.command("static")
 @user_errors
-@physics_errors
+@solver_limits(f"use a smaller --force-n {_STIFFER}",
+               _renamer({"force_n": "--force-n", "at_mm": "--at-mm"}))
 def static_cmd(
     force_n: Annotated[
         float,
@@ -407,7 +412,8 @@ def static_cmd(
 
 @whisker_app.command("push")
 @user_errors
-@physics_errors
+@solver_limits(f"use a smaller --displacement-mm, --friction or --pole-radius-mm {_STIFFER}",
+               _renamer({"at_mm": "--at-mm", "pole_radius_mm": "--pole-radius-mm"}))
 def push_cmd(
     at_mm: Annotated[
         float,
@@ -480,7 +486,8 @@ def push_cmd(
 
 @whisker_app.command("ring")
 @user_errors
-@physics_errors
+@solver_limits(f"use a smaller --tip-deflection-mm or --dt-ms {_STIFFER}",
+               _renamer({"dt_s": "--dt-ms"}))
 def ring_cmd(
     tip_deflection_mm: Annotated[
         float,

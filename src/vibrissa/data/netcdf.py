@@ -162,16 +162,22 @@ def _json(value: Any) -> str:
     return json.dumps(value, sort_keys=True, ensure_ascii=False, separators=(",", ":"))
 
 
+def _utf8(text: str) -> bytes:
+    """``text`` as UTF-8; the lone surrogates by which a corrupt file's undecodable bytes
+    are read are encoded as they are (the digest then differs instead of failing)."""
+    return text.encode("utf-8", "surrogatepass")
+
+
 def _values_digest(var: xr.DataArray) -> str:
     """SHA-256 of a variable's dims, shape, dtype and values."""
     h = hashlib.sha256()
     vals = np.asarray(var.values)
-    h.update(_json([[str(d) for d in var.dims], list(vals.shape)]).encode())
+    h.update(_utf8(_json([[str(d) for d in var.dims], list(vals.shape)])))
     if vals.dtype.kind in "OUS":
         # strings: the dtype's width changes on a round trip, the text does not
         h.update(b"str")
-        h.update(_json([_canonical(v) if not isinstance(v, str) else v
-                        for v in vals.ravel().tolist()]).encode())
+        h.update(_utf8(_json([_canonical(v) if not isinstance(v, str) else v
+                              for v in vals.ravel().tolist()])))
     else:
         little = vals.dtype.newbyteorder("<") if vals.dtype.byteorder != "|" else vals.dtype
         h.update(little.str.encode())
@@ -181,7 +187,7 @@ def _values_digest(var: xr.DataArray) -> str:
 
 def _attrs_digest(attrs: Mapping[Any, Any]) -> str:
     text = _json({str(k): _canonical(v) for k, v in attrs.items()})
-    return hashlib.sha256(text.encode()).hexdigest()
+    return hashlib.sha256(_utf8(text)).hexdigest()
 
 
 def _full_parts(ds: xr.Dataset) -> dict[str, Any]:
@@ -190,7 +196,7 @@ def _full_parts(ds: xr.Dataset) -> dict[str, Any]:
         "variables": {str(k): _values_digest(ds[k]) for k in ds.variables},
         "variable_attrs": {str(k): _attrs_digest(ds[k].attrs) for k in ds.variables},
         "attrs": {
-            str(k): hashlib.sha256(_json(_canonical(v)).encode()).hexdigest()
+            str(k): hashlib.sha256(_utf8(_json(_canonical(v)))).hexdigest()
             for k, v in ds.attrs.items() if str(k) not in _UNCOVERED
         },
     }
@@ -215,7 +221,7 @@ def checksum(ds: xr.Dataset) -> str:
     str
         64 hexadecimal digits.
     """
-    return hashlib.sha256(_json(_full_parts(ds)).encode()).hexdigest()
+    return hashlib.sha256(_utf8(_json(_full_parts(ds)))).hexdigest()
 
 
 def checksum_parts(ds: xr.Dataset) -> dict[str, Any]:
@@ -385,6 +391,21 @@ def save_dataset(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
     return Path(path)
 
 
+def _open_hdf5_root(p: Path) -> None:
+    """Open ``p`` with h5py and read its root attributes, closing it whatever happens.
+
+    h5netcdf reads the root attributes while constructing its file object; when that
+    fails (a corrupt header) the half-built object is left to the garbage collector,
+    whose finaliser then fails too and prints a traceback on standard error after the
+    error was reported. Failing here first keeps a corrupt file to one error.
+    """
+    import h5py
+
+    with h5py.File(p, "r") as f:
+        f.attrs.get("_nc3_strict")
+        dict(f.attrs)
+
+
 def load_dataset(path: str | os.PathLike[str], *, verify: bool = True) -> xr.Dataset:
     """Read a dataset written by :func:`save_dataset` (or any schema-conforming NetCDF).
 
@@ -433,11 +454,14 @@ def load_dataset(path: str | os.PathLike[str], *, verify: bool = True) -> xr.Dat
         raise DatasetFileError(p, "is not a NetCDF/HDF5 file")
     engine = "scipy" if kind == "netcdf3" else _ENGINE
     try:
+        if kind == "hdf5":
+            _open_hdf5_root(p)
         with xr.open_dataset(p, engine=engine) as f:
             ds = f.load()
     except Exception as exc:  # h5py raises OSError, xarray ValueError, ...
+        detail = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
         raise DatasetFileError(
-            p, f"cannot be read as a NetCDF dataset (truncated or corrupt?): {exc}"
+            p, f"cannot be read as a NetCDF dataset (truncated or corrupt?): {detail}"
         ) from None
     for name in ds.coords:
         if ds[name].dtype.kind == "O":

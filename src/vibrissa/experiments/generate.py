@@ -20,13 +20,14 @@ distributed.
 
 from __future__ import annotations
 
-import concurrent.futures as cf
 import contextlib
 import fcntl
 import json
 import multiprocessing
 import os
+import re
 import shutil
+import signal
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
@@ -35,7 +36,7 @@ import numpy as np
 import xarray as xr
 
 from vibrissa import __version__
-from vibrissa._atomic import atomic_path, atomic_write_text
+from vibrissa._atomic import atomic_path, atomic_write_text, check_writable
 from vibrissa.data.dataset import coordinate_attrs
 from vibrissa.experiments.protocols import Protocol
 from vibrissa.experiments.runner import (
@@ -48,13 +49,19 @@ from vibrissa.experiments.runner import (
 __all__ = [
     "GenerationError",
     "build_dataset",
+    "check_generation",
     "check_size",
     "dataset_bytes",
     "generate",
+    "WORKERS_PER_CORE",
+    "max_workers",
     "parts_dir",
 ]
 
 ProgressCallback = Callable[[int, int], None]
+
+#: Local worker processes allowed per core (the simulation is CPU-bound).
+WORKERS_PER_CORE = 4
 
 
 class GenerationError(ValueError):
@@ -193,6 +200,20 @@ def _run_chunk(protocol: Protocol, indices: np.ndarray) -> dict[str, np.ndarray]
     return simulate_trials(protocol, indices)
 
 
+def _worker_signals() -> None:
+    """In a worker: an interrupt is the parent's to handle (Ctrl-C reaches the whole
+    process group), and termination by the parent is immediate."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
+
+def _run_numbered_chunk(
+    job: tuple[Protocol, int, np.ndarray],
+) -> tuple[int, dict[str, np.ndarray]]:
+    protocol, k, indices = job
+    return k, _run_chunk(protocol, indices)
+
+
 def _local_results(
     protocol: Protocol, todo: list[tuple[int, np.ndarray]], workers: int
 ) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
@@ -201,15 +222,11 @@ def _local_results(
             yield k, _run_chunk(protocol, idx)
         return
     ctx = multiprocessing.get_context("fork" if os.name == "posix" else "spawn")
-    with cf.ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
-        futs = {pool.submit(_run_chunk, protocol, idx): k for k, idx in todo}
-        try:
-            for fut in cf.as_completed(futs):
-                yield futs[fut], fut.result()
-        except BaseException:
-            for f in futs:
-                f.cancel()
-            raise
+    # leaving the pool (finished, failed or interrupted) terminates the workers at once:
+    # chunks still running are not waited for (their shards were never written)
+    with ctx.Pool(workers, initializer=_worker_signals) as pool:
+        jobs = [(protocol, k, idx) for k, idx in todo]
+        yield from pool.imap_unordered(_run_numbered_chunk, jobs)
 
 
 def _dask_results(
@@ -263,6 +280,48 @@ def build_dataset(protocol: Protocol, results: dict[str, np.ndarray]) -> xr.Data
     return ds
 
 
+def check_generation(
+    protocol: Protocol,
+    out: str | os.PathLike[str],
+    workers: int | None = None,
+    scheduler: str | None = None,
+    chunk_size: int = 32,
+) -> Path:
+    """Check every argument of :func:`generate` before any work; return ``out`` as a Path.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument: ``chunk_size`` or ``workers`` not a positive integer,
+        a dataset too large for this machine (:func:`check_size`), an output that
+        cannot be written (:func:`vibrissa._atomic.check_writable`: a directory, a
+        file where a directory is needed, a place where nothing can be created).
+    """
+    if isinstance(chunk_size, bool) or not isinstance(chunk_size, int) or chunk_size < 1:
+        raise ValueError(f"chunk_size must be a positive integer, got {chunk_size!r}")
+    if scheduler is None:
+        w = workers if workers is not None else (os.cpu_count() or 1)
+        if isinstance(w, bool) or not isinstance(w, int) or w < 1:
+            raise ValueError(f"workers must be a positive integer, got {workers!r}")
+        if w > max_workers():
+            raise ValueError(
+                f"workers must be at most {max_workers()} ({WORKERS_PER_CORE} per core of "
+                f"this machine; more processes only share the same cores), got {w}"
+            )
+    elif not isinstance(scheduler, str) or not re.fullmatch(r"([a-z]+://)?[^\s:/]+:\d+",
+                                                            scheduler):
+        raise ValueError(
+            f"scheduler must be a Dask address like tcp://host:8786, got {scheduler!r}"
+        )
+    check_size(protocol)
+    return check_writable(out)
+
+
+def max_workers() -> int:
+    """Most local worker processes a generation accepts on this machine."""
+    return WORKERS_PER_CORE * (os.cpu_count() or 1)
+
+
 def generate(
     protocol: Protocol,
     out: str | os.PathLike[str],
@@ -301,29 +360,16 @@ def generate(
     xarray.Dataset or None
         The dataset written, or None if stopped by ``max_chunks``.
     """
-    if isinstance(chunk_size, bool) or not isinstance(chunk_size, int) or chunk_size < 1:
-        raise ValueError(f"chunk_size must be a positive integer, got {chunk_size!r}")
-    if scheduler is None:
-        w = workers if workers is not None else (os.cpu_count() or 1)
-        if isinstance(w, bool) or not isinstance(w, int) or w < 1:
-            raise ValueError(f"workers must be a positive integer, got {workers!r}")
-    check_size(protocol)
-    out = Path(out)
-    if out.exists() and out.is_dir():
-        raise ValueError(f"output path {out} is a directory")
-    for parent in (out.parent, *out.parent.parents):
-        if parent.exists():
-            if not parent.is_dir():
-                raise ValueError(f"cannot write {out}: {parent} is a file, not a directory")
-            break
+    out = check_generation(protocol, out, workers, scheduler, chunk_size)
     created = not parts_dir(out).exists()
     try:
         with _exclusive(out):
             _remove_stale_temporaries(out)
             return _generate_locked(protocol, out, workers, scheduler, chunk_size, restart,
                                     progress, max_chunks)
-    except GenerationError:
-        if created:  # a refused run leaves nothing behind
+    except Exception:
+        # a refused or failed run that kept no trial leaves nothing behind
+        if created and not any(parts_dir(out).glob("chunk-*.npz")):
             shutil.rmtree(parts_dir(out), ignore_errors=True)
         raise
 

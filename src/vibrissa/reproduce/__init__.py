@@ -12,7 +12,12 @@ Nothing below this layer (``whisker``, ``robots``, ``experiments``, ``data``,
   (``radial_distance``: chapter 4; ``angle_texture``: chapter 5).
 """
 
-from vibrissa.reproduce.pipeline import cached_dataset, check_job_arguments, run_experiment
+from vibrissa.reproduce.pipeline import (
+    cached_dataset,
+    check_job_arguments,
+    dataset_path,
+    run_experiment,
+)
 from vibrissa.reproduce.registry import Experiment, Option, experiments, get_experiment, register
 
 __all__ = [
@@ -20,6 +25,7 @@ __all__ = [
     "Option",
     "cached_dataset",
     "check_job_arguments",
+    "dataset_path",
     "experiments",
     "get_experiment",
     "register",

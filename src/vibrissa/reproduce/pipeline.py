@@ -27,10 +27,17 @@ import numpy as np
 
 from vibrissa import __version__
 from vibrissa.data import DatasetFileError, load_dataset
-from vibrissa.experiments.generate import generate
+from vibrissa.experiments.generate import WORKERS_PER_CORE, generate, max_workers
 from vibrissa.reproduce.registry import Experiment, get_experiment
 
-__all__ = ["Progress", "cached_dataset", "check_job_arguments", "run_experiment", "write_reports"]
+__all__ = [
+    "Progress",
+    "cached_dataset",
+    "check_job_arguments",
+    "dataset_path",
+    "run_experiment",
+    "write_reports",
+]
 
 #: ``progress(stage, done, total)``; stage is ``"generate"`` or ``"evaluate"``.
 Progress = Callable[[str, int, int], None]
@@ -57,10 +64,26 @@ def check_job_arguments(out_dir: str | os.PathLike[str], seed: object,
             continue
         if not integer(v) or int(v) < 1:  # type: ignore[call-overload]
             raise ValueError(f"{name} must be a positive integer, got {v!r}")
+    if workers is not None and int(workers) > max_workers():  # type: ignore[call-overload]
+        raise ValueError(f"workers must be at most {max_workers()} ({WORKERS_PER_CORE} per "
+                         f"core of this machine), got {workers!r}")
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise ValueError(f"output directory {str(out)!r} is an existing file")
     return out
+
+
+def dataset_path(protocol: Any, out_dir: str | os.PathLike[str]) -> Path:
+    """Where a run writing ``out_dir`` keeps the dataset of ``protocol``.
+
+    ``<out_dir>/data/<protocol>-<fingerprint>.nc``: the fingerprint changes with any
+    parameter of the protocol, so a changed protocol never reuses stale data.
+    """
+    return Path(out_dir) / "data" / _file_name(protocol)
+
+
+def _file_name(protocol: Any) -> str:
+    return f"{protocol.name}-{protocol.fingerprint()}.nc"
 
 
 def cached_dataset(protocol: Any, data_dir: Path, progress: Progress | None = None,
@@ -75,7 +98,7 @@ def cached_dataset(protocol: Any, data_dir: Path, progress: Progress | None = No
     (xarray.Dataset, pathlib.Path, bool)
         The dataset, its file and whether it was reused.
     """
-    path = Path(data_dir) / f"{protocol.name}-{protocol.fingerprint()}.nc"
+    path = Path(data_dir) / _file_name(protocol)
     if path.exists():
         try:
             return load_dataset(path), path, True

@@ -16,13 +16,29 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from vibrissa._validate import in_range, positive
+from vibrissa._validate import finite, in_range, positive
 
 __all__ = ["PRESETS", "WhiskerGeometry", "preset", "preset_names"]
 
 
 #: Longest whisker the model accepts, mm.
 MAX_LENGTH_MM = 2000.0
+#: Thinnest radius, mm: 1 um, finer than the tip of any natural whisker (a rat's
+#: whisker tapers to a few micrometres); below it the modal solvers lose precision.
+MIN_RADIUS_MM = 1e-3
+#: Young's modulus of solids, GPa: from soft rubber (~1 MPa) to diamond (~1200 GPa).
+YOUNGS_MODULUS_RANGE_GPA = (1e-3, 1200.0)
+#: Density of solids, kg/m^3: from aerogel (~1) to osmium (22,590).
+DENSITY_RANGE_KG_M3 = (1.0, 23_000.0)
+
+
+def _physical(name: str, value: float, bounds: tuple[float, float], unit: str,
+              why: str) -> None:
+    """Refuse ``value`` outside the physical ``bounds``, saying where they come from."""
+    v = finite(name, value)
+    if not bounds[0] <= v <= bounds[1]:
+        raise ValueError(f"{name} must lie in [{bounds[0]:g}, {bounds[1]:g}] {unit} ({why}), "
+                         f"got {value!r}")
 
 
 @dataclass(frozen=True)
@@ -79,8 +95,10 @@ class WhiskerGeometry:
         # the thesis' whiskers are 80-230 mm long; 2 m is beyond any whisker robot and
         # keeps the modal solvers in their range (a 1e20 mm rod has no bracketed root)
         in_range("length_mm", self.length_mm, 1.0, MAX_LENGTH_MM, "mm")
-        positive("base_radius_mm", self.base_radius_mm)
-        positive("tip_radius_mm", self.tip_radius_mm)
+        # radii, modulus and density: the ranges of real whiskers and solids
+        for name in ("base_radius_mm", "tip_radius_mm"):
+            _physical(name, getattr(self, name), (MIN_RADIUS_MM, MAX_LENGTH_MM / 4), "mm",
+                      "1 um is finer than any whisker's tip")
         if self.tip_radius_mm > self.base_radius_mm:
             raise ValueError(
                 f"tip_radius_mm ({self.tip_radius_mm}) must not exceed base_radius_mm "
@@ -91,8 +109,10 @@ class WhiskerGeometry:
                 f"base_radius_mm ({self.base_radius_mm}) is too large for length_mm "
                 f"({self.length_mm}): the rod model needs a slender whisker (length > 4 x radius)"
             )
-        positive("youngs_modulus_gpa", self.youngs_modulus_gpa)
-        positive("density_kg_m3", self.density_kg_m3)
+        _physical("youngs_modulus_gpa", self.youngs_modulus_gpa, YOUNGS_MODULUS_RANGE_GPA,
+                  "GPa", "soft rubber to diamond")
+        _physical("density_kg_m3", self.density_kg_m3, DENSITY_RANGE_KG_M3, "kg/m^3",
+                  "aerogel to osmium")
         # above ~0.5 the first mode of a compliant-follicle whisker becomes
         # overdamped and "the first mode's damping ratio" stops being a dial
         in_range("damping_ratio", self.damping_ratio, 0.0, 0.5)

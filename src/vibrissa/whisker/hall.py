@@ -321,15 +321,51 @@ def calibration_point_mm(geometry: WhiskerGeometry) -> tuple[float, float]:
 def _gain_cached(
     geometry_json: str, n_elements: int, r: float, d: float, supply_v: float, range_fraction: float
 ) -> float:
-    from vibrissa.whisker.rod import RodModel
+    from vibrissa.whisker.rod import RodModel, SimulationError
 
     g = WhiskerGeometry.from_dict(json.loads(geometry_json))
+    # small-deflection estimate of the tilt first: a shaft far more compliant than the
+    # follicle bends without tilting it, and the push would not converge or read 0
+    _check_tilt(_linear_tilt(g, r, d), r, d)
     model = RodModel(g, n_elements)
-    res = model.push(r, d, friction=0.0)
+    try:
+        res = model.push(r, d, friction=0.0)
+    except SimulationError as exc:
+        raise SimulationError(
+            f"the Hall sensor's calibration push ({d:g} mm at r = {r:g} mm) failed: {exc}"
+        ) from None
     tan = math.hypot(res.tan_x, res.tan_y)
-    if not tan > 0:
-        raise ValueError("calibration push did not rotate the follicle")
+    _check_tilt(tan, r, d)
     return 0.5 * range_fraction * supply_v / tan
+
+
+#: Smallest follicle tilt (tan) a calibration push may give: below it the gain would
+#: exceed 1e9 V per unit tan, and the follicle's tilt is lost in rounding.
+MIN_CALIBRATION_TAN = 1e-9
+
+
+def _linear_tilt(g: WhiskerGeometry, r_mm: float, d_mm: float) -> float:
+    """Follicle tilt (tan) of a small-deflection push of ``d_mm`` at ``r_mm``.
+
+    A force F at r tilts the follicle by F r / k_f and deflects the point by
+    F (C + r^2 / k_f), with the shaft's compliance C = int_0^r (r - s)^2 / EI(s) ds.
+    """
+    r = r_mm * 1e-3
+    s = np.linspace(0.0, r, 201)
+    ei = g.youngs_modulus_gpa * 1e9 * np.pi * g.radius_m(s) ** 4 / 4
+    c = float(np.trapezoid((r - s) ** 2 / ei, s))
+    kf = g.follicle_stiffness_nm_per_rad
+    return d_mm * 1e-3 * r / (kf * c + r * r)
+
+
+def _check_tilt(tan: float, r: float, d: float) -> None:
+    if not tan >= MIN_CALIBRATION_TAN:
+        raise ValueError(
+            f"the Hall sensor's calibration push ({d:g} mm at r = {r:g} mm) does not tilt "
+            f"the follicle (tan = {tan:.3g}): the shaft is too compliant for the follicle's "
+            "stiffness to be read; use a stiffer or thicker whisker (youngs_modulus_gpa, "
+            "base_radius_mm)"
+        )
 
 
 def calibrated_gain(

@@ -316,9 +316,18 @@ class RodModel:
         w1 = 2 * math.pi * self.natural_frequencies_hz[0]
 
         def z1(bf: float, alpha: float = 0.0) -> float:
-            return float(self.modal_damping(alpha, beta_s, bf, 1)[0][0])
+            zetas = self.modal_damping(alpha, beta_s, bf, 1)[0]
+            return float(zetas[0]) if zetas.size else 1.0  # no oscillation: overdamped
 
         base = z1(0.0)
+        if base >= 1.0:
+            raise ValueError(
+                f"the whisker's first bending mode ({w1 / (2 * math.pi):.4g} Hz) is "
+                "overdamped by the shaft's own material damping (material_damping_ratio "
+                f"{g.material_damping_ratio:g} at 100 Hz, growing with frequency), so it "
+                "cannot ring: use a lower youngs_modulus_gpa, a higher density_kg_m3 or a "
+                "longer, thinner whisker"
+            )
         if target <= base:
             return 0.0, beta_s, 0.0
         best_bf = 0.0
@@ -428,7 +437,8 @@ class RodModel:
                 step *= 0.5
                 if step < 1e-4:
                     raise SimulationError(
-                        f"static solve did not converge for force_n={force_n} at_mm={at_mm}"
+                        f"static solve did not converge beyond {done * F:.4g} N of "
+                        f"force_n={force_n} at at_mm={at_mm}"
                     )
                 continue
             x = trial
@@ -492,9 +502,17 @@ class RodModel:
             friction cone is exceeded.
         """
         j, u = self.locate(at_mm)
+        a_m = at_mm * 1e-3
         D = non_negative("displacement_mm", displacement_mm) * 1e-3
         mu = non_negative("friction", friction)
         rp = positive("pole_radius_mm", pole_radius_mm) * 1e-3
+        if rp >= a_m:
+            # the pole's edge would reach below the base, into the follicle and the face,
+            # which the model does not contain; its one contact point is then meaningless
+            raise ValueError(
+                f"pole_radius_mm ({pole_radius_mm:g}) must be smaller than at_mm "
+                f"({at_mm:g}): a larger pole reaches past the whisker's base"
+            )
         kn = positive("contact_stiffness_n_m", contact_stiffness_n_m)
         beta = math.radians(in_range("direction_deg", direction_deg, -80.0, 80.0, "deg"))
         ux, uy = math.cos(beta), math.sin(beta)
@@ -553,10 +571,10 @@ class RodModel:
                         break
                     # the usual reason: the pole reaches the shaft elsewhere (it is too
                     # large for one contact point); say so when the last converged shape
-                    # lies within one increment of it away from the contact
+                    # lies within two increments of it away from the contact
                     self._check_single_contact(
                         x, px0 + ux * prev, a, rp, s_converged, pole_radius_mm, prev,
-                        clearance_m=D / n_increments,
+                        clearance_m=2 * D / n_increments,
                     )
                     raise SimulationError(
                         f"push did not converge at displacement {D * k / n_increments * 1e3:.2f} mm"
@@ -612,8 +630,8 @@ class RodModel:
         represent, and the result (for instance a base moment of zero with the pole
         pressing on the base) would be wrong. Every node outside the contact's own
         element must stay at least ``clearance_m`` from the pole's surface (0 for a
-        converged state; one load increment when explaining a failed one, since the
-        next increment then brings those nodes into the pole).
+        converged state; two load increments when explaining a failed one: the next
+        increments bring those nodes into the pole).
         """
         near = np.abs(self.s_rest - contact_s_m) < self.element_length_m
         # the follicle's anchor node (inside the body) is never a contact point

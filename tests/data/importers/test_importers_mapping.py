@@ -107,3 +107,14 @@ def test_load_mapping_property_known_keys(raw) -> None:
         assert isinstance(load_mapping(raw), ImportMapping)
     except ImportMappingError as exc:
         assert str(exc)
+
+
+def test_a_mapping_that_is_a_directory_or_binary_is_named(tmp_path) -> None:
+    """Issue 13, finding 7: a directory was reported as missing, a binary file as a bare
+    UnicodeDecodeError without its path."""
+    (tmp_path / "d.json").mkdir()
+    with pytest.raises(ImportMappingError, match=r"d.json is a directory, not a file"):
+        load_mapping(tmp_path / "d.json")
+    (tmp_path / "b.json").write_bytes(b"\xff\xfe\x00binary")
+    with pytest.raises(ImportMappingError, match=r"b.json is not UTF-8 text"):
+        load_mapping(tmp_path / "b.json")

@@ -158,8 +158,12 @@ def load_mapping(source: Mapping[str, Any] | str | os.PathLike[str] | None) -> I
     else:
         p = Path(source)
         if not p.is_file():
-            raise ImportMappingError(f"mapping file {p} does not exist")
-        text = p.read_text(encoding="utf-8")
+            what = "is a directory, not a file" if p.is_dir() else "does not exist"
+            raise ImportMappingError(f"mapping file {p} {what}")
+        try:
+            text = p.read_text(encoding="utf-8")
+        except UnicodeDecodeError:
+            raise ImportMappingError(f"mapping file {p} is not UTF-8 text") from None
         try:
             raw = tomllib.loads(text) if p.suffix.lower() == ".toml" else json.loads(text)
         except (ValueError, tomllib.TOMLDecodeError) as exc:

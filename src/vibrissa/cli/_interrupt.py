@@ -1,0 +1,56 @@
+"""Interrupted commands say what they kept and how to go on.
+
+A long command (``vibrissa generate``, ``vibrissa reproduce ...``) runs inside
+:func:`interruptible`: Ctrl-C (SIGINT) or ``kill`` (SIGTERM) stops it with one line
+on standard error, ``interrupted: <what was kept>``, and the conventional exit
+status 128 + signal number (130, 143) instead of a traceback or silence.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import signal
+import sys
+import threading
+from collections.abc import Callable, Iterator
+from types import FrameType
+
+import typer
+
+__all__ = ["interruptible"]
+
+
+class _Terminated(BaseException):
+    """SIGTERM as an exception (a ``BaseException``, like ``KeyboardInterrupt``, so that
+    no ``except Exception`` on the way swallows it)."""
+
+
+def _raise_terminated(signum: int, frame: FrameType | None) -> None:
+    raise _Terminated
+
+
+@contextlib.contextmanager
+def interruptible(kept: Callable[[], str]) -> Iterator[None]:
+    """Report SIGINT and SIGTERM during the block in one line and exit 130 / 143.
+
+    Parameters
+    ----------
+    kept
+        Called after the interruption (once the block has unwound, so workers are
+        stopped and temporary files removed): what was kept and how to resume, e.g.
+        ``"12 of 24 trials kept in x.nc.parts/; rerun the same command to resume"``.
+    """
+    main = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGTERM, _raise_terminated) if main else None
+    try:
+        yield
+        return
+    except KeyboardInterrupt:
+        code = 128 + signal.SIGINT
+    except _Terminated:
+        code = 128 + signal.SIGTERM
+    finally:
+        if main:
+            signal.signal(signal.SIGTERM, previous)
+    print(f"interrupted: {kept()}", file=sys.stderr)
+    raise typer.Exit(code=code)
