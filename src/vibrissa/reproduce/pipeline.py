@@ -121,7 +121,8 @@ def run_experiment(
     seed : int, default=0
         Seed of the simulated session and of the evaluation's random choices.
     workers : int, optional
-        Processes for dataset generation (default: all cores).
+        Processes for dataset generation and for the evaluation (default: all cores;
+        the results do not depend on it).
     progress : callable, optional
         ``progress(stage, done, total)``.
     figures : bool, default=True
@@ -154,7 +155,7 @@ def run_experiment(
     ds, path, reused = cached_dataset(protocol, out / "data", progress, workers)
     t1 = time.perf_counter()
     cb = (lambda d, t, _desc: progress("evaluate", d, t)) if progress else None
-    results = exp.evaluate(ds, seed=int(seed), progress=cb, options=opts)
+    results = exp.evaluate(ds, seed=int(seed), progress=cb, options=opts, workers=workers)
     t2 = time.perf_counter()
     evaluation_meta = dict(results.get("meta", {}))
     meta = {
@@ -170,7 +171,8 @@ def run_experiment(
         "started_at": started.isoformat(timespec="seconds"),
         "wall_seconds": {"generate": round(t1 - t0, 3), "evaluate": round(t2 - t1, 3)},
         "cores": {"available": os.cpu_count(),
-                  "generate_workers": workers if workers is not None else os.cpu_count()},
+                  "generate_workers": workers if workers is not None else os.cpu_count(),
+                  "evaluate_workers": workers if workers is not None else os.cpu_count()},
         "dataset": {"path": str(path), "reused": reused, "fingerprint": protocol.fingerprint(),
                     "n_trials": int(ds.sizes["trial"])},
         **evaluation_meta,
