@@ -4,9 +4,9 @@ Both kernels give the same numbers, bit for bit, as the NumPy/SciPy code they
 replace, so the classifiers' predictions do not change:
 
 - :func:`l1_distances` sums ``|a_j - b_j|`` over ``j`` in order, starting from 0,
-  which is how :func:`scipy.spatial.distance.cdist` (``"cityblock"``) sums; it runs
-  four test rows against a block of templates at a time, the templates' features
-  along the inner (vectorised) loop, each template in its own accumulator.
+  which is how :func:`scipy.spatial.distance.cdist` (``"cityblock"``) sums; it adds
+  a block of features for two test rows at a time into their rows of sums, the
+  templates along the inner (vectorised) loop, each in its own accumulator.
 - :func:`beam_grid_errors` evaluates the static beam's radius ``r(q)`` with the same
   floating-point operations as :meth:`StaticBeamClassifier._grid_search
   <vibrissa.classify.StaticBeamClassifier>`, but not for every training trial: ``r``
@@ -28,10 +28,10 @@ from numba import njit
 
 __all__ = ["beam_grid_errors", "l1_distances"]
 
-#: Test rows per block of :func:`l1_distances`.
-_ROWS = 4
-#: Templates per block of :func:`l1_distances` (the accumulators stay in L1 cache).
-_COLS = 256
+#: Features per block of :func:`l1_distances` (the block of templates stays in L2 cache).
+_FEATURES = 64
+#: Templates per block of :func:`l1_distances` (two rows of sums stay in L1 cache).
+_TEMPLATES = 512
 
 
 @njit(cache=True, nogil=True)
@@ -44,26 +44,36 @@ def l1_distances(F, TT, out):  # pragma: no cover - compiled
         Test rows.
     TT : float64 array of shape (d, m), C-contiguous
         The templates, transposed.
-    out : float64 array of shape (n, m)
+    out : float64 array of shape (n, m), C-contiguous
         Filled in place.
     """
     n, d = F.shape
     m = TT.shape[1]
-    acc = np.empty(_ROWS * _COLS)
-    for t0 in range(0, m, _COLS):
-        w = min(m, t0 + _COLS) - t0
-        for i0 in range(0, n, _ROWS):
-            r = min(n, i0 + _ROWS) - i0
-            acc[:] = 0.0
-            for j in range(d):
-                row = TT[j, t0:t0 + w]
-                for ii in range(r):
-                    a = F[i0 + ii, j]
-                    part = acc[ii * _COLS:ii * _COLS + w]
-                    for tt in range(w):
-                        part[tt] += abs(a - row[tt])
-            for ii in range(r):
-                out[i0 + ii, t0:t0 + w] = acc[ii * _COLS:ii * _COLS + w]
+    out[:, :] = 0.0
+    for t0 in range(0, m, _TEMPLATES):
+        w = min(m, t0 + _TEMPLATES) - t0
+        for j0 in range(0, d, _FEATURES):
+            j1 = min(d, j0 + _FEATURES)
+            i = 0
+            while i + 1 < n:  # two test rows share each load of the templates
+                o1 = out[i, t0:t0 + w]
+                o2 = out[i + 1, t0:t0 + w]
+                for j in range(j0, j1):
+                    a1 = F[i, j]
+                    a2 = F[i + 1, j]
+                    row = TT[j, t0:t0 + w]
+                    for t in range(w):
+                        r = row[t]
+                        o1[t] += abs(a1 - r)
+                        o2[t] += abs(a2 - r)
+                i += 2
+            if i < n:
+                o1 = out[i, t0:t0 + w]
+                for j in range(j0, j1):
+                    a1 = F[i, j]
+                    row = TT[j, t0:t0 + w]
+                    for t in range(w):
+                        o1[t] += abs(a1 - row[t])
 
 
 @njit(cache=True, nogil=True)
