@@ -83,3 +83,22 @@ def test_static_beam_grid_errors_exact_near_the_minimum(whisker) -> None:
     # every point within the tie tolerance of the minimum is evaluated exactly
     assert near[slow <= slow.min() + 1e-9].all()
     assert np.array_equal(fast[near], slow[near]) and fast.min() == slow.min()
+
+
+def test_naive_bayes_counts_equal_the_bincount_of_the_bin_indices() -> None:
+    from vibrissa.classify import StationaryNaiveBayes
+
+    rng = np.random.default_rng(4)
+    X = 2.5 + rng.standard_normal((30, 2, 200)) * np.array([0.2, 2.0])[None, :, None]
+    y = np.repeat([1.0, 2.0, 3.0], 10)
+    nb = StationaryNaiveBayes(signal="raw", n_bins=37, value_range=(2.0, 3.0)).fit(X, y)
+    S = X.copy()
+    S[0, 0, :3] = [-1e6, 1e6, 3.0]  # far outside, and on the upper edge
+    n, c, _ = S.shape
+    edges = nb.bin_edges_
+    idx = np.floor((S - edges[:, 0][None, :, None])
+                   / ((edges[:, -1] - edges[:, 0])[None, :, None] / 37)).astype(np.intp)
+    np.clip(idx, 0, 36, out=idx)
+    idx += (np.arange(n * c) * 37).reshape(n, c, 1)
+    expect = np.bincount(idx.ravel(), minlength=n * c * 37).reshape(n, c * 37)
+    assert np.array_equal(nb._counts(S), expect)

@@ -1,7 +1,8 @@
-"""Numba kernels of the classifiers: L1 template distances and the static beam's grid search.
+"""Numba kernels of the classifiers: L1 template distances, the static beam's grid search,
+the naive Bayes histograms.
 
-Both kernels give the same numbers, bit for bit, as the NumPy/SciPy code they
-replace, so the classifiers' predictions do not change:
+The kernels give the same numbers, bit for bit, as the NumPy/SciPy code they
+replaced, so the classifiers' predictions do not change:
 
 - :func:`l1_distances` sums ``|a_j - b_j|`` over ``j`` in order, starting from 0,
   which is how :func:`scipy.spatial.distance.cdist` (``"cityblock"``) sums; it adds
@@ -16,6 +17,10 @@ replace, so the classifiers' predictions do not change:
   sums. The sums add the same terms in another order; the caller re-evaluates the
   grid points near the minimum the original way (exact when the class values are
   integers, e.g. whole millimetres, and a bound on the difference otherwise).
+- :func:`histogram_counts` counts each trial's values per bin, with the naive
+  Bayes' bin arithmetic, without the index arrays of ``numpy.bincount`` (a value
+  more than 2**63 bins beyond the range now lands in the end bin it lies beyond;
+  NumPy's integer conversion had put it in bin 0).
 
 Why every kernel lives in this one module: see :mod:`vibrissa.whisker._kernels`
 (numba's on-disk cache checks only the file of the function it compiled).
@@ -26,7 +31,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["beam_grid_errors", "l1_distances"]
+__all__ = ["beam_grid_errors", "histogram_counts", "l1_distances"]
 
 #: Features per block of :func:`l1_distances` (the block of templates stays in L2 cache).
 _FEATURES = 64
@@ -162,3 +167,41 @@ def beam_grid_errors(kappa, length_mm, length_m2, m_sorted, mid, G, lookup, scal
                 if bound[k] != bound[k + 1]:
                     total += G[bound[k], k] - G[bound[k + 1], k]
             out[i, j] = total / n
+
+
+@njit(cache=True, nogil=True)
+def histogram_counts(S, lo, width, n_bins, out):  # pragma: no cover - compiled
+    """Per-trial histogram counts of every channel, added into ``out``.
+
+    The bin of a value is ``floor((value - lo[ch]) / width[ch])`` (the operations of
+    :class:`~vibrissa.classify.StationaryNaiveBayes` before this kernel), values
+    beyond either end counted in the end bins.
+
+    Parameters
+    ----------
+    S : float64 array of shape (n, channels, time)
+        Finite values.
+    lo, width : float64 arrays of shape (channels,)
+        Lower edge and bin width of each channel.
+    n_bins : int
+        Bins per channel.
+    out : float64 array of shape (n, channels * n_bins)
+        Zeros on entry; ``out[i, ch * n_bins + k]`` counts trial ``i``'s values of
+        channel ``ch`` in bin ``k``.
+    """
+    n, n_ch, n_t = S.shape
+    top = n_bins - 1
+    for i in range(n):
+        for ch in range(n_ch):
+            base = ch * n_bins
+            low = lo[ch]
+            w = width[ch]
+            for t in range(n_t):
+                f = np.floor((S[i, ch, t] - low) / w)
+                if f <= 0.0:
+                    k = 0
+                elif f >= top:
+                    k = top
+                else:
+                    k = int(f)
+                out[i, base + k] += 1.0
