@@ -554,12 +554,8 @@ def _job(arrays: Mapping[str, np.ndarray], kind: str, **job: Any) -> Any:
 
 
 def _longest_first(jobs: Sequence[Mapping[str, Any]]) -> list[int]:
-    """Job order for the workers: windows, then fits by falling training-set size."""
-    def size(j: int) -> float:
-        job = jobs[j]
-        return np.inf if job["kind"] == "window" else float(len(job["train"]))
-
-    return sorted(range(len(jobs)), key=lambda j: -size(j))
+    """Job order for the workers: by falling training-set size (the longest first)."""
+    return sorted(range(len(jobs)), key=lambda j: -len(jobs[j]["train"]))
 
 
 # --------------------------------------------------------------------------- protocol
@@ -744,52 +740,44 @@ def run_chapter4(
     if any(v is not None for v in reduced.values()):
         windows = {key: head for name, (key, head, _) in heads.items() if key is not None}
 
+    names = list(classifiers)
+    # every fit: the full training sets (table 4.6 times them) through the whole
+    # pipeline on the raw trials, the reduced sets on the shared windows
+    fit_keys: list[tuple[Any, str, int]] = [("full", name, -1) for name in names]
+    fit_keys += [k for k, v in reduced.items() if v is not None]
+    jobs: list[dict[str, Any]] = []
+    for i, name, k in fit_keys:
+        key, _, rest = heads[name]
+        full = i == "full"
+        jobs.append({"kind": "fit", "name": name,
+                     "estimator": classifiers[name] if full or key is None else rest,
+                     "data": "X" if full or key is None else key,
+                     "train": train_index[name] if full else reduced[i, name, k],
+                     "test": test_index, "radius_only": ro(name), "keep_predictions": full,
+                     "sample_rate_hz": fs})
+
+    def step(i: Any, name: str, k: int) -> None:
+        prog.step(f"{name}: full training set" if i == "full"
+                  else f"{name}: {fr[i]:g} of training set, seed {k}")
+
+    for i, name, k in (k for k, v in reduced.items() if v is None):
+        step(i, name, k)
     with SharedArrays(n_workers) as arrays:
         arrays.add("X", X)
         arrays.add("y", y)
-        # the full training sets (table 4.6 times them): the whole pipeline, raw trials;
-        # the windows are cut meanwhile
-        jobs: list[dict[str, Any]] = [
-            {"kind": "fit", "name": name, "estimator": est, "data": "X",
-             "train": train_index[name], "test": test_index, "radius_only": ro(name),
-             "keep_predictions": True, "sample_rate_hz": fs}
-            for name, est in classifiers.items()
-        ]
-        jobs += [{"kind": "window", "window": head, "sample_rate_hz": fs}
-                 for head in windows.values()]
-        names = list(classifiers)
-
-        def full_done(j: int) -> None:
-            if j < len(names):
-                prog.step(f"{names[j]}: full training set")
-
-        first = run_jobs(_job, jobs, arrays, order=_longest_first(jobs), on_done=full_done)
-        for key, w in zip(windows, first[len(names):], strict=True):
+        cut = run_jobs(_job, [{"kind": "window", "window": head, "sample_rate_hz": fs}
+                              for head in windows.values()], arrays)
+        for key, w in zip(windows, cut, strict=True):
             arrays.add(key, w)
-        keys = [k for k, v in reduced.items() if v is not None]
-        jobs = []
-        for i, name, k in keys:
-            key, _, tail = heads[name]
-            jobs.append({"kind": "fit", "name": name,
-                         "estimator": classifiers[name] if key is None else tail,
-                         "data": "X" if key is None else key,
-                         "train": reduced[i, name, k], "test": test_index,
-                         "radius_only": ro(name), "keep_predictions": False,
-                         "sample_rate_hz": fs})
-        skipped = [k for k, v in reduced.items() if v is None]
-        for i, name, k in skipped:
-            prog.step(f"{name}: {fr[i]:g} of training set, seed {k}")
-
-        def reduced_done(j: int) -> None:
-            i, name, k = keys[j]
-            prog.step(f"{name}: {fr[i]:g} of training set, seed {k}")
-
-        fits = dict(zip(keys, run_jobs(_job, jobs, arrays, order=_longest_first(jobs),
-                                       on_done=reduced_done), strict=True))
+        del cut
+        done = run_jobs(_job, jobs, arrays, order=_longest_first(jobs),
+                        on_done=lambda j: step(*fit_keys[j]))
+    fits = dict(zip(fit_keys, done, strict=True))
 
     results: dict[str, Any] = {}
     preds: dict[str, Any] = {}
-    for name, r in zip(names, first, strict=False):
+    for name in names:
+        r = fits["full", name, -1]
         y_pred = r.pop("y_pred")
         r["train_sets"] = [json_value(v) for v in own_sets.get(name, pooled)]
         results[name] = r
