@@ -185,7 +185,8 @@ def _cohen_kappa(
     pc = np.asarray(pc, dtype=np.intp)
     sum0 = np.bincount(pc, minlength=n_labels).astype(float)  # column sums (predicted)
     sum1 = np.bincount(tc, minlength=n_labels).astype(float)  # row sums (true)
-    expected = np.outer(sum0, sum1) / np.sum(sum0)
+    expected = np.outer(sum0, sum1)
+    expected /= np.sum(sum0)
     if weights is None:
         numerator = float(np.count_nonzero(tc != pc))
         np.fill_diagonal(expected, 0.0)

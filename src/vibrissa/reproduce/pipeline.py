@@ -183,7 +183,7 @@ def run_experiment(
     # the results are saved before the reports are drawn: a failing figure loses nothing
     write_json(envelope, out / "results.json")
     write_reports(exp, envelope, out, dataset=ds if figures else None, figures=figures,
-                  baseline=baseline)
+                  baseline=baseline, workers=workers)
     meta["wall_seconds"]["report"] = round(time.perf_counter() - t2, 3)
     meta["wall_seconds"]["total"] = round(time.perf_counter() - t0, 3)
     write_json(envelope, out / "results.json")
@@ -192,13 +192,15 @@ def run_experiment(
 
 def write_reports(exp: Experiment, results: Mapping[str, Any], out: Path, *,
                   dataset: Any, figures: bool,
-                  baseline: Mapping[str, Any] | None) -> dict[str, Path]:
-    """Figures, extra files, ``report.md`` and ``report.html`` of one run."""
+                  baseline: Mapping[str, Any] | None,
+                  workers: int | None = None) -> dict[str, Path]:
+    """Figures, extra files, ``report.md`` and ``report.html`` of one run (``workers``
+    processes may draw the figures; ``None``: every core)."""
     from vibrissa._atomic import atomic_write_text
     from vibrissa.evaluate.html import write_html_report
     from vibrissa.evaluate.report_common import report_header
 
-    figs = exp.write_outputs(results, out, dataset=dataset, figures=figures)
+    figs = exp.write_outputs(results, out, dataset=dataset, figures=figures, workers=workers)
     rel = {k: p.relative_to(out) for k, p in figs.items()}
     text = report_header(results["meta"]) + exp.report_sections(results, rel, baseline)
     md = atomic_write_text(out / "report.md", text.rstrip() + "\n")

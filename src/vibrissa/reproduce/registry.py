@@ -96,8 +96,10 @@ class Experiment(ABC):
 
     # ------------------------------------------------------------------ outputs
     def write_outputs(self, results: Mapping[str, Any], out_dir: Path, *,
-                      dataset: xr.Dataset | None, figures: bool) -> dict[str, Path]:
-        """Write extra files (CSV) and figures; return figure key -> path."""
+                      dataset: xr.Dataset | None, figures: bool,
+                      workers: int | None = None) -> dict[str, Path]:
+        """Write extra files (CSV) and figures; return figure key -> path. ``workers``:
+        processes that may draw the figures (``None``: every core)."""
         return {}
 
     @abstractmethod

@@ -45,7 +45,9 @@ class AngleTexture(Experiment):
         return results
 
     def write_outputs(self, results: Mapping[str, Any], out_dir: Path, *,
-                      dataset: xr.Dataset | None, figures: bool) -> dict[str, Path]:
+                      dataset: xr.Dataset | None, figures: bool,
+                      workers: int | None = None) -> dict[str, Path]:
+        # chapter 5's figures are drawn in this process (``workers`` is not used)
         from vibrissa.evaluate.chapter5_report import write_outputs
 
         return write_outputs(results, out_dir, figures=figures)

@@ -88,10 +88,12 @@ class RadialDistance(Experiment):
         return results
 
     def write_outputs(self, results: Mapping[str, Any], out_dir: Path, *,
-                      dataset: xr.Dataset | None, figures: bool) -> dict[str, Path]:
+                      dataset: xr.Dataset | None, figures: bool,
+                      workers: int | None = None) -> dict[str, Path]:
         from vibrissa.evaluate.chapter4_report import write_outputs
 
-        return write_outputs(results, out_dir, figures=figures, dataset=dataset)
+        return write_outputs(results, out_dir, figures=figures, dataset=dataset,
+                             workers=workers)
 
     def report_sections(self, results: Mapping[str, Any], figures: Mapping[str, Path],
                         baseline: Mapping[str, Any] | None) -> str:
