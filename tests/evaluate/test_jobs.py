@@ -55,3 +55,24 @@ def test_resolve_workers_and_bad_arguments() -> None:
             resolve_workers(bad)
     with SharedArrays(1) as arrays, pytest.raises(ValueError, match="permutation"):
         run_jobs(row_sum, [{}, {}], arrays, order=[0, 0])
+
+
+def test_folders_of_dead_processes_are_removed(tmp_path, monkeypatch) -> None:
+    import subprocess
+    import sys
+
+    from vibrissa.evaluate import jobs
+
+    monkeypatch.setattr(jobs, "Path", lambda p: tmp_path if p == "/dev/shm" else Path(p))
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
+                          capture_output=True, text=True, check=True).stdout.strip()
+    stale = tmp_path / f"vibrissa-eval-{dead}-abc"
+    stale.mkdir()
+    (stale / "0.npy").write_bytes(b"x")
+    alive = tmp_path / f"vibrissa-eval-{os.getpid()}-def"
+    alive.mkdir()
+    with SharedArrays(2) as arrays:
+        arrays.add("a", np.zeros(3))
+        assert Path(arrays.for_workers().paths["a"]).parent.parent == tmp_path
+        assert isinstance(arrays["a"], np.memmap) and not arrays["a"].flags.writeable
+    assert not stale.exists() and alive.exists()

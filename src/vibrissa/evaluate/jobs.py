@@ -60,11 +60,40 @@ class _Mapped(Mapping[str, np.ndarray]):
         return len(self.paths)
 
 
+_PREFIX = "vibrissa-eval-"
+
+
+def _temporary_folder() -> str:
+    """A new folder for shared arrays, in ``/dev/shm`` (memory) where it can be written.
+
+    Its name carries this process's id; folders left by processes that no longer
+    exist (killed before they could remove theirs) are removed first.
+    """
+    shm = Path("/dev/shm")
+    base = Path(str(shm) if shm.is_dir() and os.access(shm, os.W_OK) else tempfile.gettempdir())
+    for old in base.glob(f"{_PREFIX}*-*"):
+        pid = old.name[len(_PREFIX):].split("-", 1)[0]
+        if pid.isdigit() and not _alive(int(pid)):
+            shutil.rmtree(old, ignore_errors=True)
+    return tempfile.mkdtemp(prefix=f"{_PREFIX}{os.getpid()}-", dir=base)
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # e.g. another user's process
+        return True
+    return True
+
+
 class SharedArrays(Mapping[str, np.ndarray]):
     """Named arrays that the jobs of :func:`run_jobs` read, in this process or in workers.
 
-    Use as a context manager: with ``workers > 1`` every added array is also written
-    to a temporary ``.npy`` file, removed on exit.
+    Use as a context manager: with ``workers > 1`` every added array is written to a
+    temporary ``.npy`` file, removed on exit (or, if this process is killed, by the
+    next evaluation that starts).
 
     Parameters
     ----------
@@ -92,16 +121,20 @@ class SharedArrays(Mapping[str, np.ndarray]):
             self._paths.clear()
 
     def add(self, name: str, array: np.ndarray) -> None:
-        """Share ``array`` as ``name`` (a C-contiguous copy is written for workers)."""
-        self._arrays[name] = array
-        if self.workers > 1:
-            if self._dir is None:
-                shm = Path("/dev/shm")
-                base = str(shm) if shm.is_dir() and os.access(shm, os.W_OK) else None
-                self._dir = tempfile.mkdtemp(prefix="vibrissa-eval-", dir=base)
-            path = os.path.join(self._dir, f"{len(self._paths)}.npy")
-            np.save(path, np.ascontiguousarray(array))
-            self._paths[name] = path
+        """Share ``array`` as ``name``.
+
+        With workers it is written to a file and this process keeps only a read-only
+        map of it (so a caller that drops its own reference frees the memory).
+        """
+        if self.workers <= 1:
+            self._arrays[name] = array
+            return
+        if self._dir is None:
+            self._dir = _temporary_folder()
+        path = os.path.join(self._dir, f"{len(self._paths)}.npy")
+        np.save(path, np.ascontiguousarray(array))
+        self._paths[name] = path
+        self._arrays[name] = np.load(path, mmap_mode="r")
 
     def __getitem__(self, name: str) -> np.ndarray:
         return self._arrays[name]
