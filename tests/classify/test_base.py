@@ -243,3 +243,24 @@ def test_clone_of_a_fitted_estimator_forgets_the_fitted_rate() -> None:
     est = vc.StationaryNaiveBayes().fit(X, y, sample_rate_hz=FS4)
     assert est.sample_rate_hz_ == FS4
     assert not hasattr(clone(est), "sample_rate_hz_")
+
+
+def test_argmax_softmax_is_the_argmax_of_the_probabilities() -> None:
+    from scipy.special import softmax
+
+    from vibrissa.classify._base import argmax_softmax
+
+    rng = np.random.default_rng(0)
+    scores = rng.standard_normal((500, 40)) * rng.choice([1e-3, 1.0, 1e4], size=(500, 1))
+    assert np.array_equal(argmax_softmax(scores), np.argmax(softmax(scores, axis=1), axis=1))
+    # ties and near ties with the best class, before and after it: the softmax decides
+    near = scores.copy()
+    best = np.argmax(near, axis=1)
+    rows = np.arange(0, 500, 3)
+    for gap in (0.0, 1e-17, 1e-13, 1e-10):
+        other = (best[rows] + 7) % 40
+        near[rows, other] = near[rows, best[rows]] - gap
+        assert np.array_equal(argmax_softmax(near), np.argmax(softmax(near, axis=1), axis=1))
+    assert argmax_softmax(np.empty((0, 3))).shape == (0,)
+    with_inf = np.array([[0.0, -np.inf, 1.0], [np.inf, 0.0, 0.0]])
+    assert np.array_equal(argmax_softmax(with_inf), np.argmax(softmax(with_inf, axis=1), axis=1))

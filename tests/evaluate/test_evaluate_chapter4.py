@@ -17,11 +17,12 @@ SPEEDS = (36.0, 72.0, 108.0)
 
 
 def make_grid_dataset(
-    n_sets: int = 4, radii=RADII, speeds=SPEEDS, n_time: int = 40, noise: float = 0.0, seed=0
+    n_sets: int = 4, radii=RADII, speeds=SPEEDS, n_time: int = 40, noise: float = 0.0, seed=0,
+    t_peak: float = 0.02,
 ) -> xr.Dataset:
     """Tiny chapter-4-like dataset: each set one complete radius x speed grid."""
     rng = np.random.default_rng(seed)
-    t = np.arange(n_time) / 1000.0
+    t = np.arange(n_time) / 1000.0 + 0.02 - t_peak
     sig, r_, s_, set_ = [], [], [], []
     for k in range(n_sets):
         for r in radii:
@@ -85,6 +86,15 @@ class RadiusOnly(Centroid):
         p = super().predict(X).copy()
         p[:, 1] = np.nan
         return p
+
+
+def _without_times(x):
+    """A result without its wall times (the only values that differ between runs)."""
+    if isinstance(x, dict):
+        return {k: _without_times(v) for k, v in x.items() if not k.endswith("_seconds")}
+    if isinstance(x, list):
+        return [_without_times(v) for v in x]
+    return x
 
 
 @pytest.fixture(scope="module")
@@ -207,15 +217,7 @@ def test_run_chapter4_deterministic_and_validates(ds) -> None:
     kw = {"fractions": (0.5,), "n_seeds": 2, "seed": 4}
     a = protocol.run_chapter4(ds, {"c": Centroid()}, **kw)
     b = protocol.run_chapter4(ds, {"c": Centroid()}, **kw)
-
-    def strip(x):
-        if isinstance(x, dict):
-            return {k: strip(v) for k, v in x.items() if not k.endswith("_seconds")}
-        if isinstance(x, list):
-            return [strip(v) for v in x]
-        return x
-
-    assert strip(a) == strip(b)
+    assert _without_times(a) == _without_times(b)
     for bad in ((0.0,), (1.2,), (0.5, 0.5)):
         with pytest.raises(ValueError, match="fraction"):
             protocol.run_chapter4(ds, {"c": Centroid()}, fractions=bad)
@@ -323,3 +325,36 @@ def test_classifiers_built_from_the_dataset_run_at_its_rate(ds) -> None:
     assert res["classifiers"]["template"]["radius_mm"]["exact_hit"] == 1.0
     with pytest.raises(ValueError, match="no attribute 'sample_rate_hz'"):
         protocol.run_chapter4(ds.drop_attrs(), {"template": clf}, fractions=())
+
+
+# ------------------------------------------------------- workers and shared windows (issue 14)
+WHISKER = {"length_mm": 185.0, "base_radius_mm": 1.0, "youngs_modulus_gpa": 2.35,
+           "follicle_stiffness_nm_per_rad": 0.1, "hall_gain_v": 12.0, "hall_offset_v": 2.5}
+
+
+def test_thesis_presets_give_the_same_results_with_any_workers(monkeypatch) -> None:
+    from vibrissa.classify import CHAPTER4_ONE_SET, chapter4_classifiers
+
+    # recordings as long as the simulated ones (1.3 s, contact 0.6 s in), with noise
+    ds = make_grid_dataset(n_time=1301, t_peak=0.6, noise=0.003, seed=2)
+    clfs = chapter4_classifiers(1000.0, WHISKER)
+    kw = {"fractions": (0.5, 0.25), "n_seeds": 2, "seed": 1, "train_set": [1, 2, 3],
+          "test_set": 0, "classifier_train_sets": {k: [2] for k in CHAPTER4_ONE_SET}}
+    one = protocol.run_chapter4(ds, clfs, workers=1, **kw)
+    two = protocol.run_chapter4(ds, clfs, workers=2, **kw)
+    assert _without_times(one) == _without_times(two)
+    assert set(one["training_fractions"]["0.25"]) == set(clfs)
+    # the reduced sets' fits on the shared windows are the whole pipelines' fits
+    key, window, rest = protocol.window_head(clfs["template"])
+    assert key.startswith("window:") and rest is clfs["template"].steps[1][1]
+    assert protocol.window_head(clfs["template"])[0] != protocol.window_head(clfs["frequency"])[0]
+    assert protocol.window_head(clfs["feature"])[0] == protocol.window_head(
+        clfs["naive_bayes_raw"])[0]
+    monkeypatch.setattr(protocol, "window_head", lambda est: (None, None, None))
+    whole = protocol.run_chapter4(ds, clfs, workers=1, **kw)
+    assert _without_times(whole) == _without_times(one)
+
+
+def test_workers_is_checked(ds) -> None:
+    with pytest.raises(ValueError, match="workers must be a positive integer"):
+        protocol.run_chapter4(ds, {"c": Centroid()}, fractions=(), workers=0)

@@ -142,6 +142,15 @@ def test_csv_figures_and_report_written(results, ds, tmp_path) -> None:
     assert not [p for p in out.rglob("*.tmp")]
 
 
+def test_figures_drawn_by_workers_are_the_same_files(results, tmp_path) -> None:
+    one = figures.chapter4_figures(results, tmp_path / "one", workers=1)
+    two = figures.chapter4_figures(results, tmp_path / "two", workers=2)
+    assert list(one) == list(two) and len(one) == 3 * 2 + 1
+    for key in one:
+        assert one[key].name == two[key].name and _is_png(two[key])
+        assert one[key].read_bytes() == two[key].read_bytes(), key
+
+
 def test_discussion_numbers_come_from_the_results(results) -> None:
     """The frequency row's explanation is computed from the run's speeds and test set."""
     text = report.discussion(results)

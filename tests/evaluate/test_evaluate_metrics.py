@@ -99,3 +99,30 @@ def test_non_integer_class_values() -> None:
     assert np.array_equal(m2, m[::-1, ::-1])
     tj = np.column_stack([t, t / 3.0])
     assert metrics.joint_kappa(tj, np.column_stack([p, p / 3.0])) == pytest.approx(k)
+
+
+@pytest.mark.parametrize("weights", [None, "linear", "quadratic"])
+@pytest.mark.parametrize(("n_trials", "n_classes"), [(40, 3), (600, 250), (2000, 1500)])
+def test_kappa_is_sklearns_to_the_last_bit(weights, n_trials, n_classes) -> None:
+    # metrics computes Cohen's kappa itself (without sklearn's n_classes^2 matrices for
+    # the plain kappa); the chapter-4 results must not move by one bit
+    from sklearn.metrics import cohen_kappa_score
+
+    rng = np.random.default_rng(n_classes)
+    t = rng.integers(0, n_classes, n_trials).astype(float)
+    p = np.where(rng.random(n_trials) < 0.6, t, rng.integers(0, n_classes, n_trials))
+    labels = np.union1d(t, p)
+    tc, pc = np.searchsorted(labels, t), np.searchsorted(labels, p)
+    expect = cohen_kappa_score(tc, pc, labels=np.arange(labels.size), weights=weights)
+    assert metrics.kappa(t, p.astype(float), weights=weights) == expect
+    if weights is None:
+        tj, pj = np.column_stack([t, t % 7]), np.column_stack([p, p % 7])
+        codes_t, codes_p, classes = metrics.joint_labels(tj, pj)
+        assert metrics.joint_kappa(tj, pj) == cohen_kappa_score(
+            codes_t, codes_p, labels=np.arange(len(classes)))
+
+
+def test_kappa_of_total_disagreement_by_hand() -> None:
+    # true all 0, predicted all 1: observed = chance disagreement -> 0; swapped -> -1
+    assert metrics.kappa([0.0, 0.0], [1.0, 1.0], weights="linear") == pytest.approx(0.0)
+    assert metrics.kappa([0.0, 1.0], [1.0, 0.0]) == pytest.approx(-1.0)

@@ -36,6 +36,7 @@ def test_results_envelope(quick_runs, name):
     assert set(meta["wall_seconds"]) == {"generate", "evaluate", "report", "total"}
     assert all(v >= 0 for v in meta["wall_seconds"].values())
     assert meta["cores"]["available"] >= 1 and meta["cores"]["generate_workers"] == 1
+    assert meta["cores"]["evaluate_workers"] == 1
     assert re.match(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d", meta["started_at"])
     for p in saved["parameters"].values():
         assert p["unit"] and p["values"]

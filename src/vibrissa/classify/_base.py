@@ -86,7 +86,8 @@ def check_magnitude(X: np.ndarray, name: str = "X") -> np.ndarray:
         If any ``|X|`` exceeds :data:`MAX_ABS_INPUT`, naming the largest value.
     """
     if X.size:
-        largest = float(np.max(np.abs(X)))
+        # max |X| without a temporary |X| (NaN in X gives NaN either way)
+        largest = float(max(np.max(X), -np.min(X)))
         if not largest <= MAX_ABS_INPUT:
             raise ValueError(
                 f"{name} has values as large as {largest:.3g} in magnitude; the classifiers "
@@ -373,6 +374,42 @@ def nearest_values(values: np.ndarray, grid: np.ndarray) -> np.ndarray:
     return np.searchsorted(mid, values, side="left")
 
 
+#: Scores this close to a row's best may tie with it after the softmax's rounding.
+_NEAR_SCORE = 1e-9
+
+
+def argmax_softmax(scores: np.ndarray) -> np.ndarray:
+    """``np.argmax(softmax(scores, axis=1), axis=1)``, computing the softmax only where needed.
+
+    The row maximum has ``exp(0) = 1``; a score below it by more than
+    :data:`_NEAR_SCORE` has ``exp`` smaller by far more than a rounding error, so
+    its probability is smaller and the first maximum of the scores is the first
+    maximum of the probabilities. Where another score lies within
+    :data:`_NEAR_SCORE` of a row's maximum (an exact tie included), rounding in
+    ``exp`` and in the division could make an earlier class tie with the best one
+    after all: then the softmax of the whole array is computed, as
+    :meth:`TrialClassifier.predict_proba` does, and its argmax taken.
+
+    Parameters
+    ----------
+    scores : numpy.ndarray of shape (n_trials, n_classes)
+
+    Returns
+    -------
+    numpy.ndarray of int, shape (n_trials,)
+    """
+    scores = np.asarray(scores)
+    best = np.argmax(scores, axis=1)
+    if scores.size == 0:
+        return best
+    top = scores[np.arange(scores.shape[0]), best]
+    # the softmax's own differences x - max(x); the best class's is 0
+    near = np.count_nonzero(scores - top[:, None] > -_NEAR_SCORE, axis=1) > 1
+    if near.any() or not np.all(np.isfinite(top)):
+        return np.argmax(softmax(scores, axis=1), axis=1)
+    return best
+
+
 class TrialClassifier(SampleRateMixin, ClassifierMixin, BaseEstimator):
     """Base class: validation of trials and joint encoding of multi-target labels.
 
@@ -539,8 +576,11 @@ class TrialClassifier(SampleRateMixin, ClassifierMixin, BaseEstimator):
         ndarray of shape (n_trials,) or (n_trials, n_targets)
             Rows of ``classes_`` (the argmax of :meth:`predict_proba`).
         """
-        proba = self.predict_proba(X, sample_rate_hz=sample_rate_hz)
-        return self.classes_[np.argmax(proba, axis=1)]
+        if type(self).predict_proba is not TrialClassifier.predict_proba:
+            proba = self.predict_proba(X, sample_rate_hz=sample_rate_hz)
+            return self.classes_[np.argmax(proba, axis=1)]
+        scores = self._joint_scores(self._fitted_input(X, sample_rate_hz))
+        return self.classes_[argmax_softmax(scores)]
 
     def score(
         self, X: Any, y: Any, sample_weight: Any = None, sample_rate_hz: float | None = None

@@ -8,6 +8,7 @@ import numpy as np
 from scipy.ndimage import gaussian_filter1d
 
 from vibrissa import signal as vsig
+from vibrissa.classify import _kernels
 from vibrissa.classify._base import TrialClassifier
 
 __all__ = ["StationaryNaiveBayes"]
@@ -125,12 +126,11 @@ class StationaryNaiveBayes(TrialClassifier):
         """Per-trial histogram counts, shape (n_trials, n_channels * n_bins)."""
         n, c, _ = S.shape
         b = self.bin_edges_.shape[1] - 1
-        lo = self.bin_edges_[:, 0][None, :, None]
-        width = (self.bin_edges_[:, -1] - self.bin_edges_[:, 0])[None, :, None] / b
-        idx = np.floor((S - lo) / width).astype(np.intp)
-        np.clip(idx, 0, b - 1, out=idx)
-        idx += (np.arange(n * c, dtype=np.intp) * b).reshape(n, c, 1)
-        return np.bincount(idx.ravel(), minlength=n * c * b).reshape(n, c * b).astype(float)
+        lo = np.ascontiguousarray(self.bin_edges_[:, 0])
+        width = (self.bin_edges_[:, -1] - self.bin_edges_[:, 0]) / b
+        out = np.zeros((n, c * b))
+        _kernels.histogram_counts(np.ascontiguousarray(S, dtype=np.float64), lo, width, b, out)
+        return out
 
     # -- fit / score -------------------------------------------------------------------
     def _fit(self, X: np.ndarray, y: object, y_idx: np.ndarray) -> None:

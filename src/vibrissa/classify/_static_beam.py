@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 
 from vibrissa import signal as vsig
+from vibrissa.classify import _kernels
 from vibrissa.classify._base import (
     EstimatorTags,
     TrialClassifier,
@@ -24,6 +25,9 @@ __all__ = [
     "static_beam_radius_mm",
     "thesis_parameter_grid",
 ]
+
+#: Grid points whose training error is within this of the smallest are ties, mm.
+_TIE_MM = 1e-9
 
 #: Median of the chapter-4 speed grid (36-216 mm/s), used when no speed is known.
 DEFAULT_SPEED_MM_S = 126.0
@@ -372,20 +376,10 @@ class StaticBeamClassifier(TrialClassifier):
         inv = np.empty(kappa.size, dtype=np.intp)
         inv[order] = np.cumsum(new) - 1
         kappa_u = ks[new]
-        mid = 0.5 * (self.radii_mm_[1:] + self.radii_mm_[:-1])
-        err_u = np.empty((len(kappa_u), len(L_vals)))
-        m = moment[None, :]
-        block = max(1, 2_000_000 // max(1, moment.size))
-        for j, Lmm in enumerate(L_vals):
-            Lm2 = (Lmm * 1e-3) ** 2
-            for s in range(0, len(kappa_u), block):
-                q = (kappa_u[s : s + block, None] * Lm2) * m
-                r = 2.0 * Lmm / (1.0 + np.sqrt(1.0 + 4.0 * q))
-                snapped = self.radii_mm_[np.searchsorted(mid, r)]
-                err_u[s : s + block, j] = np.mean(np.abs(snapped - r_true[None, :]), axis=1)
+        err_u = self._grid_errors(kappa_u, L_vals, moment, r_true)
         # full[e, b, s, l]: error of every grid combination.
         full = err_u[inv].reshape(*E.shape, len(L_vals))
-        ties = np.argwhere(full <= full.min() + 1e-9)
+        ties = np.argwhere(full <= full.min() + _TIE_MM)
         vals = np.column_stack(
             [
                 axes["youngs_modulus_gpa"][ties[:, 0]],
@@ -409,6 +403,67 @@ class StaticBeamClassifier(TrialClassifier):
             "moment_scale": float(pick[2]),
             "length_mm": float(pick[3]),
         }
+
+    def _snapped_errors(
+        self, kappa: np.ndarray, length_mm: float, moment: np.ndarray, r_true: np.ndarray
+    ) -> np.ndarray:
+        """Mean absolute error of the snapped training radii for each ``kappa`` at one length."""
+        mid = 0.5 * (self.radii_mm_[1:] + self.radii_mm_[:-1])
+        Lm2 = (length_mm * 1e-3) ** 2
+        out = np.empty(len(kappa))
+        m = moment[None, :]
+        block = max(1, 2_000_000 // max(1, moment.size))
+        for s in range(0, len(kappa), block):
+            q = (kappa[s : s + block, None] * Lm2) * m
+            r = 2.0 * length_mm / (1.0 + np.sqrt(1.0 + 4.0 * q))
+            snapped = self.radii_mm_[np.searchsorted(mid, r)]
+            out[s : s + block] = np.mean(np.abs(snapped - r_true[None, :]), axis=1)
+        return out
+
+    def _grid_errors(
+        self, kappa: np.ndarray, lengths_mm: np.ndarray, moment: np.ndarray, r_true: np.ndarray
+    ) -> np.ndarray:
+        """Errors ``(len(kappa), len(lengths_mm))`` of :meth:`_snapped_errors`, where they matter.
+
+        The numba kernel :func:`~vibrissa.classify._kernels.beam_grid_errors` evaluates
+        every grid point in a fraction of the time; it adds the same absolute errors
+        in another order, so every point within a bound on that difference of the
+        kernel's minimum (plus the tie tolerance of :meth:`_grid_search`) is
+        evaluated again by :meth:`_snapped_errors` and the rest set to infinity:
+        the minimum and its ties are exactly those of evaluating every point.
+        """
+        radii = self.radii_mm_
+        n, n_cls = moment.size, radii.size
+        if not (np.all(np.isfinite(moment)) and np.all(moment >= 0)
+                and np.all(np.isfinite(kappa)) and np.all(kappa > 0)):
+            return np.column_stack([self._snapped_errors(kappa, L, moment, r_true)
+                                    for L in lengths_mm])
+        order = np.argsort(moment, kind="stable")
+        prefix = np.zeros((n + 1, n_cls))
+        np.cumsum(np.abs(radii[None, :] - r_true[order][:, None]), axis=0, out=prefix[1:])
+        m_sorted = np.ascontiguousarray(moment[order])
+        # bucket lookup of positions in the sorted moments, ~4 trials per bucket
+        span = float(m_sorted[-1] - m_sorted[0])
+        n_buckets = 4 * n if span > 0 else 1
+        scale = n_buckets / span if span > 0 else 0.0
+        lookup = (np.searchsorted(m_sorted, m_sorted[0] + np.arange(n_buckets + 1) / scale)
+                  if span > 0 else np.array([0, n]))
+        fast = np.empty((kappa.size, lengths_mm.size))
+        _kernels.beam_grid_errors(
+            np.ascontiguousarray(kappa, dtype=float), np.ascontiguousarray(lengths_mm, dtype=float),
+            np.array([(L * 1e-3) ** 2 for L in lengths_mm]), m_sorted,
+            0.5 * (radii[1:] + radii[:-1]), prefix, lookup.astype(np.int64), scale, fast,
+        )
+        # |fast - exact| <= (2 n_cls + 1) n eps max|error| (prefix sums against NumPy's
+        # pairwise mean): twice that, generously rounded, plus the tie tolerance
+        spread = float(radii[-1] - radii[0])
+        slack = _TIE_MM + 8.0 * (n_cls + 2) * n * np.finfo(float).eps * max(spread, 1.0)
+        near = fast <= fast.min() + slack
+        err = np.full(fast.shape, np.inf)
+        for j in np.flatnonzero(near.any(axis=0)):
+            rows = np.flatnonzero(near[:, j])
+            err[rows, j] = self._snapped_errors(kappa[rows], lengths_mm[j], moment, r_true)
+        return err
 
     def _joint_scores(self, X: np.ndarray) -> np.ndarray:
         est = self._estimate(self._moment(X))

@@ -7,6 +7,7 @@ from typing import Literal
 import numpy as np
 
 from vibrissa import signal as vsig
+from vibrissa.classify import _kernels
 from vibrissa.classify._base import TrialClassifier
 
 __all__ = ["TimeTemplateClassifier", "nearest_template_l1", "nearest_template_scores"]
@@ -103,20 +104,24 @@ def nearest_template_l1(
     """Smallest sum of absolute errors from each row of ``F`` to each class' templates.
 
     The thesis author's template code compared signals by ``sum(abs(T - I))``
-    (where the text's eq. 4.4 squares the errors). Computed with
-    :func:`scipy.spatial.distance.cdist` (``cityblock``) in chunks of ``chunk_size``
-    rows, so memory stays at ``chunk_size x n_templates`` floats.
+    (where the text's eq. 4.4 squares the errors). Each distance is summed over the
+    features in order, as :func:`scipy.spatial.distance.cdist` (``cityblock``) sums
+    (the same numbers, by a compiled kernel several times faster), in chunks of
+    ``chunk_size`` rows, so memory stays at ``chunk_size x n_templates`` floats.
 
     Parameters and return value as :func:`nearest_template_scores`.
     """
-    from scipy.spatial.distance import cdist
-
     T, starts = _grouped_by_class(T, t_class, n_classes)
+    TT = np.ascontiguousarray(T.T, dtype=np.float64)
+    F = np.ascontiguousarray(F, dtype=np.float64)
     out = np.empty((F.shape[0], n_classes))
+    d = np.empty((min(chunk_size, F.shape[0]), T.shape[0]))
     for s in range(0, F.shape[0], chunk_size):
-        d = cdist(F[s : s + chunk_size], T, metric="cityblock")
+        a = F[s : s + chunk_size]
+        _kernels.l1_distances(a, TT, d[: a.shape[0]])
         out[s : s + chunk_size] = (
-            d if len(T) == n_classes else np.minimum.reduceat(d, starts, axis=1)
+            d[: a.shape[0]] if len(T) == n_classes
+            else np.minimum.reduceat(d[: a.shape[0]], starts, axis=1)
         )
     return out
 

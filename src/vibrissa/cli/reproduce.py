@@ -161,7 +161,8 @@ def _command(exp: Experiment) -> Any:
         inspect.Parameter("seed", Opt, annotation=int, default=typer.Option(
             0, "--seed", help="Seed of the simulated session and of the evaluation.")),
         inspect.Parameter("workers", Opt, annotation=int, default=typer.Option(
-            None, "--workers", help="Generation processes (default: all cores).")),
+            None, "--workers",
+            help="Processes for simulating and for evaluating (default: all cores).")),
         inspect.Parameter("figures", Opt, annotation=bool, default=typer.Option(
             True, "--figures/--no-figures", help="Draw the figures.")),
         inspect.Parameter("baseline", Opt, annotation=Path, default=typer.Option(

@@ -29,9 +29,12 @@ from typing import Any
 
 import numpy as np
 import xarray as xr
+from sklearn.base import clone
+from sklearn.pipeline import Pipeline
 
-from vibrissa.classify import dataset_sample_rate, estimator_tags
+from vibrissa.classify import RecordingWindow, dataset_sample_rate, estimator_tags
 from vibrissa.evaluate import metrics
+from vibrissa.evaluate.jobs import SharedArrays, resolve_workers, run_jobs
 from vibrissa.evaluate.loop import FitRecord, Progress, ProgressLike, check_rates, json_value
 from vibrissa.evaluate.loop import fit_and_score as loop_fit_and_score
 
@@ -59,6 +62,9 @@ PARAMETERS: dict[str, str] = {"radial_distance_mm": "radius_mm", "speed_mm_s": "
 THESIS_FRACTIONS: tuple[float, ...] = (0.8, 0.6, 0.4, 0.2, 0.1, 0.05)
 
 _REQUIRED_COORDS = ("radial_distance_mm", "speed_mm_s", "set")
+
+#: Trials windowed at a time when the reduced training sets' windows are cut.
+_WINDOW_BLOCK = 2048
 
 
 # --------------------------------------------------------------------------- dataset
@@ -505,6 +511,53 @@ def _average_runs(runs: list[dict[str, Any]]) -> dict[str, Any]:
     return out
 
 
+# --------------------------------------------------------------------------- jobs
+def window_head(estimator: Any) -> tuple[str | None, Any, Any]:
+    """A Pipeline's leading :class:`~vibrissa.classify.RecordingWindow` and the rest.
+
+    The window is stateless (its ``fit`` learns nothing) and cuts each recording on
+    its own, so fitting the pipeline on some trials is fitting the rest of it on
+    those trials' windows, whichever trials were windowed together: the reduced
+    training sets of :func:`run_chapter4` window every trial once and share it.
+
+    Returns
+    -------
+    (key, window, rest)
+        ``key`` names the window by its class and parameters (equal windows of
+        different classifiers share a key); ``rest`` is the remaining step or
+        Pipeline. ``(None, None, None)`` when the estimator does not start with a
+        window followed by another step.
+    """
+    steps = getattr(estimator, "steps", None)
+    if not isinstance(estimator, Pipeline) or len(steps) < 2:
+        return None, None, None
+    head = steps[0][1]
+    if type(head) is not RecordingWindow:
+        return None, None, None
+    rest = steps[1][1] if len(steps) == 2 else Pipeline(steps[1:])
+    key = "window:" + repr(sorted(head.get_params(deep=False).items()))
+    return key, head, rest
+
+
+def _job(arrays: Mapping[str, np.ndarray], kind: str, **job: Any) -> Any:
+    """One step of :func:`run_chapter4`, in this process or a worker."""
+    X = arrays["X"]
+    if kind == "window":  # every trial's window, a block of trials at a time
+        window = clone(job["window"]).fit(X[:1], sample_rate_hz=job["sample_rate_hz"])
+        return np.concatenate([window.transform(X[s : s + _WINDOW_BLOCK])
+                               for s in range(0, X.shape[0], _WINDOW_BLOCK)])
+    data, y, train, test = arrays[job["data"]], arrays["y"], job["train"], job["test"]
+    return fit_and_score(job["name"], job["estimator"], data[train], y[train], data[test],
+                         y[test], radius_only=job["radius_only"],
+                         keep_predictions=job["keep_predictions"],
+                         sample_rate_hz=job["sample_rate_hz"])
+
+
+def _longest_first(jobs: Sequence[Mapping[str, Any]]) -> list[int]:
+    """Job order for the workers: by falling training-set size (the longest first)."""
+    return sorted(range(len(jobs)), key=lambda j: -len(jobs[j]["train"]))
+
+
 # --------------------------------------------------------------------------- protocol
 def run_chapter4(
     ds: xr.Dataset,
@@ -520,6 +573,7 @@ def run_chapter4(
     require_complete: bool = True,
     keep_predictions: bool = True,
     classifier_train_sets: Mapping[str, Sequence[Any]] | None = None,
+    workers: int | None = 1,
 ) -> dict[str, Any]:
     """Run the thesis' chapter-4 evaluation (4.2-4.4) and return JSON-ready results.
 
@@ -561,6 +615,13 @@ def run_chapter4(
         Require every set to be a complete grid (see :func:`check_dataset`).
     keep_predictions : bool, default=True
         Include the full-training-set predictions (key ``predictions``).
+    workers : int or None, default=1
+        Processes that fit the classifiers (``None``: every core); the results do
+        not depend on it. The full training sets are fitted through each whole
+        pipeline (their times are table 4.6's); for the reduced sets, a pipeline
+        that starts with a :class:`~vibrissa.classify.RecordingWindow` is fitted
+        on windows cut once from every trial (:func:`window_head`), so their
+        ``fit_seconds`` and ``classify_seconds`` leave the window out.
 
     Returns
     -------
@@ -613,6 +674,7 @@ def run_chapter4(
         raise ValueError(f"n_seeds must be a positive integer, got {n_seeds!r}")
     if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
         raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
+    n_workers = resolve_workers(workers)
     split = split_sets(
         ds, seed, train_set=train_set, test_set=test_set, require_complete=require_complete
     )
@@ -621,7 +683,7 @@ def run_chapter4(
     X, y = dataset_arrays(ds)
     if not np.all(np.isfinite(X)):
         raise ValueError("dataset 'signal' contains NaN or infinite values")
-    X_te, y_te = X[split.test_index], y[split.test_index]
+    y_te = y[split.test_index]
     set_vals = np.asarray(ds["set"].values)
     pooled = split.train_set if isinstance(split.train_set, list) else [split.train_set]
     own_sets = dict(classifier_train_sets or {})
@@ -649,23 +711,8 @@ def run_chapter4(
 
     total = len(classifiers) * (1 + len(fr) * int(n_seeds))
     prog = Progress(progress, total, "chapter 4")
+    test_index = split.test_index
 
-    results: dict[str, Any] = {}
-    preds: dict[str, Any] = {}
-    for name, est in classifiers.items():
-        X_tr, y_tr = X[train_index[name]], y[train_index[name]]
-        r = fit_and_score(name, est, X_tr, y_tr, X_te, y_te, radius_only=ro(name),
-                          keep_predictions=True, sample_rate_hz=fs)
-        y_pred = r.pop("y_pred")
-        r["train_sets"] = [json_value(v) for v in own_sets.get(name, pooled)]
-        results[name] = r
-        preds[name] = {
-            "radius_mm": y_pred[:, 0].tolist(),
-            "speed_mm_s": None if r["radius_only"] else y_pred[:, 1].tolist(),
-        }
-        prog.step(f"{name}: full training set")
-
-    fractions_out: dict[str, Any] = {}
     # one permutation of the classes per repeat, shared by every classifier and
     # fraction (the 5 % subset is the head of the 10 % subset, as in the thesis)
     subsets = {
@@ -676,20 +723,78 @@ def run_chapter4(
         ]
         for name in classifiers
     }
+    # the reduced sets' fits: (fraction, name, repeat) -> trials, None when too small
+    reduced: dict[tuple[int, str, int], np.ndarray | None] = {}
+    for i in range(len(fr)):
+        for name in classifiers:
+            y_tr = y[train_index[name]]
+            for k in range(int(n_seeds)):
+                idx = subsets[name][k][i]
+                small = min(len(np.unique(y_tr[idx, c])) for c in range(y_tr.shape[1])) < 2
+                # too small a subset of a small grid to train on: recorded as skipped
+                reduced[i, name, k] = None if small else train_index[name][idx]
+    # the reduced sets' fits share the window each preset cuts from every recording
+    # (computed once, for all trials) and fit the rest of the pipeline on it
+    heads = {name: window_head(est) for name, est in classifiers.items()}
+    windows = {}
+    if any(v is not None for v in reduced.values()):
+        windows = {key: head for name, (key, head, _) in heads.items() if key is not None}
+
+    names = list(classifiers)
+    # every fit: the full training sets (table 4.6 times them) through the whole
+    # pipeline on the raw trials, the reduced sets on the shared windows
+    fit_keys: list[tuple[Any, str, int]] = [("full", name, -1) for name in names]
+    fit_keys += [k for k, v in reduced.items() if v is not None]
+    jobs: list[dict[str, Any]] = []
+    for i, name, k in fit_keys:
+        key, _, rest = heads[name]
+        full = i == "full"
+        jobs.append({"kind": "fit", "name": name,
+                     "estimator": classifiers[name] if full or key is None else rest,
+                     "data": "X" if full or key is None else key,
+                     "train": train_index[name] if full else reduced[i, name, k],
+                     "test": test_index, "radius_only": ro(name), "keep_predictions": full,
+                     "sample_rate_hz": fs})
+
+    def step(i: Any, name: str, k: int) -> None:
+        prog.step(f"{name}: full training set" if i == "full"
+                  else f"{name}: {fr[i]:g} of training set, seed {k}")
+
+    for i, name, k in (k for k, v in reduced.items() if v is None):
+        step(i, name, k)
+    with SharedArrays(n_workers) as arrays:
+        arrays.add("X", X)
+        arrays.add("y", y)
+        cut = run_jobs(_job, [{"kind": "window", "window": head, "sample_rate_hz": fs}
+                              for head in windows.values()], arrays)
+        for key, w in zip(windows, cut, strict=True):
+            arrays.add(key, w)
+        del cut
+        done = run_jobs(_job, jobs, arrays, order=_longest_first(jobs),
+                        on_done=lambda j: step(*fit_keys[j]))
+    fits = dict(zip(fit_keys, done, strict=True))
+
+    results: dict[str, Any] = {}
+    preds: dict[str, Any] = {}
+    for name in names:
+        r = fits["full", name, -1]
+        y_pred = r.pop("y_pred")
+        r["train_sets"] = [json_value(v) for v in own_sets.get(name, pooled)]
+        results[name] = r
+        preds[name] = {
+            "radius_mm": y_pred[:, 0].tolist(),
+            "speed_mm_s": None if r["radius_only"] else y_pred[:, 1].tolist(),
+        }
+    fractions_out: dict[str, Any] = {}
     for i, f in enumerate(fr):
         key = fraction_key(f)
         fractions_out[key] = {}
-        for name, est in classifiers.items():
-            X_tr, y_tr = X[train_index[name]], y[train_index[name]]
+        for name in classifiers:
             runs = []
             for k in range(int(n_seeds)):
-                idx = subsets[name][k][i]
-                prog.step(f"{name}: {f:g} of training set, seed {k}")
-                if min(len(np.unique(y_tr[idx, c])) for c in range(y_tr.shape[1])) < 2:
-                    # too small a subset of a small grid to train on: recorded as skipped
+                r = fits.get((i, name, k))
+                if r is None:
                     continue
-                r = fit_and_score(name, est, X_tr[idx], y_tr[idx], X_te, y_te,
-                                  radius_only=ro(name), sample_rate_hz=fs)
                 r.pop("radius_error_by_speed")
                 runs.append({"seed": [int(seed), k], **r})
             fractions_out[key][name] = _average_runs(runs) if runs else None

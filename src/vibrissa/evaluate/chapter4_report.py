@@ -545,6 +545,7 @@ def write_outputs(
     figures: bool = True,
     dataset: Any = None,
     dpi: int = 200,
+    workers: int | None = 1,
 ) -> dict[str, Path]:
     """Write the CSV tables and the figures of a chapter-4 run into ``out_dir``.
 
@@ -562,6 +563,8 @@ def write_outputs(
         figure 4.1) from it.
     dpi : int, default=200
         Figure resolution.
+    workers : int or None, default=1
+        Processes that draw the results figures (``None``: every core).
 
     Returns
     -------
@@ -576,7 +579,7 @@ def write_outputs(
     if figures:
         from vibrissa.evaluate import figures as vfig
 
-        figs.update(vfig.chapter4_figures(results, out / "figures", dpi=dpi))
+        figs.update(vfig.chapter4_figures(results, out / "figures", dpi=dpi, workers=workers))
         if dataset is not None:
             figs["dataset/traces"] = vfig.save_figure(
                 vfig.typical_traces_figure(dataset), out / "figures" / "traces.png", dpi)

@@ -18,7 +18,6 @@ import math
 from typing import Any, Literal
 
 import numpy as np
-from sklearn.metrics import cohen_kappa_score
 from sklearn.metrics import confusion_matrix as _sk_confusion_matrix
 
 __all__ = [
@@ -161,11 +160,48 @@ def _kappa_from_labels(
         # one class seen at all: agreement is perfect, chance agreement too; sklearn
         # returns NaN (0/0). Perfect agreement is what a user means here.
         return 1.0
-    # integer codes in sorted order: sklearn rejects non-integer floats ("continuous")
+    # integer codes in sorted order
     tc, pc = np.searchsorted(labels, t), np.searchsorted(labels, p)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        k = cohen_kappa_score(tc, pc, labels=np.arange(labels.shape[0]), weights=weights)
-    return _clean(k)
+    return _cohen_kappa(tc, pc, labels.shape[0], weights)
+
+
+def _cohen_kappa(
+    tc: np.ndarray, pc: np.ndarray, n_labels: int,
+    weights: Literal["linear", "quadratic"] | None,
+) -> float | None:
+    """Cohen's kappa of integer codes in ``range(n_labels)``, ``None`` when undefined.
+
+    The arithmetic of :func:`sklearn.metrics.cohen_kappa_score` with
+    ``labels=range(n_labels)``, step by step, so the result is the same number to
+    the last bit; but the plain kappa skips its ``n_labels x n_labels`` confusion
+    and weight matrices (the joint classes of chapter 4 number ~2,600, and those
+    matrices made the joint kappa the costliest step of the evaluation): the
+    off-diagonal sum of the confusion matrix is the number of misses, and the
+    weighted sum of the chance agreement is the sum of its matrix with the
+    diagonal set to zero.
+    """
+    n_labels = int(n_labels)
+    tc = np.asarray(tc, dtype=np.intp)
+    pc = np.asarray(pc, dtype=np.intp)
+    sum0 = np.bincount(pc, minlength=n_labels).astype(float)  # column sums (predicted)
+    sum1 = np.bincount(tc, minlength=n_labels).astype(float)  # row sums (true)
+    expected = np.outer(sum0, sum1)
+    expected /= np.sum(sum0)
+    if weights is None:
+        numerator = float(np.count_nonzero(tc != pc))
+        np.fill_diagonal(expected, 0.0)
+        denominator = np.sum(expected)
+    else:
+        confusion = np.bincount(tc * n_labels + pc, minlength=n_labels * n_labels)
+        confusion = confusion.reshape(n_labels, n_labels).astype(float)
+        w_mat = np.zeros((n_labels, n_labels))
+        w_mat += np.arange(n_labels)
+        w_mat = np.abs(w_mat - w_mat.T) if weights == "linear" else (w_mat - w_mat.T) ** 2
+        numerator = np.sum(w_mat * confusion)
+        denominator = np.sum(w_mat * expected)
+    if denominator == 0:
+        return None
+    return _clean(1 - numerator / denominator)
 
 
 def kappa(

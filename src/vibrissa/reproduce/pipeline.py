@@ -144,7 +144,8 @@ def run_experiment(
     seed : int, default=0
         Seed of the simulated session and of the evaluation's random choices.
     workers : int, optional
-        Processes for dataset generation (default: all cores).
+        Processes for dataset generation and for the evaluation (default: all cores;
+        the results do not depend on it).
     progress : callable, optional
         ``progress(stage, done, total)``.
     figures : bool, default=True
@@ -177,7 +178,7 @@ def run_experiment(
     ds, path, reused = cached_dataset(protocol, out / "data", progress, workers)
     t1 = time.perf_counter()
     cb = (lambda d, t, _desc: progress("evaluate", d, t)) if progress else None
-    results = exp.evaluate(ds, seed=int(seed), progress=cb, options=opts)
+    results = exp.evaluate(ds, seed=int(seed), progress=cb, options=opts, workers=workers)
     t2 = time.perf_counter()
     evaluation_meta = dict(results.get("meta", {}))
     meta = {
@@ -193,7 +194,8 @@ def run_experiment(
         "started_at": started.isoformat(timespec="seconds"),
         "wall_seconds": {"generate": round(t1 - t0, 3), "evaluate": round(t2 - t1, 3)},
         "cores": {"available": os.cpu_count(),
-                  "generate_workers": workers if workers is not None else os.cpu_count()},
+                  "generate_workers": workers if workers is not None else os.cpu_count(),
+                  "evaluate_workers": workers if workers is not None else os.cpu_count()},
         "dataset": {"path": str(path), "reused": reused, "fingerprint": protocol.fingerprint(),
                     "n_trials": int(ds.sizes["trial"])},
         **evaluation_meta,
@@ -204,7 +206,7 @@ def run_experiment(
     # the results are saved before the reports are drawn: a failing figure loses nothing
     write_json(envelope, out / "results.json")
     write_reports(exp, envelope, out, dataset=ds if figures else None, figures=figures,
-                  baseline=baseline)
+                  baseline=baseline, workers=workers)
     meta["wall_seconds"]["report"] = round(time.perf_counter() - t2, 3)
     meta["wall_seconds"]["total"] = round(time.perf_counter() - t0, 3)
     write_json(envelope, out / "results.json")
@@ -213,13 +215,15 @@ def run_experiment(
 
 def write_reports(exp: Experiment, results: Mapping[str, Any], out: Path, *,
                   dataset: Any, figures: bool,
-                  baseline: Mapping[str, Any] | None) -> dict[str, Path]:
-    """Figures, extra files, ``report.md`` and ``report.html`` of one run."""
+                  baseline: Mapping[str, Any] | None,
+                  workers: int | None = None) -> dict[str, Path]:
+    """Figures, extra files, ``report.md`` and ``report.html`` of one run (``workers``
+    processes may draw the figures; ``None``: every core)."""
     from vibrissa._atomic import atomic_write_text
     from vibrissa.evaluate.html import write_html_report
     from vibrissa.evaluate.report_common import report_header
 
-    figs = exp.write_outputs(results, out, dataset=dataset, figures=figures)
+    figs = exp.write_outputs(results, out, dataset=dataset, figures=figures, workers=workers)
     rel = {k: p.relative_to(out) for k, p in figs.items()}
     text = report_header(results["meta"]) + exp.report_sections(results, rel, baseline)
     md = atomic_write_text(out / "report.md", text.rstrip() + "\n")

@@ -89,14 +89,17 @@ class Experiment(ABC):
     # ------------------------------------------------------------------ evaluation
     @abstractmethod
     def evaluate(self, ds: xr.Dataset, *, seed: int, progress: Callable | None,
-                 options: Mapping[str, int]) -> dict[str, Any]:
+                 options: Mapping[str, int], workers: int | None = None) -> dict[str, Any]:
         """Run the classifiers and the evaluation; return ``meta``, ``parameters``,
-        ``classifiers`` and the experiment's own sections."""
+        ``classifiers`` and the experiment's own sections. ``workers``: processes the
+        evaluation may use (``None``: every core); its results do not depend on it."""
 
     # ------------------------------------------------------------------ outputs
     def write_outputs(self, results: Mapping[str, Any], out_dir: Path, *,
-                      dataset: xr.Dataset | None, figures: bool) -> dict[str, Path]:
-        """Write extra files (CSV) and figures; return figure key -> path."""
+                      dataset: xr.Dataset | None, figures: bool,
+                      workers: int | None = None) -> dict[str, Path]:
+        """Write extra files (CSV) and figures; return figure key -> path. ``workers``:
+        processes that may draw the figures (``None``: every core)."""
         return {}
 
     @abstractmethod

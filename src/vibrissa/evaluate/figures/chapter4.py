@@ -391,8 +391,39 @@ def _slug(name: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.-]+", "_", name)
 
 
+def _figure(results: Mapping[str, Any], kind: str, name: str | None) -> Figure:
+    """One figure of :func:`chapter4_figures`: ``errors``, ``training_size`` or ``comparison``."""
+    if kind == "errors":
+        return classifier_figure(results, name)
+    fig = Figure(figsize=(10.0, 3.8) if kind == "training_size" else (11.0, 4.0),
+                 layout="constrained")
+    a, b = fig.subplots(1, 2)
+    if kind == "training_size":
+        training_size_plot(results, name, "radius_mm", ax=a)
+        training_size_plot(results, name, "speed_mm_s", ax=b)
+        a.set_title(f"(a) {SHORT_NAMES.get(name, name)}: radius")
+        b.set_title("(b) speed")
+        return fig
+    from vibrissa.evaluate.chapter4_report import THESIS_CHAPTER4, THESIS_COLUMNS
+
+    t47 = THESIS_CHAPTER4["table_4_7"]
+    thesis = {n: t47[c] for n, (c, _) in THESIS_COLUMNS.items() if c in t47}
+    comparison_plot(results, "radius_mm", thesis=thesis, ax=a)
+    comparison_plot(results, "speed_mm_s", thesis=thesis, ax=b)
+    a.set_title("(a) radial distance")
+    b.set_title("(b) speed")
+    return fig
+
+
+def _draw(arrays: Any, *, results: Mapping[str, Any], kind: str, name: str | None,
+          path: Path, dpi: int) -> Path:
+    """Draw one figure and write it (a job of :func:`vibrissa.evaluate.jobs.run_jobs`)."""
+    return save_figure(_figure(results, kind, name), path, dpi)
+
+
 def chapter4_figures(
-    results: Mapping[str, Any], out_dir: str | os.PathLike[str], dpi: int = 200
+    results: Mapping[str, Any], out_dir: str | os.PathLike[str], dpi: int = 200,
+    workers: int | None = 1,
 ) -> dict[str, Path]:
     """Write every results figure of chapter 4 as PNG into ``out_dir``.
 
@@ -403,6 +434,8 @@ def chapter4_figures(
     out_dir : path-like
         Directory (created if needed).
     dpi : int, default=200
+    workers : int or None, default=1
+        Processes that draw the figures (``None``: every core).
 
     Returns
     -------
@@ -411,33 +444,19 @@ def chapter4_figures(
         are present), ``"training_size/<name>"`` (if reduced sets were run),
         ``"comparison"`` (figure 4.12).
     """
-    out = Path(out_dir)
-    written: dict[str, Path] = {}
-    has_pred = bool(results.get("predictions"))
-    has_fractions = bool(results.get("training_fractions"))
-    for name in results["classifiers"]:
-        if has_pred:
-            fig = classifier_figure(results, name)
-            written[f"errors/{name}"] = save_figure(fig, out / f"errors_{_slug(name)}.png", dpi)
-        if has_fractions:
-            fig = Figure(figsize=(10.0, 3.8), layout="constrained")
-            a, b = fig.subplots(1, 2)
-            training_size_plot(results, name, "radius_mm", ax=a)
-            training_size_plot(results, name, "speed_mm_s", ax=b)
-            a.set_title(f"(a) {SHORT_NAMES.get(name, name)}: radius")
-            b.set_title("(b) speed")
-            written[f"training_size/{name}"] = save_figure(
-                fig, out / f"training_size_{_slug(name)}.png", dpi
-            )
-    fig = Figure(figsize=(11.0, 4.0), layout="constrained")
-    a, b = fig.subplots(1, 2)
-    from vibrissa.evaluate.chapter4_report import THESIS_CHAPTER4, THESIS_COLUMNS
+    from vibrissa.evaluate.jobs import SharedArrays, run_jobs
 
-    t47 = THESIS_CHAPTER4["table_4_7"]
-    thesis = {n: t47[c] for n, (c, _) in THESIS_COLUMNS.items() if c in t47}
-    comparison_plot(results, "radius_mm", thesis=thesis, ax=a)
-    comparison_plot(results, "speed_mm_s", thesis=thesis, ax=b)
-    a.set_title("(a) radial distance")
-    b.set_title("(b) speed")
-    written["comparison"] = save_figure(fig, out / "comparison.png", dpi)
-    return written
+    out = Path(out_dir)
+    jobs: dict[str, tuple[str, str | None, Path]] = {}
+    for name in results["classifiers"]:
+        if results.get("predictions"):
+            jobs[f"errors/{name}"] = ("errors", name, out / f"errors_{_slug(name)}.png")
+        if results.get("training_fractions"):
+            jobs[f"training_size/{name}"] = (
+                "training_size", name, out / f"training_size_{_slug(name)}.png")
+    jobs["comparison"] = ("comparison", None, out / "comparison.png")
+    with SharedArrays(workers) as none:
+        paths = run_jobs(_draw, [{"results": results, "kind": kind, "name": name,
+                                  "path": path, "dpi": dpi}
+                                 for kind, name, path in jobs.values()], none)
+    return dict(zip(jobs, paths, strict=True))

@@ -32,7 +32,8 @@ class AngleTexture(Experiment):
         return get_protocol("angle-texture", quick=quick, seed=seed)
 
     def evaluate(self, ds: xr.Dataset, *, seed: int, progress: Callable | None,
-                 options: Mapping[str, int]) -> dict[str, Any]:
+                 options: Mapping[str, int], workers: int | None = None) -> dict[str, Any]:
+        # chapter 5's evaluation runs in this process (``workers`` is not used)
         from vibrissa.classify import chapter5_classifiers, dataset_sample_rate, resonance_hz
         from vibrissa.data import whisker_params
         from vibrissa.evaluate.chapter5 import run_chapter5
@@ -44,7 +45,9 @@ class AngleTexture(Experiment):
         return results
 
     def write_outputs(self, results: Mapping[str, Any], out_dir: Path, *,
-                      dataset: xr.Dataset | None, figures: bool) -> dict[str, Path]:
+                      dataset: xr.Dataset | None, figures: bool,
+                      workers: int | None = None) -> dict[str, Path]:
+        # chapter 5's figures are drawn in this process (``workers`` is not used)
         from vibrissa.evaluate.chapter5_report import write_outputs
 
         return write_outputs(results, out_dir, figures=figures)

@@ -52,7 +52,7 @@ class RadialDistance(Experiment):
         return get_protocol("radial-distance", quick=quick, seed=seed)
 
     def evaluate(self, ds: xr.Dataset, *, seed: int, progress: Callable | None,
-                 options: Mapping[str, int]) -> dict[str, Any]:
+                 options: Mapping[str, int], workers: int | None = None) -> dict[str, Any]:
         from vibrissa.classify import CHAPTER4_ONE_SET, chapter4_classifiers, dataset_sample_rate
         from vibrissa.data import whisker_params
         from vibrissa.evaluate.chapter4 import run_chapter4
@@ -65,12 +65,14 @@ class RadialDistance(Experiment):
             ds, clfs, n_seeds=options["n_seeds"], seed=seed, progress=progress,
             train_set=list(THESIS_TRAIN_SETS), test_set=THESIS_TEST_SET,
             classifier_train_sets={k: [THESIS_ONE_TRAIN_SET] for k in CHAPTER4_ONE_SET},
+            workers=workers,
         )
         # The text's reading (4.3: training and test sets "each complete data sets"):
         # every classifier on one complete set, full training set only.
         other = run_chapter4(
             ds, clfs, fractions=(), n_seeds=1, seed=seed,
             train_set=THESIS_ONE_TRAIN_SET, test_set=THESIS_TEST_SET, keep_predictions=False,
+            workers=workers,
         )
         results["other_split"] = {
             "description": "every classifier trained on one complete set (set "
@@ -86,10 +88,12 @@ class RadialDistance(Experiment):
         return results
 
     def write_outputs(self, results: Mapping[str, Any], out_dir: Path, *,
-                      dataset: xr.Dataset | None, figures: bool) -> dict[str, Path]:
+                      dataset: xr.Dataset | None, figures: bool,
+                      workers: int | None = None) -> dict[str, Path]:
         from vibrissa.evaluate.chapter4_report import write_outputs
 
-        return write_outputs(results, out_dir, figures=figures, dataset=dataset)
+        return write_outputs(results, out_dir, figures=figures, dataset=dataset,
+                             workers=workers)
 
     def report_sections(self, results: Mapping[str, Any], figures: Mapping[str, Path],
                         baseline: Mapping[str, Any] | None) -> str:
