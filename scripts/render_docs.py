@@ -254,13 +254,26 @@ def _stats(entry: Any) -> Any:
     return {k: entry[k] for k in ("mean", "std") if k in entry}
 
 
+def _run_figures(meta: Mapping[str, Any]) -> dict[str, Any]:
+    """Trials and stage seconds from a results ``meta``: the envelope of issue 12
+    (``dataset.n_trials``, ``wall_seconds``) or the older flat keys."""
+    walls = meta.get("wall_seconds") if isinstance(meta.get("wall_seconds"), Mapping) else {}
+    data = meta.get("dataset") if isinstance(meta.get("dataset"), Mapping) else {}
+    generate = walls.get("generate", meta.get("generate_seconds"))
+    if data.get("reused"):
+        generate = None  # a reused dataset was not simulated by this run
+    return {
+        "n_trials": data.get("n_trials", meta.get("n_trials")),
+        "generate_seconds": generate,
+        "evaluate_seconds": walls.get("evaluate", meta.get("evaluate_seconds")),
+    }
+
+
 def extract_chapter4(results: Mapping[str, Any]) -> dict[str, Any]:
     """What the docs quote from a ``reproduce radial-distance`` results dict."""
     meta = results.get("meta", {})
     out: dict[str, Any] = {
-        "n_trials": meta.get("n_trials"),
-        "generate_seconds": meta.get("generate_seconds"),
-        "evaluate_seconds": meta.get("evaluate_seconds"),
+        **_run_figures(meta),
         "classifiers": {
             name: {p: _stats(entry.get(p)) for p in ("radius_mm", "speed_mm_s")}
             | {"classify_seconds": entry.get("classify_seconds")}
@@ -285,12 +298,10 @@ def extract_chapter5(results: Mapping[str, Any]) -> dict[str, Any]:
     meta = results.get("meta", {})
     clfs = results.get("classifiers", {})
     out: dict[str, Any] = {
-        "n_trials": meta.get("n_trials"),
+        **_run_figures(meta),
         "n_test": meta.get("split", {}).get("n_test"),
         "n_train": meta.get("split", {}).get("n_train"),
         "notch_hz": meta.get("notch_hz"),
-        "generate_seconds": meta.get("generate_seconds"),
-        "evaluate_seconds": meta.get("evaluate_seconds"),
         "classifiers": {
             name: {"kappa": dict(e["kappa"]), "classify_seconds": e.get("classify_seconds")}
             for name, e in clfs.items()
@@ -476,6 +487,8 @@ def extract_main(argv: list[str]) -> int:
     if args.wall_seconds is not None:
         values.setdefault("run", {})["wall_seconds"] = args.wall_seconds
     dataset = args.dataset or results.get("meta", {}).get("dataset")
+    if isinstance(dataset, Mapping):  # the results envelope of issue 12
+        dataset = dataset.get("path")
     meta = run_meta(args.command, dataset)
     dates = [v["date"] for v in values.get("sources", {}).values() if v.get("date")]
     if dates:  # measured when the sources were committed, not when extracted
