@@ -323,19 +323,6 @@ def _unit(e):
 
 
 @njit(cache=True)
-def _edge(x, a, b, t):
-    """Unit tangent of edge a->b into ``t``; returns its length."""
-    e0 = x[b, 0] - x[a, 0]
-    e1 = x[b, 1] - x[a, 1]
-    e2 = x[b, 2] - x[a, 2]
-    ln = np.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
-    t[0] = e0 / ln
-    t[1] = e1 / ln
-    t[2] = e2 / ln
-    return ln
-
-
-@njit(cache=True)
 def _proj_into(t, P):
     for i in range(3):
         for j in range(3):
@@ -594,17 +581,6 @@ def _penalty(kn, pen):
 
 
 @njit(cache=True)
-def _add_weighted(S, i0, w, blk, coef):
-    """Add coef * w_p w_q blk to the blocks of nodes (i0 .. i0+len(w)-1)^2."""
-    m = w.shape[0]
-    for p in range(m):
-        for q in range(m):
-            ww = w[p] * w[q] * coef
-            if ww != 0.0:
-                band_add_block(S, i0 + p, i0 + q, blk, ww)
-
-
-@njit(cache=True)
 def _add_weighted3(S, i0, w0, w1, w2, blk):
     """Add w_p w_q blk to the blocks of nodes (i0, i0 + 1, i0 + 2)^2."""
     for p in range(3):
@@ -633,23 +609,6 @@ def _curve_weights(n, j, u):
         return 0.0, 0.5 * (1.0 - u), 0.5 * (1.0 + u), n - 3
     a = 1.0 - u
     return 0.5 * a * a, 0.5 * a * a + 2.0 * u * a + 0.5 * u * u, 0.5 * u * u, j - 1
-
-
-@njit(cache=True)
-def _curve_tangent(x, n, j, u):
-    """Unit tangent (toward the tip) of the centreline at parameter u of piece j."""
-    t = np.empty(3)
-    if j == 1:
-        for c in range(3):
-            t[c] = x[2, c] - x[1, c]
-    elif j == n - 1:
-        for c in range(3):
-            t[c] = x[n - 1, c] - x[n - 2, c]
-    else:
-        for c in range(3):
-            t[c] = (1.0 - u) * (x[j, c] - x[j - 1, c]) + u * (x[j + 1, c] - x[j, c])
-    t, _ = _unit(t)
-    return t
 
 
 @njit(cache=True)
@@ -770,7 +729,7 @@ def add_pole(x, v, rod, contact, pole, anchor, F, S, cD, cK, jac, info):
     q2 = w0 * x[i0, 2] + w1 * x[i0 + 1, 2] + w2 * x[i0 + 2, 2]
     s_c = w0 * s_rest[i0] + w1 * s_rest[i0 + 1] + w2 * s_rest[i0 + 2]
     rad_c = w0 * radius[i0] + w1 * radius[i0 + 1] + w2 * radius[i0 + 2]
-    # unit tangent of the centreline at (j, u) (see _curve_tangent)
+    # unit tangent (toward the tip) of the centreline at parameter u of piece j
     if j == 1:
         tw0 = x[2, 0] - x[1, 0]
         tw1 = x[2, 1] - x[1, 1]
