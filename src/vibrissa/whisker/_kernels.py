@@ -1138,8 +1138,11 @@ def solve_static(x, f_app, rod, contact, tr, anchors, tol, max_iter, info):
     F = np.zeros_like(x)
     S = np.zeros((3 * n, 2 * BW + 1))
     R = np.zeros(3 * n)
+    # a runtime bool, not the literal True: numba would compile every callee once
+    # more for a literal argument
+    jac = max_iter > 0
     for it in range(max_iter):
-        _assemble(x, v, rod, no_damping, contact, tr, anchors, F, S, 0.0, 1.0, True, info)
+        _assemble(x, v, rod, no_damping, contact, tr, anchors, F, S, 0.0, 1.0, jac, info)
         for i in range(n):
             for c in range(3):
                 R[3 * i + c] = F[i, c] + f_app[i, c]
@@ -1448,7 +1451,7 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
     max_sub = 1 << max_halvings
     max_stride = settings.max_stride if state_every == 0 else 1
     steady = 0  # steps since the contact state last changed (or a long step failed)
-    k = 0
+    k = np.int64(0)  # not a literal 0, which would compile _try_stride a second time
     while k < nsteps:
         if newton[1] >= refactor_every:
             newton[0] = 1.0
