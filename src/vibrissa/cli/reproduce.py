@@ -100,7 +100,8 @@ def _run(exp: Experiment, quick: bool, json_out: bool, out: Path, seed: int,
         if data.exists():
             work = f"simulated dataset reused from {data}"
         else:
-            work = f"simulating {work_statement(protocol, workers)}"
+            chunk = int(getattr(protocol, "chunk_size", 32))
+            work = f"simulating {work_statement(protocol, workers, chunk_size=chunk)}"
         console.print(f"{exp.name}: {protocol.n_trials} trials ({grid} grid), seed {seed}, "
                       f"{work}; then the evaluation -> {out}", highlight=False, soft_wrap=True)
         labels = {"generate": "simulating trials", "evaluate": "evaluating classifiers"}

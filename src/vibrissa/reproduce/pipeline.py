@@ -105,7 +105,8 @@ def cached_dataset(protocol: Any, data_dir: Path, progress: Progress | None = No
         except DatasetFileError:
             path.unlink()
     cb = (lambda d, t: progress("generate", d, t)) if progress else None
-    ds = generate(protocol, path, workers=workers, progress=cb)
+    ds = generate(protocol, path, workers=workers, progress=cb,
+                  chunk_size=int(getattr(protocol, "chunk_size", 32)))
     return ds, path, False
 
 
