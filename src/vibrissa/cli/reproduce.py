@@ -82,7 +82,7 @@ def _run(exp: Experiment, quick: bool, json_out: bool, out: Path, seed: int,
     opts = {o.name: o.check(options[o.name]) for o in exp.options}
     before = load_baseline(baseline) if baseline is not None else None
     console = Console(stderr=True)
-    protocol = exp.protocol(quick, seed)
+    protocol = exp.protocol_for(quick, seed, opts)
     data = dataset_path(protocol, out)
     stages: dict[str, int] = {}
 
@@ -172,8 +172,9 @@ def _command(exp: Experiment) -> Any:
             "report shows its numbers as 'before' beside the thesis' and this run's.")),
     ]
     for o in exp.options:
-        params.append(inspect.Parameter(o.name, Opt, annotation=int, default=typer.Option(
-            o.default, o.flag, help=o.help)))
+        params.append(inspect.Parameter(
+            o.name, Opt, annotation=str if o.choices else int,
+            default=typer.Option(o.default, o.flag, help=o.help)))
     command.__signature__ = inspect.Signature(params)  # type: ignore[attr-defined]
     command.__name__ = exp.name.replace("-", "_")
     command.__doc__ = (

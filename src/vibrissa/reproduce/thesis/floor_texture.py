@@ -16,7 +16,8 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from vibrissa.reproduce.registry import Experiment, register
+from vibrissa.reproduce.registry import Experiment, Option, register
+from vibrissa.whisker.floors import floor_names
 
 
 @register
@@ -28,14 +29,25 @@ class FloorTexture(Experiment):
     title = "Thesis 6.2 reproduction: floor-texture discrimination on a Roomba"
     description = ("a whisker on a turning Roomba over four floors: spectral-template "
                    "confusion matrices per movement condition, cross-condition, naive Bayes")
+    options = (Option("floors", ",".join(floor_names()),
+                      "Floor textures to simulate and tell apart, comma-separated (thesis: "
+                      "all four).", minimum=2, choices=tuple(floor_names()),
+                      item="floor texture"),)
 
     def protocol(self, quick: bool, seed: int) -> Any:
         from vibrissa.experiments.floor import floor_protocol
 
         return floor_protocol(quick=quick, seed=seed)
 
+    def protocol_for(self, quick: bool, seed: int, options: Mapping[str, Any]) -> Any:
+        from vibrissa.experiments.floor import floor_protocol
+
+        chosen = set(options.get("floors") or floor_names())
+        return floor_protocol(quick=quick, seed=seed,
+                              floors=tuple(f for f in floor_names() if f in chosen))
+
     def evaluate(self, ds: xr.Dataset, *, seed: int, progress: Callable | None,
-                 options: Mapping[str, int], workers: int | None = None) -> dict[str, Any]:
+                 options: Mapping[str, Any], workers: int | None = None) -> dict[str, Any]:
         # a few fits on a few hundred windows: this process (``workers`` is not used)
         from vibrissa.evaluate.floor_texture import run_floor_texture
 
