@@ -16,6 +16,7 @@ classified correctly, as the thesis' tables compute it (table 6.1: the mean of 9
 
 from __future__ import annotations
 
+import json
 import time
 from collections.abc import Callable
 from typing import Any
@@ -204,6 +205,9 @@ def run_floor_texture(ds: xr.Dataset, *, seed: int = 0,
             "window_samples": WINDOW_SAMPLES,
             "quiet_variance_v2": QUIET_VARIANCE_V2,
             "n_trials": int(ds.sizes["trial"]),
+            # the simulated session's floors and robot, when the dataset records them
+            "floor_specs": json.loads(ds.attrs.get("floors", "{}")),
+            "robot": json.loads(ds.attrs.get("robot", "{}")),
         },
         "parameters": {"floor": {"coordinate": "floor", "unit": None, "values": floors}},
         "classifiers": {

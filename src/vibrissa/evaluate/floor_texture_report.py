@@ -122,6 +122,7 @@ def markdown_floor_texture(results: Mapping[str, Any], figures: Mapping[str, Pat
             "i.e. every packet of every trial (none fell below the threshold, or the counts "
             "were equalised; the text does not say).",
             "", "## Discussion", "", discussion(results), ""]
+    out += _model_section(meta)
     if figures:
         out += ["## Figures", ""]
         for k, p in figures.items():
@@ -160,3 +161,34 @@ def discussion(results: Mapping[str, Any]) -> str:
                      + " (the thesis reports > 90 % hit rates under several conditions, "
                        "Lepora et al. 2010b).")
     return "\n".join(lines) if lines else "No results to compare."
+
+
+def _model_section(meta: Mapping[str, Any]) -> list[str]:
+    """The simulated floors and robot (from the dataset's attributes), if recorded."""
+    specs = meta.get("floor_specs") or {}
+    robot = meta.get("robot") or {}
+    if not specs and not robot:
+        return []
+    out = ["## Model", ""]
+    if robot:
+        out += [
+            f"The whisker's base sits {robot.get('mount_radius_mm')} mm from the turning "
+            f"centre, the whisker pointing backward at {robot.get('tilt_deg')} deg to the "
+            f"floor and pressed {robot.get('preload_mm')} mm into it; spinning at "
+            f"{robot.get('spin_wheel_speed_mm_s')} mm/s per wheel (wheel base "
+            f"{robot.get('wheel_base_mm')} mm); 'spot': an outward spiral at "
+            f"{robot.get('spot_speed_mm_s')} mm/s. Anticlockwise the floor runs from the "
+            "whisker's base to its tip (the whisker trails), clockwise from tip to base (the "
+            "tip leads), and in both it also slides across the whisker's plane. The thesis "
+            "gives no speeds or mounting; these are our choices (`vibrissa.robots.roomba`).",
+            "",
+        ]
+    if specs:
+        out += [md_table(
+            ["floor", "kind", "element (mm)", "relief / MTD (mm)", "roughness (um)",
+             "friction", "contact stiffness (N/m)"],
+            [[f, s.get("kind"), s.get("element_mm"), s.get("relief_mm"),
+              s.get("roughness_um"), s.get("friction"), s.get("stiffness_n_m")]
+             for f, s in specs.items()]), ""]
+        out += [f"- **{f}**: {s.get('source', '')}" for f, s in specs.items()] + [""]
+    return out

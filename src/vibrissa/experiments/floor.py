@@ -202,12 +202,14 @@ class FloorProtocol:
 
     def seconds_per_trial(self) -> float:
         """Wall-clock seconds of one trial on one core of this machine, estimated from a
-        1 s trial of the middle of the session (after one that loads the kernels)."""
+        1 s trial of the middle of the session (after one that loads the kernels), the
+        robot moving from the start (a stationary whisker costs next to nothing)."""
         import time
 
         from vibrissa.robots.roomba import SETTLE_S
 
-        short = dataclasses.replace(self, duration_s=1.0)
+        short = dataclasses.replace(self, duration_s=1.0, roomba=dataclasses.replace(
+            self.roomba, start_delay_s=(0.0, 0.0)))
         mid = [self.n_trials // 2]
         short.simulate_trials(mid)
         t0 = time.perf_counter()
