@@ -111,7 +111,12 @@ def condition_windows(ds: xr.Dataset, condition: str, floors: list[str]) -> dict
 def floor_classifiers(sample_rate_hz: float) -> dict[str, Any]:
     """The methods of 6.2: spectral templates (one mean template per floor, the
     thesis'), the nearest single training spectrum (a variant), and stationary naive
-    Bayes on raw values (6.2.3)."""
+    Bayes on raw values (6.2.3).
+
+    The spectra leave out the DC bin, as the thesis author's chapter-4 code did
+    (``zero_dc``, docs/methods.md): a window's mean is the whisker's static bend,
+    which follows the turning direction (the lateral drag) more than the floor.
+    """
     fs = float(sample_rate_hz)
     return {
         "spectral_template": FrequencyTemplateClassifier(
@@ -195,6 +200,12 @@ def run_floor_texture(ds: xr.Dataset, *, seed: int = 0,
             "spectra": {f: spec[d["y_train"] == k].mean(axis=0).tolist()
                         for k, f in enumerate(floors) if np.any(d["y_train"] == k)},
         }
+    saturated: dict[str, dict[str, int]] = {}
+    if "saturated" in ds.coords:
+        for c in conditions:
+            sel = ds["condition"].values == c
+            saturated[c] = {f: int(np.sum(ds["saturated"].values[sel & (ds["floor"].values == f)]))
+                            for f in floors}
     return {
         "meta": {
             "evaluation": "6.2: quiet packets dropped, 800-sample windows, odd train / even "
@@ -221,5 +232,6 @@ def run_floor_texture(ds: xr.Dataset, *, seed: int = 0,
         "spectral_nearest": out["spectral_nearest"],
         "windows": {c: data[c]["windows"] for c in conditions},
         "packets": {c: data[c]["packets"] for c in conditions},
+        "saturated_trials": saturated,
         "templates": templates,
     }

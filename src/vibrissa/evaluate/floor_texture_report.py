@@ -154,6 +154,12 @@ def discussion(results: Mapping[str, Any]) -> str:
         lines.append(f"- Templates of one turning direction on the other: "
                      f"{percent(cross['cw_on_ccw'])} (clockwise on anticlockwise) and "
                      f"{percent(cross['ccw_on_cw'])} (back); the thesis: both about 52 %.")
+    sat = results.get("saturated_trials") or {}
+    hit = [(c, f, n) for c, per in sat.items() for f, n in per.items() if n]
+    if hit:
+        lines.append("- Trials whose sensor reached a rail (the whisker caught in the floor "
+                     "and whipped free): " + ", ".join(f"{f} {c} {n}" for c, f, n in hit)
+                     + ".")
     nb = results["naive_bayes"]["mean_correct"]
     if any(nb.get(c) is not None for c in conds):
         lines.append("- Stationary naive Bayes on raw values: "
