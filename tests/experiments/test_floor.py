@@ -15,7 +15,7 @@ def test_the_thesis_session_and_the_quick_one():
     assert p.n_samples == 16 * 2000
     assert p.sensor.sample_rate_hz == 2000.0 and p.whisker == "scratchbot"
     q = floor_protocol(quick=True)
-    assert q.n_trials == 24 and q.duration_s == 6.0
+    assert q.n_trials == 24 and q.duration_s == 4.0
     assert dataset_bytes(p) == 48 * 2 * 32000 * 8
     # canonical order: condition, floor, repetition
     first = p.trials()[:5]

@@ -278,9 +278,9 @@ def _sheet(floor: str, seed: int):
 
 
 def floor_protocol(quick: bool = False, **overrides: Any) -> FloorProtocol:
-    """The Roomba protocol; ``quick``: 2 trials of 6 s per floor and condition (24
+    """The Roomba protocol; ``quick``: 2 trials of 4 s per floor and condition (24
     trials) instead of 4 of 16 s (48). ``overrides`` replace fields (``None`` ignored)."""
     changes = {k: v for k, v in overrides.items() if v is not None}
     if quick:
-        changes = {"trials_per_condition": 2, "duration_s": 6.0, **changes}
+        changes = {"trials_per_condition": 2, "duration_s": 4.0, **changes}
     return FloorProtocol(**changes)
