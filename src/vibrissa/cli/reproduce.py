@@ -82,7 +82,7 @@ def _run(exp: Experiment, quick: bool, json_out: bool, out: Path, seed: int,
     opts = {o.name: o.check(options[o.name]) for o in exp.options}
     before = load_baseline(baseline) if baseline is not None else None
     console = Console(stderr=True)
-    protocol = exp.protocol(quick, seed)
+    protocol = exp.protocol_for(quick, seed, opts)
     data = dataset_path(protocol, out)
     stages: dict[str, int] = {}
 
@@ -100,7 +100,8 @@ def _run(exp: Experiment, quick: bool, json_out: bool, out: Path, seed: int,
         if data.exists():
             work = f"simulated dataset reused from {data}"
         else:
-            work = f"simulating {work_statement(protocol, workers)}"
+            chunk = int(getattr(protocol, "chunk_size", 32))
+            work = f"simulating {work_statement(protocol, workers, chunk_size=chunk)}"
         console.print(f"{exp.name}: {protocol.n_trials} trials ({grid} grid), seed {seed}, "
                       f"{work}; then the evaluation -> {out}", highlight=False, soft_wrap=True)
         labels = {"generate": "simulating trials", "evaluate": "evaluating classifiers"}
@@ -171,8 +172,9 @@ def _command(exp: Experiment) -> Any:
             "report shows its numbers as 'before' beside the thesis' and this run's.")),
     ]
     for o in exp.options:
-        params.append(inspect.Parameter(o.name, Opt, annotation=int, default=typer.Option(
-            o.default, o.flag, help=o.help)))
+        params.append(inspect.Parameter(
+            o.name, Opt, annotation=str if o.choices else int,
+            default=typer.Option(o.default, o.flag, help=o.help)))
     command.__signature__ = inspect.Signature(params)  # type: ignore[attr-defined]
     command.__name__ = exp.name.replace("-", "_")
     command.__doc__ = (

@@ -77,6 +77,9 @@ def parts_dir(out: str | os.PathLike[str]) -> Path:
 
 def dataset_bytes(protocol: Protocol) -> int:
     """Bytes of the finished dataset's signal (trials x 2 channels x samples, float64)."""
+    own = getattr(protocol, "signal_bytes", None)
+    if own is not None:
+        return int(own())
     return int(protocol.n_trials) * 2 * int(n_samples(protocol)) * 8
 
 
@@ -197,7 +200,10 @@ def _remove_stale_temporaries(out: Path) -> list[Path]:
 
 
 def _run_chunk(protocol: Protocol, indices: np.ndarray) -> dict[str, np.ndarray]:
-    return simulate_trials(protocol, indices)
+    # a protocol of another robot (e.g. experiments.floor.FloorProtocol) brings its own
+    # simulate_trials and build_dataset; the XY-robot protocols use the runner's
+    own = getattr(protocol, "simulate_trials", None)
+    return own(indices) if own is not None else simulate_trials(protocol, indices)
 
 
 def _worker_signals() -> None:
@@ -411,11 +417,12 @@ def _generate_locked(
         return None
     merged = {
         key: np.concatenate([done[k][key] for k in range(len(chunks))])
-        for key in ("index", "signal", *TRIAL_DIAGNOSTICS)
+        for key in done[0]
     }
     if not np.array_equal(merged["index"], np.arange(protocol.n_trials)):
         raise GenerationError("shards do not cover every trial exactly once")
-    ds = build_dataset(protocol, merged)
+    own = getattr(protocol, "build_dataset", None)
+    ds = own(merged) if own is not None else build_dataset(protocol, merged)
     save_dataset(ds, out)
     shutil.rmtree(parts, ignore_errors=True)
     return ds

@@ -105,11 +105,12 @@ def cached_dataset(protocol: Any, data_dir: Path, progress: Progress | None = No
         except DatasetFileError:
             path.unlink()
     cb = (lambda d, t: progress("generate", d, t)) if progress else None
-    ds = generate(protocol, path, workers=workers, progress=cb)
+    ds = generate(protocol, path, workers=workers, progress=cb,
+                  chunk_size=int(getattr(protocol, "chunk_size", 32)))
     return ds, path, False
 
 
-def _options(exp: Experiment, options: Mapping[str, Any]) -> dict[str, int]:
+def _options(exp: Experiment, options: Mapping[str, Any]) -> dict[str, Any]:
     known = {o.name: o for o in exp.options}
     unknown = sorted(set(options) - set(known))
     if unknown:
@@ -171,7 +172,7 @@ def run_experiment(
     exp = get_experiment(name)
     opts = _options(exp, options)
     out = check_job_arguments(out_dir, seed, workers)
-    protocol = exp.protocol(bool(quick), int(seed))
+    protocol = exp.protocol_for(bool(quick), int(seed), opts)
     started = dt.datetime.now(dt.UTC)
     t0 = time.perf_counter()
     out.mkdir(parents=True, exist_ok=True)

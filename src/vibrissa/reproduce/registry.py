@@ -30,33 +30,62 @@ _REGISTRY: dict[str, Experiment] = {}
 
 @dataclass(frozen=True)
 class Option:
-    """An experiment's own integer option (e.g. chapter 4's ``n_seeds``).
+    """An experiment's own option: an integer (e.g. chapter 4's ``n_seeds``) or, with
+    ``choices``, a comma-separated selection of names (e.g. 6.2's ``floors``).
 
     Attributes
     ----------
     name : str
         Python name; the command-line flag is ``--`` + name with ``-`` for ``_``.
-    default : int
+    default : int or str
+        An integer, or (with ``choices``) a comma-separated list of names.
     help : str
     minimum : int
-        Smallest allowed value.
+        Smallest allowed value; with ``choices``, fewest names.
+    choices : tuple of str
+        The names a selection may hold (empty: an integer option).
+    item : str
+        What one name is, for messages (``"floor texture"``).
     """
 
     name: str
-    default: int
+    default: int | str
     help: str
     minimum: int = 1
+    choices: tuple[str, ...] = ()
+    item: str = "name"
 
     @property
     def flag(self) -> str:
         """The command-line flag."""
         return "--" + self.name.replace("_", "-")
 
-    def check(self, value: Any) -> int:
-        """The value as int, or ValueError naming the flag."""
+    def check(self, value: Any) -> int | tuple[str, ...]:
+        """The value as int (or as a tuple of names), or ValueError naming the flag."""
+        if self.choices:
+            return self._check_names(value)
         if isinstance(value, bool) or not isinstance(value, int) or value < self.minimum:
             raise ValueError(f"{self.flag} must be an integer >= {self.minimum}, got {value!r}")
         return int(value)
+
+    def _check_names(self, value: Any) -> tuple[str, ...]:
+        if isinstance(value, str):
+            names = tuple(v.strip() for v in value.split(",") if v.strip())
+        elif isinstance(value, tuple | list) and all(isinstance(v, str) for v in value):
+            names = tuple(value)
+        else:
+            raise ValueError(f"{self.flag} must be a comma-separated list of names, "
+                             f"got {value!r}")
+        unknown = [v for v in names if v not in self.choices]
+        if unknown:
+            raise ValueError(f"{self.flag}: unknown {self.item} {unknown[0]!r}; choose from "
+                             f"{', '.join(self.choices)}")
+        if len(set(names)) != len(names):
+            raise ValueError(f"{self.flag}: each name once, got {','.join(names)}")
+        if len(names) < self.minimum:
+            raise ValueError(f"{self.flag} needs at least {self.minimum} of "
+                             f"{', '.join(self.choices)}, got {','.join(names) or 'none'}")
+        return names
 
 
 class Experiment(ABC):
@@ -82,6 +111,11 @@ class Experiment(ABC):
     def protocol(self, quick: bool, seed: int) -> Any:
         """The :class:`vibrissa.experiments.protocols.Protocol` that simulates the data."""
 
+    def protocol_for(self, quick: bool, seed: int, options: Mapping[str, Any]) -> Any:
+        """The protocol of a run with the experiment's own (checked) ``options``; the
+        default ignores them (they are evaluation options)."""
+        return self.protocol(quick, seed)
+
     def n_trials(self, quick: bool) -> int:
         """Trials of the simulated session."""
         return int(self.protocol(quick, 0).n_trials)
@@ -89,7 +123,7 @@ class Experiment(ABC):
     # ------------------------------------------------------------------ evaluation
     @abstractmethod
     def evaluate(self, ds: xr.Dataset, *, seed: int, progress: Callable | None,
-                 options: Mapping[str, int], workers: int | None = None) -> dict[str, Any]:
+                 options: Mapping[str, Any], workers: int | None = None) -> dict[str, Any]:
         """Run the classifiers and the evaluation; return ``meta``, ``parameters``,
         ``classifiers`` and the experiment's own sections. ``workers``: processes the
         evaluation may use (``None``: every core); its results do not depend on it."""

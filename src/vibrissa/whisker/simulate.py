@@ -170,11 +170,19 @@ class Trajectory:
         pole's axis, or a point of the surface's base plane.
     velocity_mm_s
         Velocities, same shape (mm/s); if omitted, differentiated from positions.
+    lateral_mm
+        Optional motion across the whisker's bending plane, along ``y`` (mm), shape
+        ``(n,)``: a surface slides sideways under the whisker (a turning mobile base);
+        a pole slides along its own axis. ``None``: no lateral motion.
+    lateral_velocity_mm_s
+        Its velocity (mm/s), shape ``(n,)``; if omitted, differentiated.
     """
 
     time_s: np.ndarray
     position_mm: np.ndarray
     velocity_mm_s: np.ndarray | None = None
+    lateral_mm: np.ndarray | None = None
+    lateral_velocity_mm_s: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         t = finite_array("time_s", self.time_s)
@@ -194,6 +202,23 @@ class Trajectory:
         object.__setattr__(self, "time_s", t)
         object.__setattr__(self, "position_mm", p)
         object.__setattr__(self, "velocity_mm_s", v)
+        if self.lateral_mm is None:
+            if self.lateral_velocity_mm_s is not None:
+                raise ValueError("lateral_velocity_mm_s needs lateral_mm")
+            return
+        y = finite_array("lateral_mm", self.lateral_mm)
+        if y.shape != t.shape:
+            raise ValueError(f"lateral_mm must have shape {t.shape}, got {y.shape}")
+        if self.lateral_velocity_mm_s is None:
+            vy = np.gradient(y, t)
+        else:
+            vy = finite_array("lateral_velocity_mm_s", self.lateral_velocity_mm_s)
+            if vy.shape != t.shape:
+                raise ValueError(
+                    f"lateral_velocity_mm_s must have shape {t.shape}, got {vy.shape}"
+                )
+        object.__setattr__(self, "lateral_mm", y)
+        object.__setattr__(self, "lateral_velocity_mm_s", vy)
 
     @classmethod
     def linear(
@@ -215,6 +240,15 @@ class Trajectory:
             [np.interp(times_s, self.time_s, self.velocity_mm_s[:, i]) for i in range(2)]
         )
         return p, v
+
+    def sample_lateral(self, times_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Lateral position and velocity (mm, mm/s) along ``y`` at ``times_s`` (zeros
+        without lateral motion)."""
+        if self.lateral_mm is None:
+            z = np.zeros(np.shape(times_s))
+            return z, z.copy()
+        return (np.interp(times_s, self.time_s, self.lateral_mm),
+                np.interp(times_s, self.time_s, self.lateral_velocity_mm_s))
 
 
 @dataclass
@@ -356,8 +390,8 @@ def _contact_spec(
 
     Returns the :class:`~vibrissa.whisker._kernels.ContactSpec` and the object's
     state at ``times`` (s), shape ``(len(times), 6)``: for a pole x, z (m),
-    vx, vz (m/s), y, vy (zero); for a surface the base point's x, y, z (m) and its
-    velocity (m/s).
+    vx, vz (m/s), y, vy (its motion along its own axis); for a surface the base
+    point's x, y, z (m) and its velocity (m/s).
     """
     traj = np.zeros((times.size, 6))
     if contact is None:
@@ -365,6 +399,7 @@ def _contact_spec(
     if trajectory is None:
         raise ValueError("a contact needs a trajectory")
     p, pv = trajectory.sample(times)
+    y, vy = trajectory.sample_lateral(times)
     if isinstance(contact, PoleContact):
         spec = pole_contact_spec(
             np.array(
@@ -379,6 +414,8 @@ def _contact_spec(
         )
         traj[:, 0:2] = p * 1e-3
         traj[:, 2:4] = pv * 1e-3
+        traj[:, 4] = y * 1e-3
+        traj[:, 5] = vy * 1e-3
     elif isinstance(contact, SurfaceContact):
         mu = contact.surface.friction if contact.friction is None else contact.friction
         du = float(contact.surface.spacing_m)
@@ -400,8 +437,10 @@ def _contact_spec(
             first_node=2,
         )
         traj[:, 0] = p[:, 0] * 1e-3
+        traj[:, 1] = y * 1e-3
         traj[:, 2] = p[:, 1] * 1e-3
         traj[:, 3] = pv[:, 0] * 1e-3
+        traj[:, 4] = vy * 1e-3
         traj[:, 5] = pv[:, 1] * 1e-3
     else:
         raise TypeError(f"unsupported contact type {type(contact).__name__}")
