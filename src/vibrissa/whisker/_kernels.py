@@ -66,6 +66,11 @@ from numba import njit
 BW = 8  # half bandwidth of the tangent matrices (3 DOF per node, 3-node stencil)
 STEADY_STEPS = 8  # steps of unchanged contact state before long steps are tried
 
+#: Column of a trajectory row (``traj[k]``, ``tr``) holding the follicle housing's
+#: whisk angle (rad); the next column holds its rate (rad/s). Rows of only
+#: ``TR_BASE`` columns mean a housing at rest.
+TR_BASE = 6
+
 # contact kinds
 NO_CONTACT = 0
 POLE = 1
@@ -370,11 +375,44 @@ def add_internal(x, v, rod, damping, F, S, cD, cK, jac):
     ``L0`` and axial rigidities ``EA`` and the lumped node masses. ``damping``
     (:class:`Damping`): ``alpha`` (mass proportional), ``beta_shaft`` (shaft
     stiffness proportional: material damping) and ``beta_follicle`` (the follicle's
-    rubber: damping moment ``k_f beta_follicle dpsi/dt``).
+    rubber: damping moment ``k_f beta_follicle dpsi/dt``). The follicle housing is
+    at rest; :func:`add_internal_whisking` turns it.
+    """
+    add_internal_whisking(x, v, rod, damping, F, S, cD, cK, jac, 0.0, 0.0)
+
+
+@njit(cache=True)
+def _housing_axis(axis, theta, out):
+    """``axis`` turned by ``theta`` (rad) about ``y``, from ``z`` toward ``x``."""
+    c = np.cos(theta)
+    s = np.sin(theta)
+    out[0] = c * axis[0] + s * axis[2]
+    out[1] = axis[1]
+    out[2] = -s * axis[0] + c * axis[2]
+
+
+@njit(cache=True)
+def add_internal_whisking(x, v, rod, damping, F, S, cD, cK, jac, theta, theta_dot):
+    """:func:`add_internal` with the follicle housing turned by ``theta`` about ``y``.
+
+    Whisking: a motor turns the follicle housing (and with it the follicle's rest
+    direction ``rod.axis``) by the angle ``theta`` (rad, from ``z`` toward ``x``)
+    about the ``y`` axis through the pivot (node 0), at the rate ``theta_dot``
+    (rad/s). The follicle spring pulls the magnet toward the turned rest direction
+    and its rubber damper resists the magnet's angular velocity *relative to the
+    housing*: the rate of the shaft tangent ``t0`` minus ``omega x t0`` with
+    ``omega = theta_dot y``. With ``theta = theta_dot = 0`` this is exactly the
+    fixed follicle (the same operations, the same bytes). The Jacobian omits the
+    small derivative of the housing-rate term with respect to positions (a
+    modified-Newton approximation; convergence is judged on the full residual).
     """
     kb = rod.kb
     kf = rod.kf
     axis = rod.axis
+    turned = theta != 0.0 or theta_dot != 0.0
+    if turned:
+        axis = np.empty(3)
+        _housing_axis(rod.axis, theta, axis)
     L0 = rod.L0
     EA = rod.EA
     mass = rod.mass
@@ -456,6 +494,11 @@ def add_internal(x, v, rod, damping, F, S, cD, cK, jac):
     for c in range(3):
         d[c] = t2[c] - axis[c]
         de2[c] = v[1, c] - v[0, c]
+    if turned:
+        # relative to the housing: subtract the edge's rigid motion with it,
+        # l2 * (omega x t0), omega = theta_dot * y
+        de2[0] -= l2 * theta_dot * t2[2]
+        de2[2] += l2 * theta_dot * t2[0]
     _matvec(P2, d, g2, 1.0 / l2)
     _matvec(P2, de2, ddot, 1.0 / l2)
     _matvec(P2, ddot, r2, 1.0 / l2)
@@ -1068,7 +1111,11 @@ def _assemble(x, v, rod, damping, contact, tr, anchors, F, S, cD, cK, jac, info)
     F[:, :] = 0.0
     if jac:
         S[:, :] = 0.0
-    add_internal(x, v, rod, damping, F, S, cD, cK, jac)
+    if tr.shape[0] > TR_BASE:
+        add_internal_whisking(x, v, rod, damping, F, S, cD, cK, jac, tr[TR_BASE],
+                              tr[TR_BASE + 1])
+    else:
+        add_internal(x, v, rod, damping, F, S, cD, cK, jac)
     if contact.kind == POLE:
         add_pole(x, v, rod, contact, tr, anchors.pole, F, S, cD, cK, jac, info)
     elif contact.kind == PLANE:
@@ -1278,6 +1325,27 @@ def _ga_step(state, work, rod, damping, contact, tr, anchors, h, settings):
 
 
 @njit(cache=True)
+def _write_tan(out, row, ex, ey, ez, traj, trow):
+    """``out[row, 0:2]``: the magnet's tilt tangents from its edge vector ``e``.
+
+    Read in the follicle housing's frame: turned back by the housing's whisk angle
+    ``traj[trow, TR_BASE]`` when ``traj`` carries one (the Hall sensor turns with
+    the housing), else the fixed frame.
+    """
+    if traj.shape[1] > TR_BASE:
+        th = traj[trow, TR_BASE]
+        c = np.cos(th)
+        s = np.sin(th)
+        exh = c * ex - s * ez
+        ezh = s * ex + c * ez
+        out[row, 0] = exh / ezh
+        out[row, 1] = ey / ezh
+    else:
+        out[row, 0] = ex / ez
+        out[row, 1] = ey / ez
+
+
+@njit(cache=True)
 def _try_stride(state, work, rod, damping, contact, traj, anchors, settings, k, K,
                 prev_contact, prev_slip, out):
     """Try one step of ``K * dt`` from step ``k``; keep it only if the contact state
@@ -1357,8 +1425,7 @@ def _try_stride(state, work, rod, damping, contact, traj, anchors, settings, k, 
             for c in range(3):
                 q[c] = x[1, c]
         row = k + j
-        out[row, 0] = (q[0] - p00) / (q[2] - p02)
-        out[row, 1] = (q[1] - p01) / (q[2] - p02)
+        _write_tan(out, row, q[0] - p00, q[1] - p01, q[2] - p02, traj, row)
         for c in range(2, 7):
             if c == 4:
                 out[row, c] = end[4]
@@ -1378,7 +1445,10 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
     ``state`` (:class:`NodeState`) and ``anchors`` (:class:`Anchors`) are advanced in
     place; ``rod``, ``damping``, ``contact`` and ``settings`` are the other bundles.
     ``traj[k]`` is the contact object's state at step k (pole: x, z, vx, vz, y, vy;
-    plane: origin xyz, velocity xyz), linearly interpolated within steps. ``out[k]``
+    plane: origin xyz, velocity xyz), optionally followed by the follicle housing's
+    whisk angle (rad) and rate (rad/s) in columns ``TR_BASE`` and ``TR_BASE + 1``
+    (:func:`add_internal_whisking`; the magnet's tangents are then read in the
+    housing's frame), linearly interpolated within steps. ``out[k]``
     receives per-step outputs [tan_x, tan_y of the magnet, contact normal force (N),
     contact arc length (m), slipping, contact force x, contact force z, Newton
     iterations]. Every ``settings.record_every`` steps (if > 0) positions and
@@ -1438,8 +1508,7 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
     tr = np.zeros(traj.shape[1])
     pa_save = pole_anchor.copy()
     pl_save = plane_anchors.copy()
-    out[0, 0] = (x[1, 0] - x[0, 0]) / (x[1, 2] - x[0, 2])
-    out[0, 1] = (x[1, 1] - x[0, 1]) / (x[1, 2] - x[0, 2])
+    _write_tan(out, 0, x[1, 0] - x[0, 0], x[1, 1] - x[0, 1], x[1, 2] - x[0, 2], traj, 0)
     out[0, 2:] = 0.0
     si = 0
     if state_every > 0:
@@ -1510,8 +1579,8 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
             vn[:, :] = v
             an[:, :] = a
             done += 1
-        out[k + 1, 0] = (x[1, 0] - x[0, 0]) / (x[1, 2] - x[0, 2])
-        out[k + 1, 1] = (x[1, 1] - x[0, 1]) / (x[1, 2] - x[0, 2])
+        _write_tan(out, k + 1, x[1, 0] - x[0, 0], x[1, 1] - x[0, 1], x[1, 2] - x[0, 2],
+                   traj, k + 1)
         out[k + 1, 2] = info[0]
         out[k + 1, 3] = info[1]
         out[k + 1, 4] = info[2]

@@ -21,13 +21,14 @@ from vibrissa.whisker._kernels import (
     NO_CONTACT,
     PLANE,
     POLE,
+    TR_BASE,
     Anchors,
     ContactSpec,
     Damping,
     NodeState,
     RodArrays,
     SolverSettings,
-    add_internal,
+    add_internal_whisking,
     add_pole,
     first_possible_contact,
     modal_advance,
@@ -43,6 +44,7 @@ from vibrissa.whisker.rod import (
 from vibrissa.whisker.surfaces import Surface
 
 __all__ = [
+    "BaseMotion",
     "PoleContact",
     "SimulationResult",
     "SurfaceContact",
@@ -157,6 +159,16 @@ class SurfaceContact:
         return np.vstack([n, u, w])
 
 
+def _sample_times(time_s: np.ndarray) -> np.ndarray:
+    """``time_s`` checked: finite, 1-D, at least two samples, strictly increasing."""
+    t = finite_array("time_s", time_s)
+    if t.ndim != 1 or t.size < 2:
+        raise ValueError(f"time_s must be 1-D with at least 2 samples, got shape {t.shape}")
+    if np.any(np.diff(t) <= 0):
+        raise ValueError("time_s must be strictly increasing")
+    return t
+
+
 @dataclass(frozen=True)
 class Trajectory:
     """Prescribed motion of the contact object.
@@ -185,12 +197,8 @@ class Trajectory:
     lateral_velocity_mm_s: np.ndarray | None = None
 
     def __post_init__(self) -> None:
-        t = finite_array("time_s", self.time_s)
+        t = _sample_times(self.time_s)
         p = finite_array("position_mm", self.position_mm)
-        if t.ndim != 1 or t.size < 2:
-            raise ValueError(f"time_s must be 1-D with at least 2 samples, got shape {t.shape}")
-        if np.any(np.diff(t) <= 0):
-            raise ValueError("time_s must be strictly increasing")
         if p.shape != (t.size, 2):
             raise ValueError(f"position_mm must have shape ({t.size}, 2), got {p.shape}")
         if self.velocity_mm_s is None:
@@ -251,6 +259,64 @@ class Trajectory:
                 np.interp(times_s, self.time_s, self.lateral_velocity_mm_s))
 
 
+@dataclass(frozen=True)
+class BaseMotion:
+    """Prescribed whisking: the follicle housing's angle over time.
+
+    A motor turns the follicle housing about the ``y`` axis through the pivot (the
+    whisker's node 0), carrying the follicle's rest direction and the Hall sensor
+    with it (:func:`~vibrissa.whisker._kernels.add_internal_whisking`). Positive
+    angles turn the whisker from ``z`` toward ``+x`` (protraction, toward an object
+    on the ``+x`` side).
+
+    Parameters
+    ----------
+    time_s
+        Strictly increasing sample times (s), in absolute simulation time; times
+        outside the range hold the end values (and a zero rate).
+    angle_rad
+        The housing's angle at those times (rad).
+    rate_rad_s
+        Its rate (rad/s); if omitted, differentiated from the angles.
+    """
+
+    time_s: np.ndarray
+    angle_rad: np.ndarray
+    rate_rad_s: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        t = _sample_times(self.time_s)
+        a = finite_array("angle_rad", self.angle_rad)
+        if a.shape != t.shape:
+            raise ValueError(f"angle_rad must have shape {t.shape}, got {a.shape}")
+        if np.any(np.abs(a) >= 0.5 * math.pi):
+            raise ValueError("angle_rad must stay within (-pi/2, pi/2)")
+        w = np.gradient(a, t) if self.rate_rad_s is None else finite_array(
+            "rate_rad_s", self.rate_rad_s)
+        if w.shape != t.shape:
+            raise ValueError(f"rate_rad_s must have shape {t.shape}, got {w.shape}")
+        object.__setattr__(self, "time_s", t)
+        object.__setattr__(self, "angle_rad", a)
+        object.__setattr__(self, "rate_rad_s", w)
+
+    def sample(self, times_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Angles (rad) and rates (rad/s) interpolated at ``times_s``."""
+        t = self.time_s
+        inside = (times_s >= t[0]) & (times_s <= t[-1])
+        rate = np.where(inside, np.interp(times_s, t, self.rate_rad_s), 0.0)
+        return np.interp(times_s, t, self.angle_rad), rate
+
+
+def _turned(x: np.ndarray, theta: float) -> np.ndarray:
+    """Positions ``x`` turned by ``theta`` about ``y`` through node 0."""
+    c, s = math.cos(theta), math.sin(theta)
+    r = x - x[0]
+    out = x.copy()
+    out[:, 0] = x[0, 0] + c * r[:, 0] + s * r[:, 2]
+    out[:, 2] = x[0, 2] - s * r[:, 0] + c * r[:, 2]
+    return out
+
+
 @dataclass
 class SimulationResult:
     """Outputs of :func:`simulate` at every internal step.
@@ -286,6 +352,10 @@ class SimulationResult:
         The state at the last step, to continue with ``simulate(initial_state=...)``.
     stopped_early
         True if ``stop_when_tan_x_exceeds`` ended the run.
+    base_angle_rad
+        The follicle housing's whisk angle at every step (rad) when the run had a
+        :class:`BaseMotion`, else None. ``tan_xy`` is then read in the housing's
+        frame, as the Hall sensor turning with it reads it.
     """
 
     time_s: np.ndarray
@@ -302,6 +372,7 @@ class SimulationResult:
     final_velocity_m_s: np.ndarray | None = field(default=None, repr=False)
     final_state: DynamicState | None = field(default=None, repr=False)
     stopped_early: bool = False
+    base_angle_rad: np.ndarray | None = None
 
     @property
     def follicle_angle_rad(self) -> np.ndarray:
@@ -333,13 +404,16 @@ class SimulationResult:
 
 
 def _initial_acceleration(
-    rod: RodArrays, damping: Damping, x: np.ndarray, v: np.ndarray
+    rod: RodArrays, damping: Damping, x: np.ndarray, v: np.ndarray,
+    theta: float = 0.0, theta_dot: float = 0.0,
 ) -> np.ndarray:
-    """Node accelerations (m/s^2) at positions ``x`` (m) and velocities ``v`` (m/s)."""
+    """Node accelerations (m/s^2) at positions ``x`` (m) and velocities ``v`` (m/s),
+    the follicle housing at angle ``theta`` (rad) turning at ``theta_dot`` (rad/s)."""
     n = x.shape[0]
     F = np.zeros((n, 3))
     S = np.zeros((3 * n, 2 * BW + 1))
-    add_internal(x, v, rod, damping, F, S, 0.0, 0.0, False)
+    add_internal_whisking(x, v, rod, damping, F, S, 0.0, 0.0, False, float(theta),
+                          float(theta_dot))
     a = F / rod.mass[:, None]
     a[~rod.free] = 0.0
     return a
@@ -584,6 +658,7 @@ def simulate(
     linear_free_flight: bool = True,
     max_stride: int = 2,
     stride_tol_m: float = 3e-7,
+    base_motion: BaseMotion | None = None,
 ) -> SimulationResult:
     """Integrate the whisker's motion for ``duration_s`` seconds.
 
@@ -636,6 +711,13 @@ def simulate(
         the magnet, linear for forces). 1 takes every step at ``dt_s``.
     stride_tol_m
         Largest local error estimate (m) of a long step.
+    base_motion
+        Whisking: the follicle housing's angle over time (:class:`BaseMotion`),
+        or None for a housing at rest. A whisker starting at rest (no
+        ``initial_state`` or ``initial_positions_m``) starts turned with the
+        housing and moving with it. Linear free flight is not used while the
+        housing moves (its modes are those of a housing at rest), so
+        ``linear_free_flight`` is then ignored.
 
     Raises
     ------
@@ -658,6 +740,13 @@ def simulate(
     n = model.n_nodes
     rod = model.rod_arrays()
     damping = Damping(*(float(c) for c in model.damping))
+    if base_motion is not None and not isinstance(base_motion, BaseMotion):
+        raise TypeError(f"base_motion must be a BaseMotion, got {type(base_motion).__name__}")
+    t_start = float(initial_state.time_s) if initial_state is not None else 0.0
+    th0, thd0 = (
+        (0.0, 0.0) if base_motion is None
+        else (float(u[0]) for u in base_motion.sample(np.array([t_start])))
+    )
     if initial_state is not None:
         st = initial_state.copy()
         x, v, a = st.positions_m, st.velocities_m_s, st.accelerations_m_s2
@@ -665,7 +754,7 @@ def simulate(
         t0 = float(st.time_s)
     else:
         x = (
-            model.x_rest.copy()
+            _turned(model.x_rest, th0)
             if initial_positions_m is None
             else np.array(finite_array("initial_positions_m", initial_positions_m), dtype=float)
         )
@@ -678,12 +767,18 @@ def simulate(
         )
         if x.shape != (n, 3) or v.shape != (n, 3):
             raise ValueError(f"initial state must have shape ({n}, 3)")
-        a = _initial_acceleration(rod, damping, x, v)
+        if initial_positions_m is None and initial_velocities_m_s is None and thd0 != 0.0:
+            r = x - x[0]
+            v = np.column_stack([thd0 * r[:, 2], np.zeros(n), -thd0 * r[:, 0]])
+            v[~model.free] = 0.0
+        a = _initial_acceleration(rod, damping, x, v, th0, thd0)
         pole_anchor = np.zeros(5)
         plane_anchors = np.zeros((n, 6))
         t0 = 0.0
     times = t0 + np.arange(n_steps + 1) * dt
     spec, traj = _contact_spec(model, contact, trajectory, times)
+    if base_motion is not None:
+        traj = np.column_stack([traj, *base_motion.sample(times)])
     settings = SolverSettings(
         dt=float(dt),
         rho_inf=float(rho_inf),
@@ -702,7 +797,7 @@ def simulate(
     states = np.zeros((n_states, 2, n, 3))
     node_state = NodeState(x, v, a)
     anchors = Anchors(pole_anchor, plane_anchors)
-    if linear_free_flight and record_every == 0:
+    if linear_free_flight and record_every == 0 and base_motion is None:
         done, status = _hybrid(
             model, rod, damping, spec, traj, settings, out, states, node_state, anchors
         )
@@ -738,6 +833,7 @@ def simulate(
         final_velocity_m_s=v,
         final_state=DynamicState(x, v, a, pole_anchor, plane_anchors, float(times[done])),
         stopped_early=bool(stopped),
+        base_angle_rad=None if base_motion is None else traj[:m, TR_BASE].copy(),
     )
 
 
