@@ -1,0 +1,528 @@
+"""Whisking robots: the whisking pattern generator and its rapid-cessation-of-protraction control.
+
+SCRATCHbot (thesis 3.2.4) and the BIOTACT G1 (3.4.2) turn each whisker's follicle
+housing with a motor driven by a whisking pattern generator (WPG). Modelled here:
+
+* **Oscillator**: per side, ``theta_osc(t) = retracted + A (1 - cos(2 pi f_w t + phase)) / 2``
+  (deg): fully retracted at phase 0, fully protracted half a whisk later.
+* **Rapid cessation of protraction** (eqs. 3.2-3.3): the contact signal of a side is
+  ``pi(n) = max_w |H50(x_w)(n)|``, a causal third-order 50 Hz Butterworth low-pass of
+  each whisker's ``x`` deflection run sample by sample, maximised over the side's
+  whiskers; the gating variable ``z(n) = clip(max((1 - T/tau_z) z(n-1), sigma_z pi(n)), 0, 1)``
+  (:func:`rcp_gating`). Protraction is suppressed by ``z`` without touching the
+  oscillator's phase: the commanded angle is
+  ``retracted + (1 - z)(theta_osc - retracted)``. ``x`` is the Hall sensor's ``x``
+  output as a fraction of its calibrated half range (+/-1 at full scale: 5 % and
+  95 % of the supply, 3.2.3), so ``sigma_z`` is the gain on a full-scale deflection.
+* **Contact-induced asymmetry** (2.2.2, an option): a side's protraction amplitude is
+  multiplied by ``1 + cia_gain * z_other``, the largest gating variable of the other
+  sides (contact on one side protracts the other side further).
+* **Motor**: the housing follows the commanded angle as a critically damped
+  second-order servo of bandwidth ``motor_bandwidth_hz`` (the thesis does not give
+  the actuators' dynamics; 20 Hz keeps a 6 Hz whisk within a few degrees of its
+  command). The housing's angle and rate drive the rod model's follicle
+  (:class:`vibrissa.whisker.simulate.BaseMotion`), so inertia and ringing in air come
+  from the whisker's mechanics.
+* **Closed loop**: with feedback (``sigma_z > 0`` or ``cia_gain > 0``) the simulation
+  advances one control period at a time (``control_rate_hz``, default 1 kHz, the
+  XY robot's and SCRATCHbot's Hall sampling rate in this thesis; the G1 ran its
+  loop at 2 kHz, 3.4.1), carrying the whisker's state over
+  (``simulate(..., initial_state=...)``); the deflection sampled at the end of a
+  period sets the command of the next. Without feedback the whole run is one
+  simulation per whisker.
+
+Figure 3.9 was drawn from contact signals simulated in MATLAB with an obstruction
+at a fixed protraction angle; :func:`obstacle_whisk` does the same.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.signal import butter, sosfilt, sosfilt_zi
+
+from vibrissa._validate import finite, finite_array, non_negative, positive
+from vibrissa.whisker.hall import calibrated_gain
+from vibrissa.whisker.rod import RodModel
+from vibrissa.whisker.simulate import (
+    BaseMotion,
+    DynamicState,
+    PoleContact,
+    Trajectory,
+    simulate,
+)
+
+__all__ = [
+    "ContactFilter",
+    "RCPControl",
+    "WhiskPattern",
+    "WhiskerSetup",
+    "WhiskingResult",
+    "count_contacts",
+    "motor_follow",
+    "obstacle_whisk",
+    "rcp_gating",
+    "run_whisking",
+]
+
+#: Full scale of the normalised deflection: the Hall output spans 5-95 % of its
+#: supply (3.2.3), i.e. +/-0.45 V_DD about the rest output.
+HALF_RANGE_FRACTION = 0.45
+
+
+def _gate_step(z_prev: float, pi_n: float, decay: float, sigma_z: float) -> float:
+    """One step of eq. 3.3."""
+    return min(max(max(decay * z_prev, sigma_z * pi_n), 0.0), 1.0)
+
+
+def _check_gains(sigma_z: float, tau_z_s: float, dt_s: float) -> tuple[float, float, float]:
+    s = non_negative("sigma_z", sigma_z)
+    tau = positive("tau_z_s", tau_z_s)
+    dt = positive("dt_s", dt_s)
+    if dt > tau:
+        raise ValueError(f"tau_z_s ({tau_z_s}) must be at least the step dt_s ({dt_s})")
+    return s, tau, dt
+
+
+def rcp_gating(contact: np.ndarray, dt_s: float, sigma_z: float, tau_z_s: float,
+               z0: float = 0.0) -> np.ndarray:
+    """The gating variable of eq. 3.3, one value per sample of ``contact``.
+
+    ``z(n) = clip(max((1 - dt_s/tau_z_s) z(n-1), sigma_z contact(n)), 0, 1)`` with
+    ``z(-1) = z0``.
+
+    Parameters
+    ----------
+    contact : array_like, shape (n,)
+        The contact signal ``pi`` (eq. 3.2), one value per control step.
+    dt_s : float
+        The integration step ``T`` (s).
+    sigma_z : float
+        Gain, >= 0.
+    tau_z_s : float
+        Decay time constant (s), >= ``dt_s``.
+    z0 : float
+        The gating variable before the first sample, in [0, 1].
+
+    Returns
+    -------
+    ndarray, shape (n,)
+    """
+    pi = finite_array("contact", contact)
+    if pi.ndim != 1:
+        raise ValueError(f"contact must be 1-D, got shape {pi.shape}")
+    s, tau, dt = _check_gains(sigma_z, tau_z_s, dt_s)
+    z = finite("z0", z0)
+    if not 0.0 <= z <= 1.0:
+        raise ValueError(f"z0 must lie in [0, 1], got {z0}")
+    decay = 1.0 - dt / tau
+    out = np.empty(pi.size)
+    for n in range(pi.size):
+        z = _gate_step(z, float(pi[n]), decay, s)
+        out[n] = z
+    return out
+
+
+class ContactFilter:
+    """The contact signal of one side, sample by sample (eq. 3.2).
+
+    A causal Butterworth low-pass (third order, 50 Hz by default) of each whisker's
+    ``x``, whose absolute values are maximised over the side's whiskers.
+    """
+
+    def __init__(self, n_whiskers: int, rate_hz: float, cutoff_hz: float = 50.0,
+                 order: int = 3) -> None:
+        rate = positive("control_rate_hz", rate_hz)
+        fc = positive("filter cutoff_hz", cutoff_hz)
+        if fc >= rate / 2:
+            raise ValueError(f"filter cutoff ({cutoff_hz} Hz) must be below half the control "
+                             f"rate ({rate_hz} Hz)")
+        self.sos = butter(int(order), fc, fs=rate, output="sos")
+        self.state = np.zeros((int(n_whiskers), *sosfilt_zi(self.sos).shape))
+
+    def step(self, x: np.ndarray) -> float:
+        """Feed one sample of every whisker's ``x``; return ``pi`` for this sample."""
+        best = 0.0
+        for w, xw in enumerate(np.atleast_1d(x)):
+            y, self.state[w] = sosfilt(self.sos, [float(xw)], zi=self.state[w])
+            best = max(best, abs(float(y[0])))
+        return best
+
+
+@dataclass(frozen=True)
+class WhiskPattern:
+    """The whisking pattern generator's oscillator (angles in degrees).
+
+    Parameters
+    ----------
+    frequency_hz
+        Whisk frequency ``f_w`` (> 0).
+    amplitude_deg
+        Protraction from full retraction to full protraction (> 0).
+    retracted_deg
+        Housing angle at full retraction.
+    phase_rad
+        Oscillator phase at t = 0 (0: fully retracted).
+    """
+
+    frequency_hz: float
+    amplitude_deg: float = 30.0
+    retracted_deg: float = 0.0
+    phase_rad: float = 0.0
+
+    def __post_init__(self) -> None:
+        positive("whisk frequency_hz", self.frequency_hz)
+        positive("amplitude_deg", self.amplitude_deg)
+        finite("retracted_deg", self.retracted_deg)
+        finite("phase_rad", self.phase_rad)
+        if abs(self.retracted_deg) + self.amplitude_deg >= 80.0:
+            raise ValueError("retracted_deg and amplitude_deg must keep the housing within "
+                             "+/-80 deg")
+
+    @property
+    def period_s(self) -> float:
+        """Whisk period ``T_w`` (s)."""
+        return 1.0 / self.frequency_hz
+
+    def oscillator_deg(self, t_s: np.ndarray | float) -> np.ndarray:
+        """The unmodulated angle at times ``t_s``."""
+        ph = 2 * math.pi * self.frequency_hz * np.asarray(t_s, dtype=float) + self.phase_rad
+        return self.retracted_deg + self.amplitude_deg * 0.5 * (1.0 - np.cos(ph))
+
+    def command_deg(self, t_s: np.ndarray | float, z: float, gain: float = 1.0) -> np.ndarray:
+        """The commanded angle with protraction suppressed by ``z`` (and scaled by
+        ``gain``, contact-induced asymmetry); the phase is untouched."""
+        osc = self.oscillator_deg(t_s)
+        return self.retracted_deg + (1.0 - z) * gain * (osc - self.retracted_deg)
+
+
+@dataclass(frozen=True)
+class RCPControl:
+    """Rapid cessation of protraction (eqs. 3.2-3.3) and contact-induced asymmetry.
+
+    Parameters
+    ----------
+    sigma_z
+        Gain on the contact signal (>= 0; 0: unmodulated whisking).
+    tau_z_periods
+        Decay time constant as a fraction of the whisk period (thesis: 1/4; the
+        strong and fast setting of figure 3.9 b: 1/10).
+    cia_gain
+        Contact-induced asymmetry: the other sides' protraction grows by this
+        fraction of this side's gating variable (>= 0; 0: off).
+    cutoff_hz, order
+        The contact filter (thesis: 50 Hz, third order).
+    """
+
+    sigma_z: float = 0.0
+    tau_z_periods: float = 0.25
+    cia_gain: float = 0.0
+    cutoff_hz: float = 50.0
+    order: int = 3
+
+    def __post_init__(self) -> None:
+        non_negative("sigma_z", self.sigma_z)
+        positive("tau_z_periods", self.tau_z_periods)
+        non_negative("cia_gain", self.cia_gain)
+        positive("cutoff_hz", self.cutoff_hz)
+
+    @property
+    def active(self) -> bool:
+        """Whether any feedback acts."""
+        return self.sigma_z > 0.0 or self.cia_gain > 0.0
+
+
+@dataclass(frozen=True)
+class WhiskerSetup:
+    """One whisker of a whisking head.
+
+    Parameters
+    ----------
+    model
+        The rod model; its follicle housing is turned by the side's motor.
+    contact, trajectory
+        The object it may touch and the object's motion (None: whisking in air).
+    side
+        Index of the side (0, 1, ...) whose contact signal and pattern it shares.
+    hall_gain_v
+        Hall gain (V per unit tan); default: calibrated for the model's whisker.
+    """
+
+    model: RodModel
+    contact: PoleContact | None = None
+    trajectory: Trajectory | None = None
+    side: int = 0
+    hall_gain_v: float | None = None
+
+    def gain(self) -> float:
+        """The Hall gain (V per unit tan)."""
+        if self.hall_gain_v is not None:
+            return float(self.hall_gain_v)
+        return calibrated_gain(self.model.geometry, self.model.n_elements)
+
+
+@dataclass
+class WhiskingResult:
+    """A whisking run.
+
+    Attributes
+    ----------
+    time_s : ndarray, shape (n,)
+        Simulation steps.
+    tan_x : ndarray, shape (n_whiskers, n)
+        Magnet tilt toward x in the housing's frame (what the Hall sensor reads).
+    contact_force_n : ndarray, shape (n_whiskers, n)
+    angle_deg : ndarray, shape (n_whiskers, n)
+        The housing's angle.
+    control_time_s : ndarray, shape (m,)
+        Control samples.
+    command_deg, contact_signal, gating : ndarray, shape (n_sides, m)
+        Commanded angle, ``pi`` and ``z`` per side at the control samples.
+    deflection : ndarray, shape (n_whiskers, m)
+        Normalised ``x`` deflection at the control samples (+/-1 at full scale).
+    """
+
+    time_s: np.ndarray
+    tan_x: np.ndarray
+    contact_force_n: np.ndarray
+    angle_deg: np.ndarray
+    control_time_s: np.ndarray
+    command_deg: np.ndarray
+    contact_signal: np.ndarray
+    gating: np.ndarray
+    deflection: np.ndarray
+    dt_s: float
+    gains: list[float] = field(default_factory=list)
+
+
+def motor_follow(command_deg: np.ndarray, dt_s: float, bandwidth_hz: float,
+                 state: tuple[float, float] = (0.0, 0.0)) -> tuple[np.ndarray, np.ndarray]:
+    """Angle (deg) and rate (deg/s) of a critically damped servo following ``command_deg``.
+
+    ``theta'' = w^2 (command - theta) - 2 w theta'`` with ``w = 2 pi bandwidth_hz``;
+    ``command_deg[k]`` is held over step k (of ``dt_s``) and each step is advanced
+    exactly (the critically damped solution). ``state`` is the (angle,
+    rate) before the first step. Returns arrays of ``len(command_deg) + 1`` values,
+    the first being ``state``.
+    """
+    w = 2 * math.pi * positive("motor bandwidth_hz", bandwidth_hz)
+    dt = positive("dt_s", dt_s)
+    # with e = angle - command (command held): e(t) = (e0 + (r0 + w e0) t) exp(-w t)
+    E = math.exp(-w * dt)
+    p11, p12 = (1.0 + w * dt) * E, dt * E
+    p21, p22 = -w * w * dt * E, (1.0 - w * dt) * E
+    n = len(command_deg)
+    ang = np.empty(n + 1)
+    rate = np.empty(n + 1)
+    a, r = float(state[0]), float(state[1])
+    ang[0], rate[0] = a, r
+    for k in range(n):
+        u = float(command_deg[k])
+        a, r = u + p11 * (a - u) + p12 * r, p21 * (a - u) + p22 * r
+        ang[k + 1], rate[k + 1] = a, r
+    return ang, rate
+
+
+def _check_setups(whiskers: list[WhiskerSetup], n_sides: int) -> None:
+    if not whiskers:
+        raise ValueError("at least one whisker is needed")
+    for w in whiskers:
+        if not isinstance(w.side, int) or not 0 <= w.side < n_sides:
+            raise ValueError(f"whisker side must lie in [0, {n_sides - 1}], got {w.side!r}")
+
+
+def run_whisking(
+    whiskers: list[WhiskerSetup],
+    patterns: list[WhiskPattern] | WhiskPattern,
+    control: RCPControl | None,
+    duration_s: float,
+    *,
+    control_rate_hz: float = 1000.0,
+    dt_s: float = 2.5e-4,
+    motor_bandwidth_hz: float = 20.0,
+) -> WhiskingResult:
+    """Whisk the head's whiskers for ``duration_s`` under the WPG and its control.
+
+    Parameters
+    ----------
+    whiskers
+        The whiskers; each belongs to a side (``WhiskerSetup.side``).
+    patterns
+        One :class:`WhiskPattern` per side (or one for every side).
+    control
+        RCP and CIA (None: unmodulated).
+    duration_s
+        Simulated time (s); rounded to whole control periods.
+    control_rate_hz
+        Rate of the control loop (and of the recorded control samples).
+    dt_s
+        The rod's internal step; must divide the control period.
+    motor_bandwidth_hz
+        Bandwidth of the housing's servo.
+    """
+    ctrl = control if control is not None else RCPControl()
+    pats = [patterns] if isinstance(patterns, WhiskPattern) else list(patterns)
+    n_sides = max(len(pats), max((w.side for w in whiskers), default=0) + 1)
+    if len(pats) == 1:
+        pats = pats * n_sides
+    if len(pats) != n_sides:
+        raise ValueError(f"{len(pats)} patterns for {n_sides} sides")
+    _check_setups(whiskers, n_sides)
+    T = positive("duration_s", duration_s)
+    rate = positive("control_rate_hz", control_rate_hz)
+    dt = positive("dt_s", dt_s)
+    spp = int(round(1.0 / (rate * dt)))
+    if spp < 1 or abs(spp * dt * rate - 1.0) > 1e-9:
+        raise ValueError(f"dt_s ({dt_s}) must divide the control period (1/{control_rate_hz} s)")
+    n_ctrl = int(round(T * rate))
+    if n_ctrl < 1:
+        raise ValueError(f"duration_s ({duration_s}) is shorter than one control period")
+    tc = 1.0 / rate
+    n_w = len(whiskers)
+    gains = [w.gain() for w in whiskers]
+    full_tan = [HALF_RANGE_FRACTION * 5.0 / g for g in gains]
+    filters = [ContactFilter(sum(w.side == s for w in whiskers), rate, ctrl.cutoff_hz,
+                             ctrl.order) for s in range(n_sides)]
+    taus = [ctrl.tau_z_periods * p.period_s for p in pats]
+    decays = []
+    for s in range(n_sides):
+        _check_gains(ctrl.sigma_z, taus[s], tc)
+        decays.append(1.0 - tc / taus[s])
+    n_steps = n_ctrl * spp
+    time_s = np.arange(n_steps + 1) * dt
+    tan_x = np.zeros((n_w, n_steps + 1))
+    force = np.zeros((n_w, n_steps + 1))
+    angle = np.zeros((n_w, n_steps + 1))
+    ctime = np.arange(n_ctrl + 1) * tc
+    command = np.zeros((n_sides, n_ctrl + 1))
+    pis = np.zeros((n_sides, n_ctrl + 1))
+    zs = np.zeros((n_sides, n_ctrl + 1))
+    defl = np.zeros((n_w, n_ctrl + 1))
+    motors = [(p.retracted_deg, 0.0) for p in pats]
+    for s in range(n_sides):
+        command[s, 0] = pats[s].command_deg(0.0, 0.0)
+        angle[[i for i, w in enumerate(whiskers) if w.side == s], 0] = pats[s].retracted_deg
+
+    def run(w: int, k0: int, k1: int, ang: np.ndarray, rt: np.ndarray,
+            state: DynamicState | None) -> DynamicState | None:
+        wh = whiskers[w]
+        bm = BaseMotion(time_s[k0:k1 + 1], np.radians(ang), np.radians(rt))
+        res = simulate(wh.model, wh.contact, wh.trajectory, (k1 - k0) * dt, dt,
+                       initial_state=state, base_motion=bm, linear_free_flight=False)
+        tan_x[w, k0:k1 + 1] = res.tan_xy[:, 0]
+        force[w, k0:k1 + 1] = res.contact_force_n
+        angle[w, k0:k1 + 1] = ang
+        return res.final_state
+
+    if not ctrl.active:
+        for s in range(n_sides):
+            cmd = pats[s].command_deg(time_s[:-1], 0.0)
+            ang, rt = motor_follow(cmd, dt, motor_bandwidth_hz, motors[s])
+            command[s] = pats[s].command_deg(ctime, 0.0)
+            for w in [i for i, wh in enumerate(whiskers) if wh.side == s]:
+                run(w, 0, n_steps, ang, rt, None)
+        for w in range(n_w):
+            defl[w] = tan_x[w, ::spp] / full_tan[w]
+        for s in range(n_sides):
+            members = [i for i, wh in enumerate(whiskers) if wh.side == s]
+            for n in range(n_ctrl + 1):
+                pis[s, n] = filters[s].step(defl[members, n])
+        return WhiskingResult(time_s, tan_x, force, angle, ctime, command, pis, zs, defl, dt,
+                              gains)
+
+    states: list[DynamicState | None] = [None] * n_w
+    for n in range(n_ctrl):
+        k0, k1 = n * spp, (n + 1) * spp
+        for s in range(n_sides):
+            others = [zs[o, n] for o in range(n_sides) if o != s]
+            gain = 1.0 + ctrl.cia_gain * (max(others) if others else 0.0)
+            cmd = pats[s].command_deg(time_s[k0:k1], zs[s, n], gain)
+            ang, rt = motor_follow(cmd, dt, motor_bandwidth_hz, motors[s])
+            motors[s] = (float(ang[-1]), float(rt[-1]))
+            command[s, n + 1] = float(pats[s].command_deg(ctime[n + 1], zs[s, n], gain))
+            for w in [i for i, wh in enumerate(whiskers) if wh.side == s]:
+                states[w] = run(w, k0, k1, ang, rt, states[w])
+        for w in range(n_w):
+            defl[w, n + 1] = tan_x[w, k1] / full_tan[w]
+        for s in range(n_sides):
+            members = [i for i, wh in enumerate(whiskers) if wh.side == s]
+            pis[s, n + 1] = filters[s].step(defl[members, n + 1])
+            zs[s, n + 1] = _gate_step(zs[s, n], pis[s, n + 1], decays[s], ctrl.sigma_z)
+    return WhiskingResult(time_s, tan_x, force, angle, ctime, command, pis, zs, defl, dt, gains)
+
+
+@dataclass
+class ObstacleWhisk:
+    """Figure 3.9's simulation (see :func:`obstacle_whisk`); arrays per side ``(2, n)``."""
+
+    time_s: np.ndarray
+    angle_deg: np.ndarray
+    contact_signal: np.ndarray
+    gating: np.ndarray
+    obstacle_deg: tuple[float, float]
+
+
+def obstacle_whisk(
+    sigma_z: float,
+    tau_z_periods: float,
+    *,
+    frequency_hz: float = 8.0,
+    amplitude_deg: float = 80.0,
+    retracted_deg: float = 40.0,
+    obstacle_deg: tuple[float, float] = (100.0, 125.0),
+    deflection_scale_deg: float = 20.0,
+    n_whisks: float = 3.0,
+    rate_hz: float = 1000.0,
+) -> ObstacleWhisk:
+    """Figure 3.9: two sides whisking against obstructions at fixed protraction angles.
+
+    As in the thesis (3.4.2), the contact signal is simulated: a whisker commanded
+    past the obstruction ``theta'`` of its side is held there and deflected by the
+    excess, ``x = (theta - theta') / deflection_scale_deg`` (full scale at
+    ``deflection_scale_deg`` past it), filtered and gated by eqs. 3.2-3.3. Side 0
+    (left, obstruction at 100 deg) is reached, side 1 (right, 125 deg) is not with
+    the default 40-130 deg whisk.
+
+    Returns the commanded angles, contact signals and gating variables per side.
+    """
+    pattern = WhiskPattern(frequency_hz, 1.0, 0.0)  # validates the frequency
+    positive("amplitude_deg", amplitude_deg)
+    scale = positive("deflection_scale_deg", deflection_scale_deg)
+    tau = positive("tau_z_periods", tau_z_periods) * pattern.period_s
+    dt = 1.0 / positive("rate_hz", rate_hz)
+    s, tau, dt = _check_gains(sigma_z, tau, dt)
+    n = int(round(positive("n_whisks", n_whisks) * pattern.period_s / dt)) + 1
+    t = np.arange(n) * dt
+    osc = retracted_deg + amplitude_deg * 0.5 * (1.0 - np.cos(2 * math.pi * frequency_hz * t))
+    ang = np.zeros((2, n))
+    pis = np.zeros((2, n))
+    zs = np.zeros((2, n))
+    for side in range(2):
+        filt = ContactFilter(1, rate_hz)
+        z = 0.0
+        for k in range(n):
+            ang[side, k] = retracted_deg + (1.0 - z) * (osc[k] - retracted_deg)
+            x = max(ang[side, k] - obstacle_deg[side], 0.0) / scale
+            pis[side, k] = filt.step(np.array([x]))
+            z = _gate_step(z, pis[side, k], 1.0 - dt / tau, s)
+            zs[side, k] = z
+    return ObstacleWhisk(t, ang, pis, zs, (float(obstacle_deg[0]), float(obstacle_deg[1])))
+
+
+def count_contacts(signal: np.ndarray, threshold: float, release: float | None = None) -> int:
+    """Contact episodes of ``signal``: each starts when it rises above ``threshold``
+    and ends only once it falls below ``release`` (hysteresis; default ``threshold``)."""
+    lo = threshold if release is None else float(release)
+    if lo > threshold:
+        raise ValueError(f"release ({release}) must not exceed threshold ({threshold})")
+    n = 0
+    on = False
+    for v in np.asarray(signal, dtype=float):
+        if not on and v > threshold:
+            on = True
+            n += 1
+        elif on and v < lo:
+            on = False
+    return n
