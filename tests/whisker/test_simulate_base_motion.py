@@ -45,6 +45,10 @@ def test_zero_rotation_gives_the_fixed_follicle_bytes(model):
     assert fixed.tan_xy.tobytes() == still.tan_xy.tobytes()
     assert fixed.contact_force_n.tobytes() == still.contact_force_n.tobytes()
     assert np.all(still.base_angle_rad == 0.0) and fixed.base_angle_rad is None
+    # a whisker at rest starts exactly at the model's rest positions (not turned by 0)
+    for bm in (None, BaseMotion(np.array([0.0, 1.0]), np.zeros(2))):
+        res = simulate(model, None, None, 0.001, record_every=1, base_motion=bm)
+        assert res.states_m[0].tobytes() == model.x_rest.tobytes()
 
 
 @pytest.mark.parametrize("alpha", [0.0, 3.0])

@@ -754,7 +754,7 @@ def simulate(
         t0 = float(st.time_s)
     else:
         x = (
-            _turned(model.x_rest, th0)
+            (_turned(model.x_rest, th0) if th0 != 0.0 else model.x_rest.copy())
             if initial_positions_m is None
             else np.array(finite_array("initial_positions_m", initial_positions_m), dtype=float)
         )
