@@ -10,7 +10,7 @@ import pytest
 from vibrissa import __version__
 from vibrissa.reproduce import Experiment, Option, experiments, get_experiment, run_experiment
 
-NAMES = ["radial-distance", "angle-texture"]
+NAMES = ["radial-distance", "angle-texture", "scratchbot"]
 
 
 def test_registry_holds_both_thesis_experiments():

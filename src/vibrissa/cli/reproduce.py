@@ -99,6 +99,8 @@ def _run(exp: Experiment, quick: bool, json_out: bool, out: Path, seed: int,
         grid = "quick" if quick else "full"
         if data.exists():
             work = f"simulated dataset reused from {data}"
+        elif hasattr(protocol, "generate_dataset"):  # simulates itself, no XY estimate
+            work = "simulating"
         else:
             chunk = int(getattr(protocol, "chunk_size", 32))
             work = f"simulating {work_statement(protocol, workers, chunk_size=chunk)}"

@@ -105,6 +105,9 @@ def cached_dataset(protocol: Any, data_dir: Path, progress: Progress | None = No
         except DatasetFileError:
             path.unlink()
     cb = (lambda d, t: progress("generate", d, t)) if progress else None
+    own = getattr(protocol, "generate_dataset", None)
+    if own is not None:  # a protocol that simulates its whole dataset itself
+        return own(path, workers=workers, progress=cb), path, False
     ds = generate(protocol, path, workers=workers, progress=cb,
                   chunk_size=int(getattr(protocol, "chunk_size", 32)))
     return ds, path, False

@@ -1,0 +1,306 @@
+"""SCRATCHbot whisking into a pole (thesis 6.3) as a declarative protocol.
+
+"The robot was kept stationary while it whisked into a vertical pole at three
+different radial distances (70, 100 and 130 mm), and 3 whisk speeds (2, 4 and
+6 Hz)" (6.3). Modelled with :func:`vibrissa.robots.whisking.run_whisking`: one
+SCRATCHbot whisker (preset ``scratchbot``, 3.2.3) whose follicle housing is turned
+by the whisking pattern generator, unmodulated by default (6.3 does not say the
+feedback of 3.2.4 was on; ``sigma_z`` > 0 turns it on); the pole (0.5 mm radius,
+parallel to ``y``) stands where the straight whisker, turned by
+``contact_angle_deg``, touches it at the radial distance.
+
+Each condition is one continuous run of ``n_whisks + 1`` whisks; the first whisk
+(the start from rest) is dropped. The recording is the Hall sensor's output at
+1 kHz (SCRATCHbot's calibration, 60 mm at r = 150 mm) minus the same whisk in air
+(the robot's prediction of its own whisking, the self-motion cancellation of
+3.2.4, here a noise-free in-air run of the same pattern): at 6 Hz the
+whisker's first mode (7.6 Hz) makes the in-air deflection larger than a light
+contact. Each whisk is one trial: the whisk's own samples (from full retraction
+to full retraction), the rest of a 0.5 s window held at the sensor's rest output.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import math
+import os
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from vibrissa import __version__
+from vibrissa._validate import finite, in_range, non_negative, positive
+from vibrissa.experiments.streams import stream
+from vibrissa.robots.whisking import RCPControl, WhiskerSetup, WhiskPattern, run_whisking
+from vibrissa.whisker.geometry import PRESETS, preset
+from vibrissa.whisker.hall import HallSettings
+from vibrissa.whisker.rod import RodModel
+from vibrissa.whisker.simulate import PoleContact, Trajectory
+
+__all__ = ["ScratchbotProtocol", "pole_position_mm", "scratchbot_protocol"]
+
+#: Window of one trial (s): the longest whisk period of the thesis' grid (2 Hz).
+WINDOW_S = 0.5
+
+
+def pole_position_mm(radial_distance_mm: float, contact_angle_deg: float,
+                     pole_radius_mm: float, shaft_radius_mm: float) -> tuple[float, float]:
+    """Centre (x, z) of a pole touching the straight whisker turned by ``contact_angle_deg``
+    at ``radial_distance_mm`` from the base, on its protraction (+x) side."""
+    a = math.radians(contact_angle_deg)
+    off = pole_radius_mm + shaft_radius_mm
+    return (radial_distance_mm * math.sin(a) + off * math.cos(a),
+            radial_distance_mm * math.cos(a) - off * math.sin(a))
+
+
+@dataclass(frozen=True)
+class ScratchbotProtocol:
+    """The SCRATCHbot pole experiment (6.3).
+
+    Parameters
+    ----------
+    radial_distances_mm
+        Pole radial distances (thesis: 70, 100, 130 mm).
+    whisk_frequencies_hz
+        Whisk frequencies (thesis: 2, 4, 6 Hz), each > 0.
+    n_whisks
+        Whisks kept per condition (one more is simulated and dropped).
+    amplitude_deg, retracted_deg
+        The whisk: housing angle from ``retracted_deg`` to ``retracted_deg +
+        amplitude_deg`` (SCRATCHbot's amplitude is not given; 12 deg keeps the in-air
+        deflection at 6 Hz, near the whisker's 7.6 Hz first mode, inside the sensor's range).
+    contact_angle_deg
+        Housing angle at which the straight whisker first touches the pole (6 deg:
+        half-way through the protraction).
+    pole_radius_mm
+        The pole's radius.
+    sigma_z, tau_z_periods
+        RCP feedback (eqs. 3.2-3.3; ``sigma_z = 0``: unmodulated).
+    whisker, n_elements, dt_s
+        Whisker preset and its discretisation.
+    motor_bandwidth_hz
+        The housing servo (see :mod:`vibrissa.robots.whisking`).
+    sensor
+        The Hall sensor set-up (1 kHz, SCRATCHbot's calibration).
+    seed
+        Seed of the sensor noise.
+    """
+
+    radial_distances_mm: tuple[float, ...] = (70.0, 100.0, 130.0)
+    whisk_frequencies_hz: tuple[float, ...] = (2.0, 4.0, 6.0)
+    n_whisks: int = 12
+    amplitude_deg: float = 12.0
+    retracted_deg: float = 0.0
+    contact_angle_deg: float = 6.0
+    pole_radius_mm: float = 0.5
+    sigma_z: float = 0.0
+    tau_z_periods: float = 0.25
+    whisker: str = "scratchbot"
+    n_elements: int = 28
+    dt_s: float = 2.5e-4
+    motor_bandwidth_hz: float = 20.0
+    sensor: HallSettings = dataclasses.field(default_factory=HallSettings)
+    seed: int = 0
+    name: str = "scratchbot"
+
+    def __post_init__(self) -> None:
+        if self.whisker not in PRESETS:
+            raise ValueError(f"unknown whisker preset {self.whisker!r}")
+        g = preset(self.whisker)
+        if not self.whisk_frequencies_hz or not self.radial_distances_mm:
+            raise ValueError("at least one whisk frequency and one radial distance are needed")
+        for f in self.whisk_frequencies_hz:
+            if not (isinstance(f, int | float) and math.isfinite(f) and f > 0):
+                raise ValueError(f"whisk frequency must be > 0 Hz, got {f!r}")
+            in_range("whisk frequency", f, 0.0, 20.0, "Hz")
+        if isinstance(self.n_whisks, bool) or not isinstance(self.n_whisks, int) \
+                or self.n_whisks < 2:
+            raise ValueError(f"n_whisks must be an integer >= 2, got {self.n_whisks!r}")
+        non_negative("sigma_z", self.sigma_z)
+        positive("tau_z_periods", self.tau_z_periods)
+        positive("pole_radius_mm", self.pole_radius_mm)
+        positive("motor_bandwidth_hz", self.motor_bandwidth_hz)
+        WhiskPattern(min(self.whisk_frequencies_hz), self.amplitude_deg, self.retracted_deg)
+        c = finite("contact_angle_deg", self.contact_angle_deg)
+        for r in self.radial_distances_mm:
+            in_range("radial_distance_mm", r, 1e-6, g.length_mm, "mm (the whisker's length)")
+            if r <= self.pole_radius_mm:
+                raise ValueError(f"radial_distance_mm ({r}) must exceed the pole's radius")
+        if c <= self.retracted_deg:
+            raise ValueError(
+                f"contact_angle_deg ({c}) places the pole inside the whisker's reach at rest "
+                f"(the whisker rests at retracted_deg = {self.retracted_deg}); it must be "
+                "greater")
+        if c >= self.retracted_deg + self.amplitude_deg:
+            raise ValueError(
+                f"contact_angle_deg ({c}) is beyond full protraction "
+                f"({self.retracted_deg + self.amplitude_deg} deg): the whisker never reaches "
+                "the pole")
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
+            raise ValueError(f"seed must be a non-negative integer, got {self.seed!r}")
+        if not isinstance(self.sensor, HallSettings):
+            raise TypeError(f"sensor must be a HallSettings, got {type(self.sensor).__name__}")
+
+    # ------------------------------------------------------------------ grid
+    @property
+    def label_names(self) -> tuple[str, ...]:
+        """Labels of a trial."""
+        return ("radial_distance_mm", "whisk_frequency_hz")
+
+    def conditions(self) -> list[dict[str, float]]:
+        """Grid points in canonical order (frequency, then distance)."""
+        return [{"radial_distance_mm": float(r), "whisk_frequency_hz": float(f)}
+                for f in self.whisk_frequencies_hz for r in self.radial_distances_mm]
+
+    @property
+    def n_trials(self) -> int:
+        """Whisks kept over all conditions."""
+        return len(self.conditions()) * self.n_whisks
+
+    def to_dict(self) -> dict[str, Any]:
+        """Every parameter as plain values."""
+        return dataclasses.asdict(self)
+
+    def fingerprint(self) -> str:
+        """Hash of every parameter that affects the signals."""
+        blob = json.dumps(self.to_dict(), sort_keys=True, default=str).encode()
+        return hashlib.sha256(blob).hexdigest()[:16]
+
+    # ------------------------------------------------------------------ simulation
+    def simulate_condition(self, index: int) -> dict[str, np.ndarray]:
+        """Simulate condition ``index``: per whisk trial windows and the whole run."""
+        cond = self.conditions()[index]
+        r, f = cond["radial_distance_mm"], cond["whisk_frequency_hz"]
+        g = preset(self.whisker)
+        model = RodModel(g, self.n_elements)
+        sensor = self.sensor.calibrate(g, self.n_elements)
+        pos = pole_position_mm(r, self.contact_angle_deg, self.pole_radius_mm,
+                               float(g.radius_m(r * 1e-3)) * 1e3)
+        traj = Trajectory(np.array([0.0, 1e3]), np.array([pos, pos]))
+        pattern = WhiskPattern(f, self.amplitude_deg, self.retracted_deg)
+        ctrl = RCPControl(self.sigma_z, self.tau_z_periods)
+        duration = (self.n_whisks + 1) / f
+        common = dict(control_rate_hz=self.sensor.sample_rate_hz, dt_s=self.dt_s,
+                      motor_bandwidth_hz=self.motor_bandwidth_hz)
+        touch = run_whisking([WhiskerSetup(model, PoleContact(self.pole_radius_mm), traj,
+                                           hall_gain_v=sensor.gain_v)],
+                             pattern, ctrl, duration, **common)
+        air = run_whisking([WhiskerSetup(model, hall_gain_v=sensor.gain_v)], pattern, None,
+                           duration, **common)
+        rng = np.random.default_rng(stream(self.seed, 1000 + index))
+        rate = 1.0 / self.dt_s
+        tan = np.column_stack([touch.tan_x[0], np.zeros_like(touch.tan_x[0])])
+        volts = sensor.read(tan, rate, rng)
+        ref = sensor.read(np.column_stack([air.tan_x[0], np.zeros_like(air.tan_x[0])]), rate)
+        resid = volts - ref + sensor.offset_v
+        fs = self.sensor.sample_rate_hz
+        nwin = int(round(WINDOW_S * fs))
+        per = int(round(fs / f))
+        sig = np.full((self.n_whisks, 2, nwin), sensor.offset_v)
+        for k in range(self.n_whisks):
+            a = (k + 1) * per
+            seg = resid[a:a + per]
+            sig[k, :, : seg.shape[0]] = seg.T
+        step = int(round(rate / fs))
+        return {
+            "signal": sig,
+            "raw_v": volts[:, 0],
+            "air_v": ref[:, 0],
+            "angle_deg": touch.angle_deg[0, ::step][: volts.shape[0]],
+            "force_n": touch.contact_force_n[0, ::step][: volts.shape[0]],
+            "saturated": np.array([float(np.mean((volts[:, 0] <= sensor.v_min + 1e-9)
+                                                 | (volts[:, 0] >= sensor.v_max - 1e-9)))]),
+        }
+
+    def generate_dataset(self, path: Path, workers: int | None = None,
+                         progress: Callable[[int, int], None] | None = None) -> xr.Dataset:
+        """Simulate every condition and save the dataset to ``path`` (NetCDF)."""
+        from vibrissa.data import save_dataset
+
+        n = len(self.conditions())
+        w = min(workers if workers is not None else (os.cpu_count() or 1), n)
+        results: list[dict[str, np.ndarray]] = []
+        if w <= 1:
+            for i in range(n):
+                results.append(self.simulate_condition(i))
+                if progress:
+                    progress((i + 1) * self.n_whisks, self.n_trials)
+        else:
+            import multiprocessing
+
+            ctx = multiprocessing.get_context("fork" if os.name == "posix" else "spawn")
+            with ctx.Pool(w) as pool:
+                for i, res in enumerate(pool.imap(self.simulate_condition, range(n))):
+                    results.append(res)
+                    if progress:
+                        progress((i + 1) * self.n_whisks, self.n_trials)
+        ds = self.build_dataset(results)
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
+        save_dataset(ds, path)
+        return ds
+
+    def build_dataset(self, results: list[dict[str, np.ndarray]]) -> xr.Dataset:
+        """Assemble the conditions' results into the dataset schema.
+
+        Per trial: ``signal`` (V, in-air whisk subtracted, rest 2.5 V), labels,
+        ``whisk`` (1-based within its condition) and ``set`` (1: odd whisks, 2: even).
+        The whole runs (raw and in-air volts, housing angle, contact force) are kept
+        per condition, padded with NaN to the longest, for the figures.
+        """
+        from vibrissa.data.dataset import coordinate_attrs
+
+        fs = self.sensor.sample_rate_hz
+        conds = self.conditions()
+        sig = np.concatenate([r["signal"] for r in results])
+        labels = {k: np.repeat([c[k] for c in conds], self.n_whisks) for k in self.label_names}
+        whisk = np.tile(np.arange(1, self.n_whisks + 1), len(conds))
+        coords: dict[str, Any] = {
+            "trial": np.arange(sig.shape[0]),
+            "channel": np.array(["x", "y"]),
+            "time": ("time", np.arange(sig.shape[2]) / fs,
+                     {"units": "s", "long_name": "time from the whisk's start"}),
+        }
+        per_trial = {**labels, "whisk": whisk, "set": np.where(whisk % 2 == 1, 1, 2)}
+        for name, vals in per_trial.items():
+            coords[name] = ("trial", np.asarray(vals), coordinate_attrs(name, vals))
+        n_run = max(r["raw_v"].size for r in results)
+
+        def padded(key: str) -> np.ndarray:
+            out = np.full((len(results), n_run), np.nan)
+            for i, r in enumerate(results):
+                out[i, : r[key].size] = r[key][:n_run]
+            return out
+
+        data = {"signal": (("trial", "channel", "time"), sig, {"units": "V"})}
+        for key, units in (("raw_v", "V"), ("air_v", "V"), ("angle_deg", "deg"),
+                           ("force_n", "N")):
+            data[f"run_{key}"] = (("condition", "run_time"), padded(key), {"units": units})
+        data["run_saturated"] = (("condition",), np.array([r["saturated"][0] for r in results]))
+        coords["condition"] = np.arange(len(conds))
+        coords["run_time"] = ("run_time", np.arange(n_run) / fs, {"units": "s"})
+        return xr.Dataset(
+            data, coords=coords,
+            attrs={
+                "sample_rate_hz": float(fs),
+                "whisker": json.dumps(dataclasses.asdict(preset(self.whisker)), sort_keys=True,
+                                      default=str),
+                "protocol": self.name,
+                "protocol_params": json.dumps(self.to_dict(), sort_keys=True, default=str),
+                "seed": int(self.seed),
+                "vibrissa_version": __version__,
+                "source": "simulated: SCRATCHbot whisking into a pole (thesis 6.3)",
+            },
+        )
+
+
+def scratchbot_protocol(quick: bool = False, seed: int = 0, **overrides: Any
+                        ) -> ScratchbotProtocol:
+    """The thesis' grid with 12 whisks per condition (``quick``: 4)."""
+    changes = {k: v for k, v in overrides.items() if v is not None}
+    return ScratchbotProtocol(n_whisks=4 if quick else 12, seed=seed, **changes)
