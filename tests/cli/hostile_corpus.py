@@ -195,6 +195,16 @@ def _cases() -> list[Case]:
         add(["whisker", "ring", "--dt-ms", value], "--dt-ms")
     for value in ("0", "1e9", "nan"):
         add(["whisker", "ring", "--tip-deflection-mm", value], "--tip-deflection-mm")
+    # whisk (issue 15): frequency <= 0, negative gains, a pole inside the reach at rest
+    for value in ("0", "-2", "nan"):
+        add(["whisker", "whisk", "--frequency-hz", value], "--frequency-hz")
+    for value in ("-0.7", "nan"):
+        add(["whisker", "whisk", "--sigma-z", value], "--sigma-z")
+    add("whisker whisk --tau-z-periods 0", "--tau-z-periods")
+    add("whisker whisk --pole-at-mm 100 --pole-angle-deg 0", "--pole-angle-deg")
+    add("whisker whisk --pole-at-mm 100 --pole-angle-deg 45", "--pole-angle-deg")
+    add("whisker whisk --pole-at-mm 500", "--pole-at-mm")
+    add("whisker whisk --whisks 0", "--whisks")
     # bench
     add("bench bogus", "bogus")
     for value in ("0.3", "0", "-1", "nan"):

@@ -1,4 +1,4 @@
-"""Tests of `vibrissa whisker presets|info|static|push|ring`."""
+"""Tests of `vibrissa whisker presets|info|static|push|ring|whisk`."""
 
 from __future__ import annotations
 
@@ -245,3 +245,44 @@ def test_whiskers_outside_physics_are_refused_in_one_line(args, message):
     assert res.exit_code == 2, res.output
     lines = res.stderr.strip().splitlines()
     assert len(lines) == 1 and message in lines[0], res.stderr
+
+
+# ----------------------------------------------------------------- whisk (issue 15)
+@pytest.mark.parametrize(("args", "needle"), [
+    (["--frequency-hz", "0"], "--frequency-hz must be positive"),
+    (["--frequency-hz", "-4"], "--frequency-hz must be positive"),
+    (["--sigma-z", "-0.7"], "--sigma-z must be non-negative"),
+    (["--tau-z-periods", "-1"], "--tau-z-periods must be positive"),
+    (["--motor-bandwidth-hz", "0"], "--motor-bandwidth-hz must be positive"),
+    (["--pole-at-mm", "100", "--pole-angle-deg", "0"], "inside the whisker's reach at rest"),
+    (["--pole-at-mm", "100", "--pole-angle-deg", "-3"], "inside the whisker's reach at rest"),
+    (["--pole-at-mm", "100", "--retracted-deg", "8"], "inside the whisker's reach at rest"),
+    (["--pole-at-mm", "100", "--pole-angle-deg", "30"], "never reaches the pole"),
+    (["--pole-at-mm", "500"], "--pole-at-mm must lie in"),
+    (["--whisks", "0"], "--whisks"),
+])
+def test_whisk_bad_input_exits_2_in_one_line_before_any_simulation(args, needle, monkeypatch):
+    import vibrissa.robots.whisking as whisking
+
+    def boom(*a, **k):  # pragma: no cover - must not be reached
+        raise AssertionError("simulated")
+
+    monkeypatch.setattr(whisking, "run_whisking", boom)
+    res = runner.invoke(app, ["whisker", "whisk", "--preset", "scratchbot", *args, "--json"])
+    assert res.exit_code == 2, res.output
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: ") and needle in lines[0]
+    assert res.stdout == ""
+
+
+def test_whisk_into_a_pole_and_in_air():
+    air = run_json("whisk", "--preset", "scratchbot", "--frequency-hz", "2", "--whisks", "2")
+    assert air["max_contact_force_n"] == 0.0 and air["whisks_touching"] == 0
+    pole = run_json("whisk", "--preset", "scratchbot", "--frequency-hz", "2", "--whisks", "2",
+                    "--pole-at-mm", "100")
+    assert pole["whisks_touching"] == 2 and pole["max_contact_force_n"] > 0
+    assert pole["peak_deflection_v"] > 5 * air["peak_deflection_v"]
+    rcp = run_json("whisk", "--preset", "scratchbot", "--frequency-hz", "2", "--whisks", "2",
+                   "--pole-at-mm", "100", "--sigma-z", "0.7")
+    assert 0 < rcp["max_gating"] <= 1
+    assert rcp["peak_deflection_v"] < pole["peak_deflection_v"]

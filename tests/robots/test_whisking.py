@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 from scipy.signal import butter, sosfilt
 
-from vibrissa.experiments.scratchbot import pole_position_mm
 from vibrissa.robots.whisking import (
     ContactFilter,
     RCPControl,
@@ -17,6 +16,7 @@ from vibrissa.robots.whisking import (
     count_contacts,
     motor_follow,
     obstacle_whisk,
+    pole_position_mm,
     rcp_gating,
     run_whisking,
 )

@@ -12,6 +12,9 @@ Commands
     Quasi-static push of a thin pole through the whisker.
 ``ring``
     Ring-down after releasing a deflected tip; measured frequency and damping.
+``whisk``
+    Whisk the whisker (its follicle housing turned by the whisking pattern
+    generator), in air or into a pole, with or without RCP feedback.
 
 Every command that takes a whisker accepts the same geometry options
 (``--preset`` and/or explicit ``--length-mm`` ... ``--damping-ratio``), plus
@@ -611,6 +614,128 @@ def ring_cmd(
     con.print(f"  measured: frequency {f_m:.2f} Hz ({100 * (f_m / f_model - 1):+.1f} % vs "
               f"model), damping ratio {z_m:.4f} ({z_err} vs configured) from "
               f"{meas['n_peaks']} half-cycle peaks of the {signal_name}{filt}")
+
+
+#: Most whisks of one ``whisk`` run (each a few thousand steps).
+MAX_WHISKS = 200
+
+_WHISK_NAMES = _renamer({
+    "frequency_hz": "--frequency-hz", "amplitude_deg": "--amplitude-deg",
+    "retracted_deg": "--retracted-deg", "sigma_z": "--sigma-z",
+    "tau_z_periods": "--tau-z-periods", "radial_distance_mm": "--pole-at-mm",
+    "contact_angle_deg": "--pole-angle-deg", "pole_radius_mm": "--pole-radius-mm",
+    "control_rate_hz": "--control-rate-hz", "motor bandwidth_hz": "--motor-bandwidth-hz",
+    "tau_z_s": "--tau-z-periods",
+})
+
+
+@whisker_app.command("whisk")
+@user_errors
+@solver_limits(f"use a smaller --amplitude-deg or --frequency-hz {_STIFFER}", _WHISK_NAMES)
+def whisk_cmd(
+    frequency_hz: Annotated[
+        float, typer.Option("--frequency-hz", help="Whisk frequency (Hz), > 0.")] = 4.0,
+    amplitude_deg: Annotated[
+        float, typer.Option("--amplitude-deg",
+                            help="Protraction from full retraction (deg), > 0.")] = 12.0,
+    retracted_deg: Annotated[
+        float, typer.Option("--retracted-deg",
+                            help="Housing angle at full retraction (deg).")] = 0.0,
+    whisks: Annotated[int, typer.Option("--whisks", help="Whisks simulated.")] = 3,
+    pole_at_mm: Annotated[
+        float | None, typer.Option(
+            "--pole-at-mm", help="Radial distance of a vertical pole from the base (mm); "
+            "omitted: whisking in air.")] = None,
+    pole_angle_deg: Annotated[
+        float, typer.Option(
+            "--pole-angle-deg", help="Housing angle at which the straight whisker touches "
+            "the pole (deg): beyond full retraction, before full protraction.")] = 6.0,
+    pole_radius_mm: Annotated[
+        float, typer.Option("--pole-radius-mm", help="Radius of the pole (mm).")] = 0.5,
+    sigma_z: Annotated[
+        float, typer.Option("--sigma-z", help="RCP gain (eq. 3.3), >= 0; 0: unmodulated.")
+    ] = 0.0,
+    tau_z_periods: Annotated[
+        float, typer.Option("--tau-z-periods",
+                            help="RCP decay time constant, in whisk periods (> 0).")] = 0.25,
+    control_rate_hz: Annotated[
+        float, typer.Option("--control-rate-hz", help="Control loop rate (Hz).")] = 1000.0,
+    motor_bandwidth_hz: Annotated[
+        float, typer.Option("--motor-bandwidth-hz",
+                            help="Bandwidth of the housing's servo (Hz).")] = 20.0,
+    preset: PresetOpt = None,
+    length_mm: LengthOpt = None,
+    base_radius_mm: BaseRadiusOpt = None,
+    tip_radius_mm: TipRadiusOpt = None,
+    youngs_modulus_gpa: ModulusOpt = None,
+    density_kg_m3: DensityOpt = None,
+    damping_ratio: DampingOpt = None,
+    n_elements: NElementsOpt = None,
+    json_out: JsonOpt = False,
+) -> None:
+    """Whisk the whisker in air or into a pole, with or without RCP feedback.
+
+    A motor turns the follicle housing (:mod:`vibrissa.robots.whisking`): the
+    whisking pattern generator's oscillator, protraction suppressed by the RCP
+    gating variable (thesis eqs. 3.2-3.3) when --sigma-z > 0. Reports the peak
+    Hall x deflection, the contact force and the whisks that touched the pole.
+    Every option is checked before anything is simulated.
+    """
+    from vibrissa.robots.whisking import (
+        RCPControl,
+        WhiskerSetup,
+        WhiskPattern,
+        check_pole_placement,
+        pole_position_mm,
+        run_whisking,
+    )
+    from vibrissa.whisker.simulate import PoleContact, Trajectory
+
+    g = build_geometry(preset, length_mm, base_radius_mm, tip_radius_mm, youngs_modulus_gpa,
+                       density_kg_m3, damping_ratio)
+    try:
+        pattern = WhiskPattern(frequency_hz, amplitude_deg, retracted_deg)
+        ctrl = RCPControl(sigma_z, tau_z_periods)
+        if isinstance(whisks, bool) or not 1 <= whisks <= MAX_WHISKS:
+            raise ValueError(f"--whisks must lie in [1, {MAX_WHISKS}], got {whisks}")
+        positive("control_rate_hz", control_rate_hz)
+        positive("motor bandwidth_hz", motor_bandwidth_hz)
+        if pole_at_mm is not None:
+            check_pole_placement(pole_at_mm, pole_angle_deg, pattern, pole_radius_mm,
+                                 g.length_mm)
+        model = build_model(g, n_elements)
+        setup = WhiskerSetup(model)
+        if pole_at_mm is not None:
+            pos = pole_position_mm(pole_at_mm, pole_angle_deg, pole_radius_mm,
+                                   float(g.radius_m(pole_at_mm * 1e-3)) * 1e3)
+            traj = Trajectory(np.array([0.0, 1e6]), np.array([pos, pos]))
+            setup = WhiskerSetup(model, PoleContact(radius_mm=pole_radius_mm), traj)
+    except ValueError as exc:
+        raise ValueError(_WHISK_NAMES(str(exc))) from None
+    res = run_whisking([setup], pattern, ctrl, whisks / frequency_hz,
+                       control_rate_hz=control_rate_hz, motor_bandwidth_hz=motor_bandwidth_hz)
+    volts = _sensor(model).ideal_volts(np.column_stack([res.tan_x[0], 0 * res.tan_x[0]]))[:, 0]
+    whisk_of = np.minimum((res.time_s * frequency_hz).astype(int), whisks - 1)
+    touched = np.zeros(whisks, dtype=bool)
+    touched[whisk_of[res.contact_force_n[0] > 0]] = True
+    out: dict[str, Any] = {
+        "whisker": g.name,
+        "frequency_hz": pattern.frequency_hz,
+        "amplitude_deg": pattern.amplitude_deg,
+        "whisks": whisks,
+        "pole_at_mm": pole_at_mm,
+        "sigma_z": ctrl.sigma_z,
+        "tau_z_periods": ctrl.tau_z_periods,
+        "peak_deflection_v": float(np.abs(volts - 2.5).max()),
+        "max_contact_force_n": float(res.contact_force_n[0].max()),
+        "contact_time_s": float(np.count_nonzero(res.contact_force_n[0] > 0) * res.dt_s),
+        "whisks_touching": int(touched.sum()),
+        "max_gating": float(res.gating.max()),
+    }
+    if json_out:
+        echo_json(out)
+        return
+    _print_table(f"whisking {g.name} at {frequency_hz:g} Hz", out)
 
 
 def register(app: typer.Typer) -> None:

@@ -35,28 +35,25 @@ import numpy as np
 import xarray as xr
 
 from vibrissa import __version__
-from vibrissa._validate import finite, in_range, non_negative, positive
+from vibrissa._validate import in_range, non_negative, positive
 from vibrissa.experiments.streams import stream
-from vibrissa.robots.whisking import RCPControl, WhiskerSetup, WhiskPattern, run_whisking
+from vibrissa.robots.whisking import (
+    RCPControl,
+    WhiskerSetup,
+    WhiskPattern,
+    check_pole_placement,
+    pole_position_mm,
+    run_whisking,
+)
 from vibrissa.whisker.geometry import PRESETS, preset
 from vibrissa.whisker.hall import HallSettings
 from vibrissa.whisker.rod import RodModel
 from vibrissa.whisker.simulate import PoleContact, Trajectory
 
-__all__ = ["ScratchbotProtocol", "pole_position_mm", "scratchbot_protocol"]
+__all__ = ["ScratchbotProtocol", "scratchbot_protocol"]
 
 #: Window of one trial (s): the longest whisk period of the thesis' grid (2 Hz).
 WINDOW_S = 0.5
-
-
-def pole_position_mm(radial_distance_mm: float, contact_angle_deg: float,
-                     pole_radius_mm: float, shaft_radius_mm: float) -> tuple[float, float]:
-    """Centre (x, z) of a pole touching the straight whisker turned by ``contact_angle_deg``
-    at ``radial_distance_mm`` from the base, on its protraction (+x) side."""
-    a = math.radians(contact_angle_deg)
-    off = pole_radius_mm + shaft_radius_mm
-    return (radial_distance_mm * math.sin(a) + off * math.cos(a),
-            radial_distance_mm * math.cos(a) - off * math.sin(a))
 
 
 @dataclass(frozen=True)
@@ -126,22 +123,11 @@ class ScratchbotProtocol:
         positive("tau_z_periods", self.tau_z_periods)
         positive("pole_radius_mm", self.pole_radius_mm)
         positive("motor_bandwidth_hz", self.motor_bandwidth_hz)
-        WhiskPattern(min(self.whisk_frequencies_hz), self.amplitude_deg, self.retracted_deg)
-        c = finite("contact_angle_deg", self.contact_angle_deg)
+        pattern = WhiskPattern(min(self.whisk_frequencies_hz), self.amplitude_deg,
+                               self.retracted_deg)
         for r in self.radial_distances_mm:
-            in_range("radial_distance_mm", r, 1e-6, g.length_mm, "mm (the whisker's length)")
-            if r <= self.pole_radius_mm:
-                raise ValueError(f"radial_distance_mm ({r}) must exceed the pole's radius")
-        if c <= self.retracted_deg:
-            raise ValueError(
-                f"contact_angle_deg ({c}) places the pole inside the whisker's reach at rest "
-                f"(the whisker rests at retracted_deg = {self.retracted_deg}); it must be "
-                "greater")
-        if c >= self.retracted_deg + self.amplitude_deg:
-            raise ValueError(
-                f"contact_angle_deg ({c}) is beyond full protraction "
-                f"({self.retracted_deg + self.amplitude_deg} deg): the whisker never reaches "
-                "the pole")
+            check_pole_placement(r, self.contact_angle_deg, pattern, self.pole_radius_mm,
+                                 g.length_mm)
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise ValueError(f"seed must be a non-negative integer, got {self.seed!r}")
         if not isinstance(self.sensor, HallSettings):

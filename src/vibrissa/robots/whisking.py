@@ -61,8 +61,10 @@ __all__ = [
     "WhiskerSetup",
     "WhiskingResult",
     "count_contacts",
+    "check_pole_placement",
     "motor_follow",
     "obstacle_whisk",
+    "pole_position_mm",
     "rcp_gating",
     "run_whisking",
 ]
@@ -173,7 +175,7 @@ class WhiskPattern:
     phase_rad: float = 0.0
 
     def __post_init__(self) -> None:
-        positive("whisk frequency_hz", self.frequency_hz)
+        positive("frequency_hz", self.frequency_hz)
         positive("amplitude_deg", self.amplitude_deg)
         finite("retracted_deg", self.retracted_deg)
         finite("phase_rad", self.phase_rad)
@@ -323,6 +325,48 @@ def motor_follow(command_deg: np.ndarray, dt_s: float, bandwidth_hz: float,
         a, r = u + p11 * (a - u) + p12 * r, p21 * (a - u) + p22 * r
         ang[k + 1], rate[k + 1] = a, r
     return ang, rate
+
+
+def pole_position_mm(radial_distance_mm: float, contact_angle_deg: float,
+                     pole_radius_mm: float, shaft_radius_mm: float) -> tuple[float, float]:
+    """Centre (x, z) of a pole (parallel to ``y``) touching the straight whisker, its
+    housing turned by ``contact_angle_deg``, at ``radial_distance_mm`` from the base,
+    on the whisker's protraction (+x) side."""
+    a = math.radians(contact_angle_deg)
+    off = pole_radius_mm + shaft_radius_mm
+    return (radial_distance_mm * math.sin(a) + off * math.cos(a),
+            radial_distance_mm * math.cos(a) - off * math.sin(a))
+
+
+def check_pole_placement(radial_distance_mm: float, contact_angle_deg: float,
+                         pattern: WhiskPattern, pole_radius_mm: float,
+                         length_mm: float) -> None:
+    """Refuse a pole the whisk cannot meet properly, before any simulation.
+
+    The pole must lie within the whisker's length and beyond its own radius from
+    the base, outside the whisker's reach at rest (its contact angle beyond full
+    retraction, ``pattern.retracted_deg``) and within reach of full protraction.
+
+    Raises
+    ------
+    ValueError
+        One line naming the parameter.
+    """
+    r = finite("radial_distance_mm", radial_distance_mm)
+    c = finite("contact_angle_deg", contact_angle_deg)
+    rp = positive("pole_radius_mm", pole_radius_mm)
+    if not rp < r <= length_mm:
+        raise ValueError(f"radial_distance_mm must lie in ({rp:g}, {length_mm:g}] mm (beyond "
+                         f"the pole's radius, within the whisker's length), got {r:g}")
+    if c <= pattern.retracted_deg:
+        raise ValueError(
+            f"contact_angle_deg ({c:g}) places the pole inside the whisker's reach at rest "
+            f"(the whisker rests at the full retraction, {pattern.retracted_deg:g} deg); it "
+            "must be greater")
+    top = pattern.retracted_deg + pattern.amplitude_deg
+    if c >= top:
+        raise ValueError(f"contact_angle_deg ({c:g}) is at or beyond full protraction "
+                         f"({top:g} deg): the whisker never reaches the pole")
 
 
 def _check_setups(whiskers: list[WhiskerSetup], n_sides: int) -> None:
