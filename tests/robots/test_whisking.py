@@ -16,14 +16,13 @@ from vibrissa.robots.whisking import (
     count_contacts,
     motor_follow,
     obstacle_whisk,
-    pole_position_mm,
+    pole_whisker,
     rcp_gating,
     run_whisking,
 )
 from vibrissa.whisker.geometry import preset
 from vibrissa.whisker.hall import HallSettings
 from vibrissa.whisker.rod import RodModel
-from vibrissa.whisker.simulate import PoleContact, Trajectory
 
 
 # ------------------------------------------------------------------ eq. 3.3
@@ -145,9 +144,7 @@ def model() -> RodModel:
 
 
 def _pole(model: RodModel, r_mm: float = 100.0, angle_deg: float = 10.0) -> WhiskerSetup:
-    pos = pole_position_mm(r_mm, angle_deg, 0.5, 1.0)
-    traj = Trajectory(np.array([0.0, 100.0]), np.array([pos, pos]))
-    return WhiskerSetup(model, PoleContact(), traj)
+    return pole_whisker(model, r_mm, angle_deg)
 
 
 def _episodes(force: np.ndarray, dt: float, gap_s: float = 0.05) -> int:

@@ -686,10 +686,9 @@ def whisk_cmd(
         WhiskerSetup,
         WhiskPattern,
         check_pole_placement,
-        pole_position_mm,
+        pole_whisker,
         run_whisking,
     )
-    from vibrissa.whisker.simulate import PoleContact, Trajectory
 
     g = build_geometry(preset, length_mm, base_radius_mm, tip_radius_mm, youngs_modulus_gpa,
                        density_kg_m3, damping_ratio)
@@ -704,12 +703,8 @@ def whisk_cmd(
             check_pole_placement(pole_at_mm, pole_angle_deg, pattern, pole_radius_mm,
                                  g.length_mm)
         model = build_model(g, n_elements)
-        setup = WhiskerSetup(model)
-        if pole_at_mm is not None:
-            pos = pole_position_mm(pole_at_mm, pole_angle_deg, pole_radius_mm,
-                                   float(g.radius_m(pole_at_mm * 1e-3)) * 1e3)
-            traj = Trajectory(np.array([0.0, 1e6]), np.array([pos, pos]))
-            setup = WhiskerSetup(model, PoleContact(radius_mm=pole_radius_mm), traj)
+        setup = (WhiskerSetup(model) if pole_at_mm is None
+                 else pole_whisker(model, pole_at_mm, pole_angle_deg, pole_radius_mm))
     except ValueError as exc:
         raise ValueError(_WHISK_NAMES(str(exc))) from None
     res = run_whisking([setup], pattern, ctrl, whisks / frequency_hz,

@@ -42,13 +42,12 @@ from vibrissa.robots.whisking import (
     WhiskerSetup,
     WhiskPattern,
     check_pole_placement,
-    pole_position_mm,
+    pole_whisker,
     run_whisking,
 )
 from vibrissa.whisker.geometry import PRESETS, preset
 from vibrissa.whisker.hall import HallSettings
 from vibrissa.whisker.rod import RodModel
-from vibrissa.whisker.simulate import PoleContact, Trajectory
 
 __all__ = ["ScratchbotProtocol", "scratchbot_protocol"]
 
@@ -166,15 +165,12 @@ class ScratchbotProtocol:
         g = preset(self.whisker)
         model = RodModel(g, self.n_elements)
         sensor = self.sensor.calibrate(g, self.n_elements)
-        pos = pole_position_mm(r, self.contact_angle_deg, self.pole_radius_mm,
-                               float(g.radius_m(r * 1e-3)) * 1e3)
-        traj = Trajectory(np.array([0.0, 1e3]), np.array([pos, pos]))
         pattern = WhiskPattern(f, self.amplitude_deg, self.retracted_deg)
         ctrl = RCPControl(self.sigma_z, self.tau_z_periods)
         duration = (self.n_whisks + 1) / f
         common = dict(control_rate_hz=self.sensor.sample_rate_hz, dt_s=self.dt_s,
                       motor_bandwidth_hz=self.motor_bandwidth_hz)
-        touch = run_whisking([WhiskerSetup(model, PoleContact(self.pole_radius_mm), traj,
+        touch = run_whisking([pole_whisker(model, r, self.contact_angle_deg, self.pole_radius_mm,
                                            hall_gain_v=sensor.gain_v)],
                              pattern, ctrl, duration, **common)
         air = run_whisking([WhiskerSetup(model, hall_gain_v=sensor.gain_v)], pattern, None,

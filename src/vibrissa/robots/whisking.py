@@ -65,6 +65,7 @@ __all__ = [
     "motor_follow",
     "obstacle_whisk",
     "pole_position_mm",
+    "pole_whisker",
     "rcp_gating",
     "run_whisking",
 ]
@@ -336,6 +337,16 @@ def pole_position_mm(radial_distance_mm: float, contact_angle_deg: float,
     off = pole_radius_mm + shaft_radius_mm
     return (radial_distance_mm * math.sin(a) + off * math.cos(a),
             radial_distance_mm * math.cos(a) - off * math.sin(a))
+
+
+def pole_whisker(model: RodModel, radial_distance_mm: float, contact_angle_deg: float,
+                 pole_radius_mm: float = 0.5, side: int = 0,
+                 hall_gain_v: float | None = None) -> WhiskerSetup:
+    """A whisker facing a stationary vertical pole (:func:`pole_position_mm`)."""
+    shaft = float(model.geometry.radius_m(radial_distance_mm * 1e-3)) * 1e3
+    pos = pole_position_mm(radial_distance_mm, contact_angle_deg, pole_radius_mm, shaft)
+    traj = Trajectory(np.array([0.0, 1e6]), np.array([pos, pos]))
+    return WhiskerSetup(model, PoleContact(radius_mm=pole_radius_mm), traj, side, hall_gain_v)
 
 
 def check_pole_placement(radial_distance_mm: float, contact_angle_deg: float,
