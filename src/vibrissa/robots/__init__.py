@@ -1,5 +1,14 @@
-"""Robots that move objects into (or whiskers onto) things: the XY positioning stage."""
+"""Robots that move objects into (or whiskers onto) things: the XY positioning stage and
+whisking robots (:mod:`vibrissa.robots.whisking`: SCRATCHbot and BIOTACT G1's whisking
+pattern generator with rapid cessation of protraction)."""
 
+from vibrissa.robots.whisking import (
+    RCPControl,
+    WhiskerSetup,
+    WhiskPattern,
+    rcp_gating,
+    run_whisking,
+)
 from vibrissa.robots.xy_stage import (
     LatencyModel,
     PoleStimulus,
@@ -12,8 +21,13 @@ from vibrissa.robots.xy_stage import (
 __all__ = [
     "LatencyModel",
     "PoleStimulus",
+    "RCPControl",
     "SurfaceStimulus",
     "TrialResult",
+    "WhiskPattern",
+    "WhiskerSetup",
     "XYStage",
+    "rcp_gating",
     "run_trial",
+    "run_whisking",
 ]

@@ -7,6 +7,7 @@ from vibrissa.whisker.geometry import PRESETS, WhiskerGeometry, preset, preset_n
 from vibrissa.whisker.hall import HallSensor, calibrated_gain
 from vibrissa.whisker.rod import DEFAULT_N_ELEMENTS, RodModel, SimulationError
 from vibrissa.whisker.simulate import (
+    BaseMotion,
     DynamicState,
     PoleContact,
     SimulationResult,
@@ -18,6 +19,7 @@ from vibrissa.whisker.simulate import (
 from vibrissa.whisker.surfaces import TEXTURES, Surface, make_surface, texture_names
 
 __all__ = [
+    "BaseMotion",
     "DEFAULT_N_ELEMENTS",
     "PRESETS",
     "TEXTURES",
