@@ -46,7 +46,7 @@ def test_an_unknown_command_lists_the_commands():
     res = runner.invoke(app, ["whisker", "bogus"])
     assert res.exit_code == 2
     assert res.stderr == ("error: no such command 'bogus' (commands: presets, info, static, "
-                          "push, ring)\n")
+                          "push, ring, whisk)\n")
 
 
 @pytest.mark.parametrize("args", [["--help"], ["generate", "--help"], ["whisker", "--help"],

@@ -42,6 +42,12 @@ def test_the_pole_touches_the_turned_whisker_at_the_radial_distance(angle):
     ({"radial_distances_mm": (250.0,)}, "radial_distance_mm"),
     ({"n_whisks": 1}, "n_whisks"),
     ({"whisker": "nope"}, "unknown whisker preset"),
+    ({"rcp_settings": ((0.7, 0.25), (-2.0, 0.1))}, "sigma_z"),
+    ({"rcp_settings": ()}, "rcp_settings"),
+    ({"rcp_whisk_frequency_hz": 0.0}, "frequency_hz"),
+    ({"rcp_radial_distance_mm": 0.2},
+     "radial_distance_mm"),
+    ({"rcp_whisks": 0}, "rcp_whisks"),
 ])
 def test_bad_input_is_refused_in_one_line_before_any_simulation(kwargs, match, monkeypatch):
     import vibrissa.experiments.scratchbot as mod

@@ -86,6 +86,12 @@ class ScratchbotProtocol:
         The Hall sensor set-up (1 kHz, SCRATCHbot's calibration).
     seed
         Seed of the sensor noise.
+    rcp_settings, rcp_radial_distance_mm, rcp_whisk_frequency_hz, rcp_whisks
+        The closed-loop comparison beside the grid: ``rcp_whisks`` whisks into the pole
+        at one distance and frequency under each (``sigma_z``, ``tau_z`` in whisk
+        periods) of ``rcp_settings`` (default: unmodulated, figure 3.9's (a) and (b)),
+        the contact signal being the raw Hall ``x`` (eq. 3.2, no self-motion
+        cancellation).
     """
 
     radial_distances_mm: tuple[float, ...] = (70.0, 100.0, 130.0)
@@ -103,6 +109,10 @@ class ScratchbotProtocol:
     motor_bandwidth_hz: float = 20.0
     sensor: HallSettings = dataclasses.field(default_factory=HallSettings)
     seed: int = 0
+    rcp_settings: tuple[tuple[float, float], ...] = ((0.0, 0.25), (0.7, 0.25), (2.0, 0.1))
+    rcp_radial_distance_mm: float = 100.0
+    rcp_whisk_frequency_hz: float = 2.0
+    rcp_whisks: int = 4
     name: str = "scratchbot"
 
     def __post_init__(self) -> None:
@@ -127,6 +137,17 @@ class ScratchbotProtocol:
         for r in self.radial_distances_mm:
             check_pole_placement(r, self.contact_angle_deg, pattern, self.pole_radius_mm,
                                  g.length_mm)
+        if not self.rcp_settings:
+            raise ValueError("rcp_settings: at least one (sigma_z, tau_z_periods) is needed")
+        for sz, tz in self.rcp_settings:
+            RCPControl(sz, tz)
+        rcp_pattern = WhiskPattern(self.rcp_whisk_frequency_hz, self.amplitude_deg,
+                                   self.retracted_deg)
+        check_pole_placement(self.rcp_radial_distance_mm, self.contact_angle_deg, rcp_pattern,
+                             self.pole_radius_mm, g.length_mm)
+        if isinstance(self.rcp_whisks, bool) or not isinstance(self.rcp_whisks, int) \
+                or self.rcp_whisks < 1:
+            raise ValueError(f"rcp_whisks must be a positive integer, got {self.rcp_whisks!r}")
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise ValueError(f"seed must be a non-negative integer, got {self.seed!r}")
         if not isinstance(self.sensor, HallSettings):
@@ -200,40 +221,73 @@ class ScratchbotProtocol:
                                                  | (volts[:, 0] >= sensor.v_max - 1e-9)))]),
         }
 
+    def simulate_rcp(self, index: int) -> dict[str, np.ndarray]:
+        """The closed loop under ``rcp_settings[index]``, at the control samples: housing
+        angle (deg), normalised ``x`` deflection, gating ``z`` and the largest contact
+        force of each control period (N)."""
+        sz, tz = self.rcp_settings[index]
+        g = preset(self.whisker)
+        model = RodModel(g, self.n_elements)
+        sensor = self.sensor.calibrate(g, self.n_elements)
+        f = self.rcp_whisk_frequency_hz
+        res = run_whisking(
+            [pole_whisker(model, self.rcp_radial_distance_mm, self.contact_angle_deg,
+                          self.pole_radius_mm, hall_gain_v=sensor.gain_v)],
+            WhiskPattern(f, self.amplitude_deg, self.retracted_deg), RCPControl(sz, tz),
+            self.rcp_whisks / f, control_rate_hz=self.sensor.sample_rate_hz, dt_s=self.dt_s,
+            motor_bandwidth_hz=self.motor_bandwidth_hz)
+        spp = int(round(1.0 / (self.sensor.sample_rate_hz * self.dt_s)))
+        force = res.contact_force_n[0, 1:].reshape(-1, spp).max(axis=1)
+        return {"angle_deg": res.angle_deg[0, ::spp], "deflection": res.deflection[0],
+                "gating": res.gating[0], "force_n": np.concatenate([[0.0], force])}
+
+    def _job(self, job: tuple[str, int]) -> dict[str, np.ndarray]:
+        kind, i = job
+        return self.simulate_condition(i) if kind == "condition" else self.simulate_rcp(i)
+
     def generate_dataset(self, path: Path, workers: int | None = None,
                          progress: Callable[[int, int], None] | None = None) -> xr.Dataset:
-        """Simulate every condition and save the dataset to ``path`` (NetCDF)."""
+        """Simulate every condition and the closed-loop comparison; save the dataset to
+        ``path`` (NetCDF)."""
         from vibrissa.data import save_dataset
 
-        n = len(self.conditions())
-        w = min(workers if workers is not None else (os.cpu_count() or 1), n)
-        results: list[dict[str, np.ndarray]] = []
+        jobs = ([("condition", i) for i in range(len(self.conditions()))]
+                + [("rcp", i) for i in range(len(self.rcp_settings))])
+        w = min(workers if workers is not None else (os.cpu_count() or 1), len(jobs))
+        done: list[dict[str, np.ndarray]] = []
+
+        def tick() -> None:
+            if progress:
+                n_cond = min(len(done), len(self.conditions()))
+                progress(n_cond * self.n_whisks, self.n_trials)
+
         if w <= 1:
-            for i in range(n):
-                results.append(self.simulate_condition(i))
-                if progress:
-                    progress((i + 1) * self.n_whisks, self.n_trials)
+            for job in jobs:
+                done.append(self._job(job))
+                tick()
         else:
             import multiprocessing
 
             ctx = multiprocessing.get_context("fork" if os.name == "posix" else "spawn")
             with ctx.Pool(w) as pool:
-                for i, res in enumerate(pool.imap(self.simulate_condition, range(n))):
-                    results.append(res)
-                    if progress:
-                        progress((i + 1) * self.n_whisks, self.n_trials)
-        ds = self.build_dataset(results)
+                for res in pool.imap(self._job, jobs):
+                    done.append(res)
+                    tick()
+        n = len(self.conditions())
+        ds = self.build_dataset(done[:n], done[n:])
         Path(path).parent.mkdir(parents=True, exist_ok=True)
         save_dataset(ds, path)
         return ds
 
-    def build_dataset(self, results: list[dict[str, np.ndarray]]) -> xr.Dataset:
+    def build_dataset(self, results: list[dict[str, np.ndarray]],
+                      rcp: list[dict[str, np.ndarray]] | None = None) -> xr.Dataset:
         """Assemble the conditions' results into the dataset schema.
 
         Per trial: ``signal`` (V, in-air whisk subtracted, rest 2.5 V), labels,
         ``whisk`` (1-based within its condition) and ``set`` (1: odd whisks, 2: even).
         The whole runs (raw and in-air volts, housing angle, contact force) are kept
-        per condition, padded with NaN to the longest, for the figures.
+        per condition, padded with NaN to the longest, for the figures; ``rcp``
+        (:meth:`simulate_rcp` per setting) as ``rcp_*`` variables.
         """
         from vibrissa.data.dataset import coordinate_attrs
 
@@ -266,6 +320,17 @@ class ScratchbotProtocol:
         data["run_saturated"] = (("condition",), np.array([r["saturated"][0] for r in results]))
         coords["condition"] = np.arange(len(conds))
         coords["run_time"] = ("run_time", np.arange(n_run) / fs, {"units": "s"})
+        if rcp:
+            for key, units in (("angle_deg", "deg"), ("deflection", "1"), ("gating", "1"),
+                               ("force_n", "N")):
+                data[f"rcp_{key}"] = (("rcp_setting", "rcp_time"),
+                                      np.vstack([r[key] for r in rcp]), {"units": units})
+            coords["rcp_setting"] = np.arange(len(rcp))
+            coords["rcp_sigma_z"] = ("rcp_setting", [float(a) for a, _ in self.rcp_settings])
+            coords["rcp_tau_z_periods"] = ("rcp_setting",
+                                           [float(b) for _, b in self.rcp_settings])
+            coords["rcp_time"] = ("rcp_time", np.arange(rcp[0]["gating"].size) / fs,
+                                  {"units": "s"})
         return xr.Dataset(
             data, coords=coords,
             attrs={

@@ -11,6 +11,7 @@ with two gains, :func:`vibrissa.robots.whisking.obstacle_whisk`).
 
 from __future__ import annotations
 
+import json
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
@@ -37,17 +38,54 @@ def _fig_3_9() -> dict[str, Any]:
     out = {}
     for key, (s, tau) in FIG_3_9.items():
         r = obstacle_whisk(s, tau)
-        per = int(round(r.time_s.size / 3))
+        touching = r.angle_deg[0] > r.obstacle_deg[0]
+        onsets = np.flatnonzero(touching[1:] & ~touching[:-1]) + 1
+        period = 1.0 / 8.0  # obstacle_whisk's default whisk frequency
+        later = onsets[r.time_s[onsets] >= period]
         out[key] = {
             "sigma_z": s, "tau_z_periods": tau,
             "contacts_left": count_contacts(r.angle_deg[0] - r.obstacle_deg[0], 0.0, -2.0),
             "contacts_right": count_contacts(r.angle_deg[1] - r.obstacle_deg[1], 0.0, -2.0),
             "whisks": 3,
             "z_max": float(r.gating[0].max()),
-            "z_at_next_whisk": float(r.gating[0][per]),
+            "z_at_next_whisk": float(r.gating[0][later[0]]) if later.size else None,
             "_arrays": r,
         }
     return out
+
+
+def _episodes(force: np.ndarray, dt_s: float, gap_s: float = 0.02) -> int:
+    """Contacts: runs of positive force, bounces closer than ``gap_s`` merged."""
+    idx = np.flatnonzero(force > 0)
+    return 0 if idx.size == 0 else 1 + int(np.sum(np.diff(idx) * dt_s > gap_s))
+
+
+def _closed_loop(ds: xr.Dataset) -> dict[str, Any] | None:
+    """Per RCP setting of the closed-loop runs: peak deflection (V), contacts and
+    contact time per whisk, largest ``z``."""
+    from vibrissa.robots.whisking import HALF_RANGE_FRACTION
+
+    if "rcp_gating" not in ds:
+        return None
+    p = json.loads(ds.attrs["protocol_params"])
+    half_v = HALF_RANGE_FRACTION * float(p["sensor"]["supply_v"])
+    n_whisks = int(p["rcp_whisks"])
+    dt = float(ds["rcp_time"].values[1] - ds["rcp_time"].values[0])
+    out = []
+    for i in range(ds.sizes["rcp_setting"]):
+        force = ds["rcp_force_n"].values[i]
+        out.append({
+            "sigma_z": float(ds["rcp_sigma_z"].values[i]),
+            "tau_z_periods": float(ds["rcp_tau_z_periods"].values[i]),
+            "peak_deflection_v": float(np.abs(ds["rcp_deflection"].values[i]).max() * half_v),
+            "max_contact_force_n": float(force.max()),
+            "contacts_per_whisk": _episodes(force, dt) / n_whisks,
+            "contact_time_per_whisk_s": float(np.count_nonzero(force > 0) * dt / n_whisks),
+            "max_z": float(ds["rcp_gating"].values[i].max()),
+        })
+    return {"radial_distance_mm": float(p["rcp_radial_distance_mm"]),
+            "whisk_frequency_hz": float(p["rcp_whisk_frequency_hz"]), "whisks": n_whisks,
+            "settings": out}
 
 
 @register
@@ -117,10 +155,12 @@ class Scratchbot(Experiment):
             for r in {c["radial_distance_mm"] for c in conditions})
         fig39 = {k: {kk: vv for kk, vv in v.items() if not kk.startswith("_")}
                  for k, v in _fig_3_9().items()}
+        closed_loop = _closed_loop(ds)
         sat = ds["run_saturated"].values if "run_saturated" in ds else np.zeros(1)
         return {
             "meta": {"n_trials": int(X.shape[0]), "sample_rate_hz": fs,
                      "feature_threshold_v": THRESHOLD_V,
+                     "protocol": json.loads(ds.attrs.get("protocol_params", "{}")),
                      "split": {"train": "odd whisks (set 1)", "test": "even whisks (set 2)",
                                "n_train": int(train.sum()), "n_test": int(test.sum())},
                      "saturated_fraction": float(np.mean(sat))},
@@ -137,6 +177,7 @@ class Scratchbot(Experiment):
             "relations": {"peak_falls_with_distance": bool(peak_falls),
                           "duration_falls_with_frequency": bool(dur_falls)},
             "figure_3_9": fig39,
+            "closed_loop": closed_loop,
         }
 
     def write_outputs(self, results: Mapping[str, Any], out_dir: Path, *,
@@ -176,6 +217,18 @@ class Scratchbot(Experiment):
                 [f"R = {conds[i]['radial_distance_mm']:g} mm, S = "
                  f"{conds[i]['whisk_frequency_hz']:g} Hz" for i in pick])
             out["trajectories"] = save_figure(fig, fig_dir / "whisk_trajectories.png")
+        if dataset is not None and "rcp_gating" in dataset:
+            from vibrissa.robots.whisking import HALF_RANGE_FRACTION
+
+            n = dataset.sizes["rcp_setting"]
+            fig = whisk_trajectories_figure(
+                dataset["rcp_time"].values, dataset["rcp_angle_deg"].values,
+                dataset["rcp_deflection"].values * HALF_RANGE_FRACTION * 5.0,
+                dataset["rcp_force_n"].values,
+                [f"sigma_z = {dataset['rcp_sigma_z'].values[i]:g}, tau_z = T_w x "
+                 f"{dataset['rcp_tau_z_periods'].values[i]:g}" for i in range(n)],
+                gating=dataset["rcp_gating"].values, signal_label="Hall x from rest (V)")
+            out["closed_loop"] = save_figure(fig, fig_dir / "closed_loop.png")
         return out
 
     def report_sections(self, results: Mapping[str, Any], figures: Mapping[str, Path],
@@ -189,10 +242,19 @@ class Scratchbot(Experiment):
                  f"{fmt(c['contact_duration_s']['mean'], 3)} +/- "
                  f"{fmt(c['contact_duration_s']['std'], 3)}", c["n_whisks"]]
                 for c in results["conditions"]]
+        proto = results["meta"].get("protocol") or {}
+        setup = (
+            f" The simulated head: the `{proto.get('whisker', 'scratchbot')}` whisker (3.2.3) "
+            f"whisked {proto.get('amplitude_deg', '?')} deg from full retraction by a "
+            f"{proto.get('motor_bandwidth_hz', '?')} Hz servo, the pole touching the straight "
+            f"whisker {proto.get('contact_angle_deg', '?')} deg into the whisk, unmodulated "
+            "(RCP off); each whisk's deflection is the Hall x minus the same whisk in air "
+            "(self-motion cancelled), its features those of chapter 4 (peak magnitude; time "
+            f"above {THRESHOLD_V:g} V about the peak)." if proto else "")
         out = [
             "SCRATCHbot (thesis 6.3) kept stationary, whisking one whisker into a vertical "
-            "pole. The thesis gives no numbers for this experiment, only figure 6.5 and "
-            "two relations; ours beside them:",
+            "pole." + setup + " The thesis gives no numbers for this experiment, only "
+            "figure 6.5 and two relations; ours beside them:",
             "",
             md_table(["relation", "thesis (6.3, fig 6.5)", "this run"], [
                 ["peak deflection vs radial distance",
@@ -239,7 +301,7 @@ class Scratchbot(Experiment):
         f39 = results["figure_3_9"]
         out.append(md_table(
             ["setting", "thesis", "contacts (left, 3 whisks)", "right", "max z",
-             "z at the next whisk"],
+             "z at the next whisk's first contact"],
             [[f"({k}) sigma_z = {v['sigma_z']:g}, tau_z = T_w x {v['tau_z_periods']:g}",
               "one contact per whisk, no inter-whisk modulation" if k == "a"
               else "biphasic whisk, two contacts",
@@ -248,6 +310,27 @@ class Scratchbot(Experiment):
         out.append("")
         if "figure_3_9" in figures:
             out += [f"![figure 3.9]({figures['figure_3_9']})", ""]
+        cl = results.get("closed_loop")
+        if cl:
+            out += [
+                "## RCP on the simulated whisker (closed loop)",
+                "",
+                f"The same SCRATCHbot whisker whisking {cl['whisks']} times into the pole at "
+                f"{cl['radial_distance_mm']:g} mm, {cl['whisk_frequency_hz']:g} Hz, the "
+                "housing commanded by the pattern generator and eqs. 3.2-3.3 from the Hall "
+                "x deflection (no self-motion cancellation), one control period (1 ms) at a "
+                "time. Minimal impingement (3.2.4): RCP keeps the deflection smaller.",
+                "",
+                md_table(["setting", "peak deflection (V)", "max contact force (N)",
+                          "contacts per whisk", "contact time per whisk (s)", "max z"],
+                         [[f"sigma_z = {v['sigma_z']:g}, tau_z = T_w x {v['tau_z_periods']:g}",
+                           fmt(v["peak_deflection_v"], 3), fmt(v["max_contact_force_n"], 3),
+                           fmt(v["contacts_per_whisk"]), fmt(v["contact_time_per_whisk_s"], 3),
+                           fmt(v["max_z"])] for v in cl["settings"]]),
+                "",
+            ]
+            if "closed_loop" in figures:
+                out += [f"![closed loop]({figures['closed_loop']})", ""]
         return "\n".join(out)
 
     def summary(self, results: Mapping[str, Any]) -> dict[str, Any]:
@@ -259,4 +342,5 @@ class Scratchbot(Experiment):
             ],
             "classifiers": results["classifiers"],
             "relations": results["relations"],
+            "closed_loop": results.get("closed_loop"),
         }

@@ -44,8 +44,16 @@ def test_json_contract_and_the_relations_of_6_3(tmp_path):
         assert durs[0] > durs[1] > durs[2], r
     assert s["relations"] == {"peak_falls_with_distance": True,
                               "duration_falls_with_frequency": True}
+    # the closed loop on the physical whisker: RCP presses less on the pole (3.2.4) and
+    # shortens the contact (6.4: "RCP tends to reduce ... the duration of contact")
+    cl = s["closed_loop"]["settings"]
+    assert [(c["sigma_z"], c["tau_z_periods"]) for c in cl] == [(0.0, 0.25), (0.7, 0.25),
+                                                               (2.0, 0.1)]
+    assert cl[0]["max_z"] == 0.0 and all(0 < c["max_z"] <= 1 for c in cl[1:])
+    assert cl[0]["peak_deflection_v"] > cl[1]["peak_deflection_v"] > cl[2]["peak_deflection_v"]
+    assert cl[0]["contact_time_per_whisk_s"] > cl[2]["contact_time_per_whisk_s"] > 0
     md = (out / "report.md").read_text()
     assert "Figure 3.9" in md and "figures/figure_3_9.png" in md
     assert (out / "report.html").stat().st_size > 0
-    for name in ("figure_3_9", "scratchbot_features", "whisk_trajectories"):
+    for name in ("figure_3_9", "scratchbot_features", "whisk_trajectories", "closed_loop"):
         assert (out / "figures" / f"{name}.png").stat().st_size > 0
