@@ -1508,7 +1508,8 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
     tr = np.zeros(traj.shape[1])
     pa_save = pole_anchor.copy()
     pl_save = plane_anchors.copy()
-    _write_tan(out, 0, x[1, 0] - x[0, 0], x[1, 1] - x[0, 1], x[1, 2] - x[0, 2], traj, 0)
+    row0 = np.int64(0)  # not a literal 0, which would compile _write_tan a second time
+    _write_tan(out, row0, x[1, 0] - x[0, 0], x[1, 1] - x[0, 1], x[1, 2] - x[0, 2], traj, row0)
     out[0, 2:] = 0.0
     si = 0
     if state_every > 0:
