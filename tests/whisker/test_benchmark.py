@@ -45,7 +45,8 @@ def test_the_whisk_in_air_turns_the_housing_through_its_amplitude():
     angle, rate = bm.sample(np.arange(0.0, 1.5, 1e-3))
     assert np.degrees(angle.max()) == pytest.approx(WHISK_DEG, rel=1e-3)
     assert angle.min() == pytest.approx(0.0, abs=1e-9)
-    # the rate is the angle's derivative: a whisk period of 1 / WHISK_HZ
+    # back at full retraction after one whisk period; the rate is the angle's derivative
+    assert bm.sample(np.array([1.0 / WHISK_HZ]))[0][0] == pytest.approx(0.0, abs=1e-9)
     np.testing.assert_allclose(np.gradient(angle, 1e-3)[5:-5], rate[5:-5], atol=1e-3)
 
 
