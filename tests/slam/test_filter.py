@@ -197,3 +197,13 @@ def test_known_floor_map_of_the_tiled_arena_matches_its_tiles() -> None:
     g = texture_grid(arena, textures)
     assert g.shape == (50, 50) and g.min() == 0
     assert textures[g[15, 15]] == arena.tiles[1][1]
+
+
+def test_a_log_cut_to_its_head_keeps_every_array_in_step() -> None:
+    log = synthetic_log(PRESETS["tiles"], 20.0, seed=0)
+    short = log.head(5)
+    assert short.n_steps == 5 and short.true_pose.shape == (6, 3)
+    assert short.floor_loglik.shape[0] == 5
+    np.testing.assert_array_equal(short.contact, log.contact[:5])
+    with pytest.raises(ValueError, match="n_steps must be an integer in 1.."):
+        log.head(0)

@@ -9,7 +9,7 @@ sees the true pose; ``true_pose`` rides along only to score a run.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -124,3 +124,22 @@ class SensorLog:
     def n_steps(self) -> int:
         """How many FSM steps."""
         return len(self.state)
+
+    def head(self, n_steps: int) -> SensorLog:
+        """The log's first ``n_steps`` steps.
+
+        Raises
+        ------
+        ValueError
+            ``n_steps`` not in ``1..self.n_steps``.
+        """
+        if isinstance(n_steps, bool) or not isinstance(n_steps, int | np.integer) or not (
+                1 <= n_steps <= self.n_steps):
+            raise ValueError(f"n_steps must be an integer in 1..{self.n_steps}, got {n_steps!r}")
+        n = int(n_steps)
+        return replace(
+            self, state=self.state[:n], odometry=self.odometry[:n], contact=self.contact[:n],
+            radial_distance_m=self.radial_distance_m[:n],
+            surface_angle_rad=self.surface_angle_rad[:n],
+            floor_loglik=None if self.floor_loglik is None else self.floor_loglik[:n],
+            true_pose=None if self.true_pose is None else self.true_pose[:n + 1])
