@@ -6,13 +6,18 @@ log-weights. Each FSM step of a :class:`~vibrissa.slam.log.SensorLog`:
 
 1. **motion**: every particle moves by the odometry increment with Gaussian noise of
    ``odometry_error`` times the movement (6.5.3: odometry accurate to about 10 %);
-2. **weights** (not in ``BACK`` steps, which revisit places just seen): each contact
+2. **weights** (not in ``BACK`` steps, which revisit places just seen, nor in the
+   zero-length event steps ``HIT_1``, ``HIT_2``, ``ABORT``, which repeat the sensing of
+   the step before them): each contact
    point is scored by the particle's occupancy there, each free whisker's shaft and the
    body by their emptiness, the floor whiskers' texture log-likelihoods by a known tile
    map if one is given; all with the grid as it was before this step;
-3. **map** (not in ``BACK``): the mode's evidence (blobs, geometric edges, template
-   edges) plus negative evidence along free whiskers and under the body (eq. 6.1) in
-   every mode;
+3. **map** (same steps): negative evidence along free whiskers and under the body (eq.
+   6.1) in every mode, and the mode's evidence: ``blob`` a blob at every contact;
+   ``geometric`` one edge per contact episode (first contact to ``HIT_2``) through the
+   first two whiskers' contacts; ``template`` one edge per episode at the surface angle
+   the log reports (on ``HIT_2``); an episode ending (``ABORT``, ``BACK``, ``TURN``)
+   without an edge leaves a blob at its first contact (6.5.5.2);
 4. **resampling**, systematic, when the effective sample size falls below
    ``resample_fraction * n_particles``.
 
@@ -34,6 +39,7 @@ from vibrissa.slam.log import SensorLog, WhiskerLayout
 
 MODES = ("blob", "geometric", "template")
 _NO_EVIDENCE = ("BACK",)
+_EVENTS = ("HIT_1", "HIT_2", "ABORT")
 _EPISODE_END = ("ABORT", "BACK", "TURN")
 
 
@@ -204,10 +210,14 @@ class ParticleFilter:
     floor_map
         Optional ``(n_cells, n_cells)`` texture index per cell (``-1`` unknown) used to
         weigh the floor whiskers' texture log-likelihoods.
+    prior_map
+        Optional ``(n_cells, n_cells)`` occupancy probabilities every particle starts
+        from (NaN: unexplored): localisation on a known map, or a map from an earlier run.
     """
 
     def __init__(self, settings: SlamSettings, start_pose: np.ndarray,
-                 rng: np.random.Generator, floor_map: np.ndarray | None = None) -> None:
+                 rng: np.random.Generator, floor_map: np.ndarray | None = None,
+                 prior_map: np.ndarray | None = None) -> None:
         s = settings
         self.s = s
         self.rng = rng
@@ -215,11 +225,23 @@ class ParticleFilter:
         self.log_weights = np.full(s.n_particles, -math.log(s.n_particles))
         self.logodds = np.zeros((s.n_particles, s.n_cells, s.n_cells))
         self.visited = np.zeros(self.logodds.shape, dtype=bool)
+        if prior_map is not None:
+            prior = np.asarray(prior_map, float)
+            if prior.shape != (s.n_cells, s.n_cells) or np.any(
+                    (prior < 0) | (prior > 1)):
+                raise ValueError(f"prior_map must be {(s.n_cells, s.n_cells)} probabilities "
+                                 "in [0, 1] (NaN: unexplored)")
+            known = np.isfinite(prior)
+            lim = s.logodds_limit
+            self.logodds[:] = np.where(known, np.clip(grid.logit(np.clip(
+                np.nan_to_num(prior, nan=0.5), 1e-9, 1 - 1e-9)), -lim, lim), 0.0)
+            self.visited[:] = known
         if floor_map is not None and np.shape(floor_map) != (s.n_cells, s.n_cells):
             raise ValueError(f"floor_map must have shape {(s.n_cells, s.n_cells)}")
         self.floor_map = None if floor_map is None else np.asarray(floor_map, np.int64)
         self.pending: np.ndarray | None = None  # (P, 2) first contact of an episode
         self.pending_whiskers: frozenset[int] = frozenset()
+        self.episode_done = False
         self.n_resamples = 0
 
     # -- evidence -------------------------------------------------------------------
@@ -281,31 +303,30 @@ class ParticleFilter:
     def _close_episode(self) -> None:
         if self.pending is not None:
             self._blob(self.pending)
-        self.pending, self.pending_whiskers = None, frozenset()
+        self.pending, self.pending_whiskers, self.episode_done = None, frozenset(), False
 
-    def _map_contacts(self, log: SensorLog, t: int, hit_idx: np.ndarray,
-                      hit_world: np.ndarray) -> None:
-        mode = self.s.mode
-        if mode == "blob":
-            for k in range(hit_world.shape[1]):
-                self._blob(hit_world[:, k])
+    def _episode(self, log: SensorLog, t: int, hit_idx: np.ndarray,
+                 hit_world: np.ndarray) -> None:
+        """Geometric and template modes: one oriented edge per contact episode (HIT_1 to
+        HIT_2), a blob at the first contact when the episode ends without one."""
+        if self.episode_done:
             return
         angle = float(log.surface_angle_rad[t])
-        if mode == "template" and math.isfinite(angle):
+        if self.s.mode == "template" and math.isfinite(angle):
             pts = [hit_world[:, k] for k in range(hit_world.shape[1])]
             if self.pending is not None:
                 pts.append(self.pending)
             if pts:
                 self._edge(np.mean(pts, axis=0), self.poses[:, 2] + angle)
-                self.pending, self.pending_whiskers = None, frozenset()
+                self.pending, self.episode_done = None, True
             return
         new = [k for k, w in enumerate(hit_idx) if int(w) not in self.pending_whiskers]
-        if mode == "geometric" and self.pending is None and len(new) >= 2:
-            a, b = hit_world[:, new[0]], hit_world[:, new[-1]]
-            self._edge_between(a, b)
-        elif mode == "geometric" and self.pending is not None and new:
+        if self.s.mode == "geometric" and self.pending is None and len(new) >= 2:
+            self._edge_between(hit_world[:, new[0]], hit_world[:, new[-1]])
+            self.episode_done = True
+        elif self.s.mode == "geometric" and self.pending is not None and new:
             self._edge_between(self.pending, hit_world[:, new[0]])
-            self.pending, self.pending_whiskers = None, frozenset()
+            self.pending, self.episode_done = None, True
         elif self.pending is None and new:
             self.pending = hit_world[:, new[0]].copy()
             self.pending_whiskers = frozenset(int(w) for w in hit_idx)
@@ -322,20 +343,21 @@ class ParticleFilter:
                               s.heading_drift_rad_m, self.rng)
         self.poses = apply_motion(self.poses, inc)
         state = str(log.state[t])
-        if state in _NO_EVIDENCE:
-            if state in _EPISODE_END:
-                self._close_episode()
-            return effective_sample_size(self.log_weights)
-        contact = np.asarray(log.contact[t], bool)
-        lay = log.layout
-        hit_idx = np.flatnonzero(contact)
-        hit_world = to_world(self.poses, lay.points(np.asarray(log.radial_distance_m[t]))
-                             [hit_idx])
-        free_pts = _shaft_points(lay)[~contact].reshape(-1, 2)
-        free_world = to_world(self.poses, free_pts)
-        self._weigh(log, t, hit_world, free_world)
-        self._negative_evidence(log, ~contact)
-        self._map_contacts(log, t, hit_idx, hit_world)
+        if state not in _NO_EVIDENCE:
+            contact = np.asarray(log.contact[t], bool)
+            lay = log.layout
+            hit_idx = np.flatnonzero(contact)
+            hit_world = to_world(self.poses, lay.points(
+                np.asarray(log.radial_distance_m[t]))[hit_idx])
+            if state not in _EVENTS:
+                free_world = to_world(self.poses, _shaft_points(lay)[~contact].reshape(-1, 2))
+                self._weigh(log, t, hit_world, free_world)
+                self._negative_evidence(log, ~contact)
+                if s.mode == "blob":
+                    for k in range(hit_world.shape[1]):
+                        self._blob(hit_world[:, k])
+            if s.mode != "blob":
+                self._episode(log, t, hit_idx, hit_world)
         if state in _EPISODE_END:
             self._close_episode()
         ess = effective_sample_size(self.log_weights)
@@ -372,7 +394,8 @@ def _body_points(radius_m: float) -> np.ndarray:
 
 
 def run_slam(log: SensorLog, settings: SlamSettings | None = None, seed: int = 0,
-             floor_map: np.ndarray | None = None) -> SlamRun:
+             floor_map: np.ndarray | None = None,
+             prior_map: np.ndarray | None = None) -> SlamRun:
     """Run the particle filter over a whole sensor log.
 
     Parameters
@@ -385,9 +408,11 @@ def run_slam(log: SensorLog, settings: SlamSettings | None = None, seed: int = 0
         Seeds the filter's own random stream.
     floor_map
         Optional known texture map (indices into ``log.textures``, ``-1`` unknown).
+    prior_map
+        Optional occupancy every particle starts from (:class:`ParticleFilter`).
     """
     s = settings or SlamSettings()
-    pf = ParticleFilter(s, log.start_pose, np.random.default_rng(seed), floor_map)
+    pf = ParticleFilter(s, log.start_pose, np.random.default_rng(seed), floor_map, prior_map)
     est = np.empty((log.n_steps + 1, 3))
     ess = np.empty(log.n_steps)
     est[0] = pf.pose_estimate()

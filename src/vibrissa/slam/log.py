@@ -59,8 +59,11 @@ class SensorLog:
     Attributes
     ----------
     state
-        ``(n_steps,)`` FSM state names (:mod:`vibrissa.robots.crunchbot.fsm`); steps in
-        ``BACK`` move the particles but add no evidence (6.5.3).
+        ``(n_steps,)`` FSM state names (:mod:`vibrissa.robots.crunchbot.fsm`), the state
+        the robot was in during the step. Steps in ``BACK`` move the particles but add no
+        evidence (6.5.3). ``HIT_1``, ``HIT_2`` and ``ABORT`` are events of no duration
+        whose rows repeat what the step before sensed: the filter reads from them only
+        the surface angle (on ``HIT_2``) and where a contact episode ends.
     odometry
         ``(n_steps, 3)`` measured increments ``(forward_m, left_m, rotation_rad)`` in the
         robot's frame at the step's start.
