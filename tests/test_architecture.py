@@ -20,7 +20,7 @@ import pytest
 
 SRC = Path(__file__).resolve().parents[1] / "src" / "vibrissa"
 SIMULATOR = {"whisker", "robots", "experiments"}
-RECORDING_LAYERS = {"signal", "data", "classify", "evaluate"}
+RECORDING_LAYERS = {"signal", "data", "classify", "evaluate", "slam"}
 TOP = {"reproduce", "cli"}
 
 

@@ -1,0 +1,50 @@
+"""CrunchBot (thesis 3.5, 6.5): its arenas, the finite state machine of 6.5.3 and a
+synthetic run with exact whisker contacts that feeds :mod:`vibrissa.slam`."""
+
+from vibrissa.robots.crunchbot.arena import (
+    PRESETS,
+    ROBOT_RADIUS_M,
+    Arena,
+    Obstacle,
+    Pose,
+    arena_from_dict,
+    get_arena,
+    load_arena,
+)
+from vibrissa.robots.crunchbot.fsm import (
+    STATES,
+    FsmSettings,
+    FsmState,
+    MotorCommand,
+    Observation,
+    transition,
+)
+from vibrissa.robots.crunchbot.synthetic import (
+    CRUNCHBOT_LAYOUT,
+    cast_rays,
+    synthetic_log,
+    texture_grid,
+    whisker_contacts,
+)
+
+__all__ = [
+    "CRUNCHBOT_LAYOUT",
+    "PRESETS",
+    "ROBOT_RADIUS_M",
+    "STATES",
+    "Arena",
+    "FsmSettings",
+    "FsmState",
+    "MotorCommand",
+    "Obstacle",
+    "Observation",
+    "Pose",
+    "arena_from_dict",
+    "cast_rays",
+    "get_arena",
+    "load_arena",
+    "synthetic_log",
+    "texture_grid",
+    "transition",
+    "whisker_contacts",
+]

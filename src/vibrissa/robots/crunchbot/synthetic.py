@@ -1,0 +1,198 @@
+"""An exact whisker-contact oracle and a synthetic CrunchBot run (no whisker physics).
+
+Each obstacle whisker is a rigid ray of fixed length from its base on the robot; it
+touches where the ray first crosses a wall or obstacle edge of the arena, at exactly that
+radial distance. The robot runs the 6.5.3 FSM
+(:mod:`vibrissa.robots.crunchbot.fsm`) on these contacts, moving in sub-steps so it
+stops early when a whisker's strain passes the limit or its body would hit something; the
+odometry it reports is the true movement plus the same relative error the filter assumes.
+Floor whiskers report a fixed likelihood for the true tile texture. The result is a
+:class:`~vibrissa.slam.log.SensorLog` with perfect sensors, for tests and benchmarks; the
+simulated robot with real whiskers will write the same log.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from vibrissa import _validate as v
+from vibrissa.robots.crunchbot import fsm
+from vibrissa.robots.crunchbot.arena import ROBOT_RADIUS_M, Arena
+from vibrissa.slam.filter import apply_motion, noisy_increment
+from vibrissa.slam.log import SensorLog, WhiskerLayout
+
+#: Four forward whiskers on the Create's front edge (ours: the thesis gives no layout;
+#: RC25 whiskers are 160 mm long, 140 mm outside the follicle, 6.5.4).
+CRUNCHBOT_LAYOUT = WhiskerLayout(
+    base_m=0.15 * np.stack([np.cos([-0.5, -0.17, 0.17, 0.5]),
+                            np.sin([-0.5, -0.17, 0.17, 0.5])], axis=1),
+    angle_rad=np.array([-0.8, -0.25, 0.25, 0.8]),
+    length_m=np.full(4, 0.14),
+    body_radius_m=ROBOT_RADIUS_M,
+)
+#: Where the two outer, downward whiskers brush the floor (robot frame; ours).
+FLOOR_WHISKERS_M = np.array([[0.12, 0.16], [0.12, -0.16]])
+
+
+def cast_rays(segments: np.ndarray, origins: np.ndarray, directions: np.ndarray,
+              length: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """First crossing of each ray with any segment, within its length.
+
+    Parameters
+    ----------
+    segments
+        ``(S, 4)`` rows ``(x0, y0, x1, y1)``.
+    origins, directions
+        ``(W, 2)`` ray starts and unit directions.
+    length
+        ``(W,)`` ray lengths.
+
+    Returns
+    -------
+    distance, segment
+        ``(W,)`` distance to the first crossing (``inf`` if none) and the segment's row
+        (``-1`` if none).
+    """
+    p = origins[:, None, :]
+    r = directions[:, None, :] * np.asarray(length, float)[:, None, None]
+    q = segments[None, :, :2]
+    s = segments[None, :, 2:] - q
+    denom = r[..., 0] * s[..., 1] - r[..., 1] * s[..., 0]
+    qp = q - p
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (qp[..., 0] * s[..., 1] - qp[..., 1] * s[..., 0]) / denom
+        u = (qp[..., 0] * r[..., 1] - qp[..., 1] * r[..., 0]) / denom
+    hit = (denom != 0) & (t >= 0) & (t <= 1) & (u >= 0) & (u <= 1)
+    t = np.where(hit, t, np.inf)
+    seg = np.argmin(t, axis=1)
+    best = t[np.arange(len(t)), seg]
+    found = np.isfinite(best)
+    return np.where(found, best * length, np.inf), np.where(found, seg, -1)
+
+
+def whisker_contacts(arena: Arena, pose: np.ndarray,
+                     layout: WhiskerLayout = CRUNCHBOT_LAYOUT) -> tuple[np.ndarray, np.ndarray]:
+    """Radial distance of each whisker's contact at an arena-frame pose (``inf``: none),
+    and the touched segment of :meth:`Arena.segments` (``-1``: none)."""
+    base = apply_motion(np.asarray(pose, float), np.c_[layout.base_m, np.zeros(
+        layout.n_whiskers)])[:, :2]
+    ang = pose[2] + np.asarray(layout.angle_rad, float)
+    d = np.stack([np.cos(ang), np.sin(ang)], axis=1)
+    return cast_rays(arena.segments(), base, d, np.asarray(layout.length_m, float))
+
+
+def body_collides(arena: Arena, pose: np.ndarray, radius_m: float) -> bool:
+    """Whether the body disc leaves the arena or overlaps an obstacle."""
+    x, y = float(pose[0]), float(pose[1])
+    if not (radius_m <= x <= arena.size_m - radius_m and radius_m <= y <= arena.size_m - radius_m):
+        return True
+    for ob in arena.obstacles:
+        x0, y0, x1, y1 = ob.bounds()
+        dx = x - min(max(x, x0), x1)
+        dy = y - min(max(y, y0), y1)
+        if dx * dx + dy * dy < radius_m * radius_m:
+            return True
+    return False
+
+
+def texture_grid(arena: Arena, textures: tuple[str, ...], cell_m: float = 0.05,
+                 map_size_m: float = 2.5) -> np.ndarray:
+    """The arena's tiles as a map-frame grid of indices into ``textures`` (-1: none)."""
+    n = int(round(map_size_m / cell_m))
+    c = (np.arange(n) + 0.5) * cell_m - arena.map_offset_m(map_size_m, cell_m)
+    x, y = np.meshgrid(c, c, indexing="ij")
+    names = arena.texture_at(x, y)
+    lookup = {t: i for i, t in enumerate(textures)}
+    return np.vectorize(lambda s: lookup.get(s, -1), otypes=[np.int64])(names)
+
+
+def _strain(distance: np.ndarray, layout: WhiskerLayout) -> np.ndarray:
+    """Strain as a fraction of the safe limit: 0 at a tip contact, 1 at half the length."""
+    length = np.asarray(layout.length_m, float)
+    return np.where(np.isfinite(distance), 2 * (length - distance) / length, 0.0)
+
+
+def synthetic_log(arena: Arena, seconds: float = 360.0, seed: int = 0,
+                  layout: WhiskerLayout = CRUNCHBOT_LAYOUT, odometry_error: float = 0.1,
+                  heading_drift_rad_m: float = 0.1, settings: fsm.FsmSettings | None = None,
+                  map_size_m: float = 2.5, cell_m: float = 0.05, substeps: int = 10,
+                  floor_likelihood: float = 0.8) -> SensorLog:
+    """Drive the FSM in ``arena`` for ``seconds`` of robot time with exact sensors.
+
+    Returns a :class:`SensorLog` in the map frame (the arena centred in a ``map_size_m``
+    map) with ``true_pose``. The template angle (``surface_angle_rad``) is given on
+    ``HIT_2`` rows: the exact angle, in the robot's frame, of the edge the episode's
+    first contact touched.
+    """
+    v.positive("seconds", seconds)
+    v.non_negative("odometry_error", odometry_error)
+    v.in_range("floor_likelihood", floor_likelihood, 0.0, 1.0)
+    s = settings or fsm.FsmSettings()
+    rng = np.random.default_rng(seed)
+    segs = arena.segments()
+    textures = tuple(sorted({t for row in arena.tiles for t in row}))
+    pose = arena.start.as_array()
+    state = fsm.FsmState(fsm.FWD_1)
+    command = fsm.command_for(fsm.FWD_1, s, rng)
+    rows: dict[str, list] = {k: [] for k in ("state", "odo", "contact", "dist", "angle",
+                                              "floor", "pose")}
+    first_segment = -1
+    elapsed = 0.0
+    while elapsed < seconds:
+        start = pose.copy()
+        dist, seg = whisker_contacts(arena, pose, layout)
+        peak = _strain(dist, layout)
+        bumped = False
+        if command.duration_s > 0:
+            dt = command.duration_s / substeps
+            for _ in range(substeps):
+                nxt = apply_motion(pose, np.array([command.linear_m_s * dt, 0.0,
+                                                   command.angular_rad_s * dt]))
+                if body_collides(arena, nxt, layout.body_radius_m):
+                    bumped = True
+                    break
+                pose = nxt
+                dist, seg = whisker_contacts(arena, pose, layout)
+                peak = np.maximum(peak, _strain(dist, layout))
+                if command.linear_m_s > 0 and peak.max() > s.strain_limit:
+                    break
+        elapsed += command.duration_s
+        touching = np.isfinite(dist)
+        c, sn = math.cos(start[2]), math.sin(start[2])
+        dx, dy = pose[0] - start[0], pose[1] - start[1]
+        true_inc = np.array([c * dx + sn * dy, -sn * dx + c * dy,
+                             math.remainder(pose[2] - start[2], math.tau)])
+        odo = noisy_increment(true_inc, 1, odometry_error, heading_drift_rad_m, rng)[0]
+        if state.name == fsm.FWD_1 and touching.any():
+            first_segment = int(seg[np.flatnonzero(touching)[0]])
+        angle = math.nan
+        if state.name == fsm.HIT_2 and first_segment >= 0:
+            x0, y0, x1, y1 = segs[first_segment]
+            angle = math.remainder(math.atan2(y1 - y0, x1 - x0) - pose[2], math.pi)
+        rows["state"].append(state.name)
+        rows["odo"].append(odo)
+        rows["contact"].append(touching)
+        rows["dist"].append(np.where(touching, dist, np.nan))
+        rows["angle"].append(angle)
+        rows["pose"].append(start)
+        if textures:
+            fl = apply_motion(pose, np.c_[FLOOR_WHISKERS_M, np.zeros(len(FLOOR_WHISKERS_M))])
+            names = arena.texture_at(fl[:, 0], fl[:, 1])
+            other = (1 - floor_likelihood) / max(len(textures) - 1, 1)
+            rows["floor"].append(np.log([[floor_likelihood if t == n else other
+                                          for t in textures] for n in names]))
+        obs = fsm.Observation(tuple(bool(x) for x in touching), tuple(float(x) for x in peak),
+                              bumped)
+        state, command = fsm.transition(state, obs, rng, s)
+    offset = arena.map_offset_m(map_size_m, cell_m)
+    shift = np.array([offset, offset, 0.0])
+    true_pose = np.vstack([*rows["pose"], pose]) + shift
+    return SensorLog(
+        layout=layout, state=np.array(rows["state"]), odometry=np.array(rows["odo"]),
+        contact=np.array(rows["contact"]), radial_distance_m=np.array(rows["dist"]),
+        surface_angle_rad=np.array(rows["angle"]), start_pose=true_pose[0].copy(),
+        floor_loglik=np.array(rows["floor"]) if textures else None,
+        floor_whisker_m=FLOOR_WHISKERS_M if textures else None, textures=textures,
+        true_pose=true_pose)
