@@ -4,6 +4,7 @@ pattern generator with rapid cessation of protraction)."""
 
 from vibrissa.robots.whisking import (
     RCPControl,
+    VaryingWhiskPattern,
     WhiskerSetup,
     WhiskPattern,
     rcp_gating,
@@ -24,6 +25,7 @@ __all__ = [
     "RCPControl",
     "SurfaceStimulus",
     "TrialResult",
+    "VaryingWhiskPattern",
     "WhiskPattern",
     "WhiskerSetup",
     "XYStage",
