@@ -71,3 +71,11 @@ def test_whisk_statistics_per_strategy():
         assert v["contact_time_s"] == pytest.approx(200 / 2000.0)
         assert v["max_z"] == 0.0 and v["saturated_whisks"] == 0
         assert v["peak_deflection_v"] > 0
+
+
+def test_naive_bayes_alone_with_robust_bins():
+    res = hit_rate_curves(_dataset(n_whisks=3), classifiers=("naive_bayes",),
+                          value_range="robust")
+    for curves in res["hit_rate"].values():
+        assert list(curves) == ["naive_bayes"]
+        assert curves["naive_bayes"]["joint"][:2] == [1.0, 1.0]

@@ -22,7 +22,7 @@ def test_the_thesis_grid_and_the_quick_one():
     assert {(s.strategy, s.texture, s.distance_mm) for s in specs[:12]} == {
         ("unmodulated", "plastic", 5.0)}
     q = biotact_protocol(quick=True)
-    assert q.n_trials == 3 * 2 * 2 * 3
+    assert q.n_trials == 3 * 2 * 2 * 2
 
 
 @pytest.mark.parametrize(("kwargs", "match"), [

@@ -42,14 +42,19 @@ FWHM_PER_SIGMA = 2.0 * np.sqrt(2.0 * np.log(2.0))
 
 
 def g1_classifiers(sample_rate_hz: float, n_bins: int = 100,
-                   smoothing_fwhm_bins: float = 5.0) -> dict[str, Callable[[], Any]]:
-    """Factories of the two classifiers of 6.4.2-6.4.3 (fresh, unfitted each call)."""
+                   smoothing_fwhm_bins: float = 5.0,
+                   value_range: str | None = None) -> dict[str, Callable[[], Any]]:
+    """Factories of the two classifiers of 6.4.2-6.4.3 (fresh, unfitted each call).
+
+    ``value_range``: naive Bayes' bins; ``None`` spans each channel's whole training
+    range (6.4.2), ``"robust"`` its central 99 % (beside the thesis, as a check).
+    """
     from vibrissa.classify import StationaryNaiveBayes, TimeTemplateClassifier
 
     sigma = float(smoothing_fwhm_bins) / FWHM_PER_SIGMA
     return {
         "naive_bayes": lambda: StationaryNaiveBayes(
-            signal="raw", n_bins=n_bins, value_range=None, smoothing_sigma=sigma,
+            signal="raw", n_bins=n_bins, value_range=value_range, smoothing_sigma=sigma,
             sample_rate_hz=sample_rate_hz),
         "template": lambda: TimeTemplateClassifier(
             sample_rate_hz=sample_rate_hz, cutoff_hz=None, templates="mean", distance="sse"),
@@ -66,6 +71,7 @@ def _labels(texture: np.ndarray, distance: np.ndarray) -> dict[str, np.ndarray]:
 
 def hit_rate_curves(ds: xr.Dataset, max_training: int = 8,
                     progress: Callable[[int, int, str], None] | None = None,
+                    classifiers: tuple[str, ...] = CLASSIFIERS,
                     **classifier_options: Any) -> dict[str, Any]:
     """Hit rates of every strategy, classifier and task for 1..``max_training`` whisks.
 
@@ -77,6 +83,8 @@ def hit_rate_curves(ds: xr.Dataset, max_training: int = 8,
         Largest number of training whisks (thesis: 8).
     progress
         Called as ``progress(done, total, strategy)``.
+    classifiers
+        Which of :data:`CLASSIFIERS` to run.
     classifier_options
         Passed to :func:`g1_classifiers`.
 
@@ -88,7 +96,8 @@ def hit_rate_curves(ds: xr.Dataset, max_training: int = 8,
         ``n_validation[strategy]``: validation whisks per number.
     """
     fs = float(ds.attrs["sample_rate_hz"])
-    makers = g1_classifiers(fs, **classifier_options)
+    makers = {k: v for k, v in g1_classifiers(fs, **classifier_options).items()
+              if k in classifiers}
     X_all = np.asarray(ds["signal"].values, dtype=float)
     strat = np.asarray(ds["strategy"].values).astype(str)
     order = list(dict.fromkeys(strat.tolist()))

@@ -433,11 +433,12 @@ def _sheet(texture: str, seed: int, side: int) -> Surface:
 
 
 def biotact_protocol(quick: bool = False, **overrides: Any) -> BiotactProtocol:
-    """The G1 session; ``quick``: two textures (plastic, P180) at 5 and 15 mm, three
-    whisks per class (36 whisks) instead of 3 x 3 classes x 12 whisks (324).
+    """The G1 session; ``quick``: two textures (plastic, P180) at 5 and 15 mm, two
+    whisks per class (24 whisks: one to train, one to validate) instead of 3 x 3
+    classes x 12 whisks (324).
     ``overrides`` replace fields (``None`` ignored)."""
     changes = {k: v for k, v in overrides.items() if v is not None}
     if quick:
         changes = {"textures": ("plastic", "p180"), "distances_mm": (5.0, 15.0),
-                   "n_whisks": 3, **changes}
+                   "n_whisks": 2, **changes}
     return BiotactProtocol(**changes)

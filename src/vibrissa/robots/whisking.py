@@ -41,7 +41,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.signal import butter, sosfilt, sosfilt_zi
+from scipy.signal import butter, sosfilt_zi
 
 from vibrissa._validate import finite, finite_array, non_negative, positive
 from vibrissa.whisker.hall import calibrated_gain
@@ -146,13 +146,25 @@ class ContactFilter:
                              f"rate ({rate_hz} Hz)")
         self.sos = butter(int(order), fc, fs=rate, output="sos")
         self.state = np.zeros((int(n_whiskers), *sosfilt_zi(self.sos).shape))
+        # one sample at a time in plain floats (sosfilt's transposed direct form II, the
+        # same operations in the same order): the closed loop calls this every control
+        # period, where sosfilt's per-call overhead cost more than the whisker's dynamics
+        self._sections = [tuple(float(c) for c in sec[[0, 1, 2, 4, 5]]) for sec in self.sos]
+        self._z = [[[0.0, 0.0] for _ in self._sections] for _ in range(int(n_whiskers))]
 
     def step(self, x: np.ndarray) -> float:
         """Feed one sample of every whisker's ``x``; return ``pi`` for this sample."""
         best = 0.0
         for w, xw in enumerate(np.atleast_1d(x)):
-            y, self.state[w] = sosfilt(self.sos, [float(xw)], zi=self.state[w])
-            best = max(best, abs(float(y[0])))
+            y = float(xw)
+            zs = self._z[w]
+            for (b0, b1, b2, a1, a2), z in zip(self._sections, zs, strict=True):
+                x_in = y
+                y = b0 * x_in + z[0]
+                z[0] = b1 * x_in - a1 * y + z[1]
+                z[1] = b2 * x_in - a2 * y
+            self.state[w] = zs
+            best = max(best, abs(y))
         return best
 
 
