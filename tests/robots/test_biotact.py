@@ -33,10 +33,12 @@ def test_a_straight_whisker_at_its_contact_direction_has_its_tip_on_the_surface(
             assert sign * float((t - p) @ n[[0, 2]]) > 0
 
 
-def test_the_three_whiskers_reach_a_plane_10_mm_ahead_almost_together():
+def test_the_three_whiskers_reach_a_plane_10_mm_ahead_together():
     head = G1Head()
-    dirs = [head.contact_direction_deg(i, 10.0) for i in range(3)]
-    assert max(dirs) - min(dirs) < 3.0
+    assert [head.contact_direction_deg(i, 10.0) for i in range(3)] == pytest.approx([60.0] * 3)
+    for d in (5.0, 15.0):
+        dirs = [head.contact_direction_deg(i, d) for i in range(3)]
+        assert max(dirs) - min(dirs) < 2.5
     # and farther surfaces are met later in the protraction (smaller angle to the axis)
     for i in range(3):
         assert head.contact_direction_deg(i, 5.0) > head.contact_direction_deg(i, 15.0)

@@ -11,8 +11,9 @@ the surface's horizontal (axial) distance from the front of the head (5, 10, 15 
 * each row's whisker pivots 30, 46 and 69 mm behind the front face (on the cone,
   at radii 27.4, 34.1 and 43.6 mm), spaced in proportion to the length steps
   (32 and 46 mm) times cos 60 deg: with the surface 10 mm ahead, every straight
-  whisker's tip reaches the plane when it points 58-61 deg from the axis, so the
-  three touch it almost together, as the thesis designed;
+  whisker's tip reaches the plane when it points 60 deg from the axis, so the three
+  touch it together, as the thesis designed (at 5 and 15 mm within about 2 deg of each
+  other);
 * full retraction points a whisker 85 deg from the axis (nearly sideways), the
   35 deg whisk protracts it to 50 deg; the middle of the whisk (67.5 deg) is square
   to the cone's surface (90 - 22.5 deg), "oriented outwards from the cone surface".

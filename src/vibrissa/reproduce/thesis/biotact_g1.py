@@ -83,7 +83,7 @@ def _discussion(ws: Mapping[str, Any], chk: Mapping[str, Any]) -> list[str]:
         f"{un['peak_spread']:.3f}), and RCP7 "
         f"{'beats' if beats else 'does not beat'} unmodulated whisking for naive Bayes after "
         "one or two training whisks."
-        + ("" if steadier else " A likely reason: the feedback turns each contact's "
+        + ("" if steadier else " One possible reason: the feedback turns each contact's "
            "fluctuations (grains, the ringing left by the previous whisk) into changes of "
            "the housing's motion, which the unmodulated whisk does not have."),
     ]
@@ -280,7 +280,7 @@ class BiotactG1(Experiment):
             f"deg, front radius {head.get('front_radius_mm', '?')} mm; the whiskers pivot "
             f"{', '.join(f'{v:g}' for v in head.get('setbacks_mm', []))} mm behind the "
             "front face, so that the three straight whiskers reach a plane 10 mm ahead at "
-            "nearly the same protraction (58-61 deg from the axis), as the thesis' length "
+            "the same protraction (60 deg from the axis), as the thesis' length "
             "choice intends. The whisk: from "
             f"{head.get('retracted_deg', '?')} deg (full retraction) to "
             f"{head.get('retracted_deg', 0) - head.get('amplitude_deg', 0):g} deg from the "
