@@ -93,3 +93,16 @@ def test_build_dataset_keeps_the_labels_and_the_robot(tiny):
 def test_a_changed_protocol_changes_the_fingerprint(tiny):
     assert dataclasses.replace(tiny, amplitude_jitter_deg=0.4).fingerprint() \
         != tiny.fingerprint()
+
+
+def test_generation_resumes_class_by_class_to_the_same_bytes(tiny, tmp_path):
+    from vibrissa.data import validate_dataset
+    from vibrissa.experiments.generate import generate
+
+    out = tmp_path / "g1.nc"
+    # interrupted after one chunk (one class's continuous run), then resumed
+    assert generate(tiny, out, workers=1, chunk_size=tiny.chunk_size, max_chunks=1) is None
+    ds = generate(tiny, out, workers=1, chunk_size=tiny.chunk_size)
+    validate_dataset(ds)
+    direct = tiny.simulate_trials(range(tiny.n_trials))
+    np.testing.assert_array_equal(ds["signal"].values, direct["signal"])
