@@ -35,6 +35,7 @@ _ROW_KEYS = (
     "n_elements",
     "real_time_factor",
     "free_flight_real_time_factor",
+    "whisking_in_air_real_time_factor",
     "contact_real_time_factor",
     "linear_free_flight_fraction",
     "wall_seconds",

@@ -376,7 +376,8 @@ def extract_benchmarks(folder: str | os.PathLike[str]) -> dict[str, Any]:
     }
     if "standard_trial" in phys:  # issue 14: the speed-ups on and off, in one run
         keys = ("real_time_factor", "free_flight_real_time_factor",
-                "contact_real_time_factor", "linear_free_flight_fraction")
+                "whisking_in_air_real_time_factor", "contact_real_time_factor",
+                "linear_free_flight_fraction")
         out["physics"]["standard"] = {k: phys["standard_trial"][k] for k in keys}
         out["physics"]["standard_without_speedups"] = {
             k: phys["standard_trial_without_speedups"][k] for k in keys}

@@ -320,6 +320,17 @@ def _cases() -> list[Case]:
     add([*rp, "--baseline", "not-json.json"], "not-json.json", "not-json.json")
     add([*rp, "--baseline", "no-classifiers.json"], "no-classifiers.json",
         "no-classifiers.json")
+    # the robots of chapter 6
+    ft = ["reproduce", "floor-texture", "--quick", "--out", "r"]
+    add([*ft, "--floors", "vinyl,shag"], "--floors")
+    add([*ft, "--floors", "vinyl"], "--floors")
+    add([*ft, "--floors", "vinyl,vinyl"], "--floors")
+    add([*ft, "--floors", ""], "--floors")
+    add([*ft, "--n-seeds", "2"], "--n-seeds")
+    for value in ("-1", "abc"):
+        add(["reproduce", "scratchbot", "--quick", "--out", "r", "--seed", value], "--seed")
+    add("reproduce scratchbot --quick --out r --workers 0", "--workers")
+    add("reproduce scratchbot --quick --out file.txt", "file.txt", "file.txt")
     # identify
     add("identify extra", "extra")
     add("identify --bogus", "--bogus")

@@ -14,9 +14,10 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tests/: the browser harness
 from browser import check_in_browser, chromium_or_skip  # noqa: E402
+from vibrissa.reproduce import experiments  # noqa: E402
 
 
-@pytest.mark.parametrize("name", ["radial-distance", "angle-texture"])
+@pytest.mark.parametrize("name", list(experiments()))
 def test_report_html_renders(quick_runs, name, tmp_path):
     exe = chromium_or_skip()
     out, _ = quick_runs[name]

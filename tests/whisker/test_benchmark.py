@@ -33,6 +33,21 @@ def test_physics_benchmark_short_run():
     assert out["real_time_factor"] > 0
     assert out["peak_memory_mb"] is None and out["peak_memory_method"] is None
     assert out["hall_gain_n_elements"] == out["n_elements"]
+    for key in ("free_flight", "whisking_in_air", "contact"):
+        assert out[f"{key}_real_time_factor"] > 0
+    assert "whisk" in out["whisking_in_air_scenario"]
+
+
+def test_the_whisk_in_air_turns_the_housing_through_its_amplitude():
+    from vibrissa.whisker.benchmark import WHISK_DEG, WHISK_HZ, whisk_in_air
+
+    bm = whisk_in_air(1.5)
+    angle, rate = bm.sample(np.arange(0.0, 1.5, 1e-3))
+    assert np.degrees(angle.max()) == pytest.approx(WHISK_DEG, rel=1e-3)
+    assert angle.min() == pytest.approx(0.0, abs=1e-9)
+    # back at full retraction after one whisk period; the rate is the angle's derivative
+    assert bm.sample(np.array([1.0 / WHISK_HZ]))[0][0] == pytest.approx(0.0, abs=1e-9)
+    np.testing.assert_allclose(np.gradient(angle, 1e-3)[5:-5], rate[5:-5], atol=1e-3)
 
 
 @pytest.mark.parametrize(

@@ -39,7 +39,7 @@ def _ramp(t0: float, rise: float, angle: float, end: float = 5.0) -> BaseMotion:
 def test_zero_rotation_gives_the_fixed_follicle_bytes(model):
     traj = Trajectory.linear((-5.0, 120.0), (60.0, 0.0), 0.35)
     fixed = simulate(model, PoleContact(), traj, 0.35, linear_free_flight=False)
-    still = simulate(model, PoleContact(), traj, 0.35,
+    still = simulate(model, PoleContact(), traj, 0.35, linear_free_flight=False,
                      base_motion=BaseMotion(np.array([0.0, 1.0]), np.zeros(2)))
     assert fixed.contact_force_n.max() > 0.0
     assert fixed.tan_xy.tobytes() == still.tan_xy.tobytes()
@@ -100,10 +100,13 @@ def test_a_whisker_starting_mid_whisk_starts_turned_and_moving(model):
 def test_resuming_in_pieces_follows_the_same_path(model):
     bm = _ramp(0.01, 0.05, 0.1, end=1.0)
     traj = Trajectory(np.array([0.0, 1.0]), np.array([[12.0, 100.0], [12.0, 100.0]]))
-    whole = simulate(model, PoleContact(), traj, 0.2, base_motion=bm)
-    first = simulate(model, PoleContact(), traj, 0.1, base_motion=bm)
-    second = simulate(model, PoleContact(), traj, 0.1, base_motion=bm,
-                      initial_state=first.final_state)
+    # the nonlinear rod throughout: where linear free flight hands over depends on
+    # where a run starts, so a resumed hybrid run agrees only to rounding, which a
+    # contact onset can amplify
+    opts = {"base_motion": bm, "linear_free_flight": False}
+    whole = simulate(model, PoleContact(), traj, 0.2, **opts)
+    first = simulate(model, PoleContact(), traj, 0.1, **opts)
+    second = simulate(model, PoleContact(), traj, 0.1, initial_state=first.final_state, **opts)
     assert whole.contact_force_n.max() > 0
     joined = np.concatenate([first.tan_xy[:, 0], second.tan_xy[1:, 0]])
     np.testing.assert_allclose(joined, whole.tan_xy[:, 0], atol=2e-5)

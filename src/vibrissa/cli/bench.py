@@ -85,8 +85,9 @@ def physics_cmd(
     )
     con.print(
         f"  free flight {out['free_flight_real_time_factor']:.1f} x real time "
-        f"({out['free_flight_scenario']}); contact {out['contact_real_time_factor']:.1f} x "
-        f"({out['contact_scenario']})"
+        f"({out['free_flight_scenario']}); whisking in air "
+        f"{out['whisking_in_air_real_time_factor']:.1f} x ({out['whisking_in_air_scenario']}); "
+        f"contact {out['contact_real_time_factor']:.1f} x ({out['contact_scenario']})"
     )
     if out["peak_memory_mb"] is not None:
         con.print(

@@ -220,7 +220,7 @@ def run_floor_texture(ds: xr.Dataset, *, seed: int = 0,
             "floor_specs": json.loads(ds.attrs.get("floors", "{}")),
             "robot": json.loads(ds.attrs.get("robot", "{}")),
         },
-        "parameters": {"floor": {"coordinate": "floor", "unit": None, "values": floors}},
+        "parameters": {"floor": {"coordinate": "floor", "unit": "name", "values": floors}},
         "classifiers": {
             m: {"mean_correct": out[m]["mean_correct"], "seconds": round(seconds[m], 3)}
             for m in methods

@@ -1611,7 +1611,8 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
 # linear free flight (see vibrissa.whisker.modal)
 # ----------------------------------------------------------------------------------
 @njit(cache=True)
-def modal_advance(z, decay, out_modes, pivot, magnet_rest, steps, stop_tan, out):
+def modal_advance(z, decay, out_modes, pivot, magnet_rest, steps, stop_tan, out,
+                  gain0, gain1, load0, load1):
     """Advance complex modal amplitudes ``z`` by ``steps`` exact steps, in place.
 
     ``decay[k] = exp(lambda_k dt)``; ``out_modes`` (3, m) maps the amplitudes to the
@@ -1621,8 +1622,24 @@ def modal_advance(z, decay, out_modes, pivot, magnet_rest, steps, stop_tan, out)
     point), 0, 0, 0, 0 (no Newton iterations)], in :func:`run_dynamics`' layout.
     Stops after the first step whose |tan_x| reaches ``stop_tan`` (if > 0). Returns
     the number of steps done.
+
+    A load varying linearly over each step, from ``load0[k]`` to ``load1[k]``
+    (arrays of at least ``steps`` values; empty: no load), drives the amplitudes
+    through ``z' = lambda z + b load``: the exact step is ``z <- decay z + gain0
+    load0[k] + gain1 (load1[k] - load0[k])`` with ``gain0 = b (decay - 1) /
+    lambda`` and ``gain1 = b (decay - 1 - lambda dt) / (lambda^2 dt)``.
     """
     m = z.shape[0]
+    loaded = load0.shape[0] > 0
+    g0r = np.empty(m)
+    g0i = np.empty(m)
+    g1r = np.empty(m)
+    g1i = np.empty(m)
+    for j in range(m):
+        g0r[j] = gain0[j].real
+        g0i[j] = gain0[j].imag
+        g1r[j] = gain1[j].real
+        g1i[j] = gain1[j].imag
     # real and imaginary parts in separate arrays: plain multiply-adds
     zr = np.empty(m)
     zi = np.empty(m)
@@ -1643,9 +1660,17 @@ def modal_advance(z, decay, out_modes, pivot, magnet_rest, steps, stop_tan, out)
         u0 = 0.0
         u1 = 0.0
         u2 = 0.0
+        p0 = 0.0
+        p1 = 0.0
+        if loaded:
+            p0 = load0[k]
+            p1 = load1[k] - load0[k]
         for j in range(m):
             a = zr[j] * dr[j] - zi[j] * di[j]
             b = zr[j] * di[j] + zi[j] * dr[j]
+            if loaded:
+                a += g0r[j] * p0 + g1r[j] * p1
+                b += g0i[j] * p0 + g1i[j] * p1
             # a decayed mode is set to zero before it reaches the subnormal range,
             # where floating-point arithmetic is very slow
             if abs(a) + abs(b) < 1e-250:

@@ -23,6 +23,13 @@ as an object could touch the whisker:
   sensor's band) carry all but ``energy_tol`` of the state's energy. Higher modes
   are damped within milliseconds by the shaft's material damping.
 
+A whisker whose follicle housing turns (whisking, ``simulate(...,
+base_motion=...)``) is, seen from the housing, the same linear system driven by
+the Euler load of the housing's angular acceleration
+(:meth:`LinearModes.housing_load`); the centrifugal and Coriolis loads are of order
+``theta'^2 / omega_1^2`` and are left out, so the hand-over also needs the
+housing's rate within ``sqrt(linearity_tol) omega_1``.
+
 The modes are those of the undamped problem, mass-normalised (``K phi = w^2 M
 phi``); the damping, which is not proportional (the follicle's damper differs from
 the shaft's), couples them, so the kept modes are advanced as a first-order
@@ -170,6 +177,23 @@ class LinearModes:
         frac = 0.0 if total <= 0.0 else max(lost, 0.0) / total
         qq = np.concatenate([q, qd])
         return _mv(self.inverse.real, qq) + 1j * _mv(self.inverse.imag, qq), frac
+
+    def housing_load(self) -> np.ndarray:
+        """Rates of the complex amplitudes per unit angular acceleration of a turning
+        follicle housing (1/s per rad/s^2), shape (2 m,).
+
+        Seen from the housing, which turns about ``y`` through the pivot, every node
+        feels the Euler load ``-m (ŷ x r) theta''`` (``r`` its rest position from the
+        pivot); mass-proportional damping, which acts on absolute velocities, adds
+        ``-m (ŷ x r) alpha theta'``. The centrifugal and Coriolis loads are of order
+        ``theta'^2 / omega_1^2`` against the elastic ones and are left out (the
+        caller keeps the housing's rate within that bound).
+        """
+        r = self.x_rest - self.x_rest[0]
+        g = np.column_stack([-r[:, 2], np.zeros(len(r)), r[:, 0]]).reshape(-1)[self.dofs]
+        qd = _mv(self.shapes.T, self.mass * g)
+        qq = np.concatenate([np.zeros_like(qd), qd])
+        return _mv(self.inverse.real, qq) + 1j * _mv(self.inverse.imag, qq)
 
     def reduced(self, z: np.ndarray) -> np.ndarray:
         """The amplitudes that are advanced: one of each conjugate pair, then the

@@ -564,39 +564,81 @@ def _hybrid(
 
     lm = linear_modes(model)
     n_steps = traj.shape[0] - 1
-    decay = lm.reduced(np.exp(lm.eigenvalues * settings.dt))
+    dt = settings.dt
+    lam = lm.eigenvalues
+    decay = lm.reduced(np.exp(lam * dt))
     h_max = float(spec.heights.max()) if spec.kind == PLANE else 0.0
     status_arr = np.zeros(1, dtype=np.int64)
     k = 0
     free_steps = FREE_STEPS_FIRST
     x, v, a = node
+    pivot = lm.x_rest[0]
+    whisking = traj.shape[1] > TR_BASE
+    no_load = np.zeros(0)
+    gain0 = gain1 = np.zeros(decay.size, dtype=complex)
+    load0 = load1 = no_load
+    objects = traj
+    if whisking:
+        # in the turning housing's frame the free whisker is the same linear system,
+        # driven by the housing's angular acceleration (see LinearModes.housing_load);
+        # the rate, linear within each step, makes that acceleration constant in it
+        theta = traj[:, TR_BASE]
+        rate = traj[:, TR_BASE + 1]
+        b = lm.reduced(lm.housing_load())
+        lr = lm.reduced(lam)
+        gain0 = b * (decay - 1.0) / lr
+        gain1 = b * (decay - 1.0 - lr * dt) / (lr * lr * dt)
+        accel = np.diff(rate) / dt
+        load0 = np.ascontiguousarray(accel + damping.alpha * rate[:-1])
+        load1 = np.ascontiguousarray(accel + damping.alpha * rate[1:])
+        # rows where the housing turns too fast for the centrifugal load to be left out
+        too_fast = rate**2 > LINEARITY_TOL * lm.omega[0] ** 2
+        if spec.kind == POLE:  # the pole as seen from the housing
+            objects = traj.copy()
+            c, s_ = np.cos(theta), np.sin(theta)
+            rx, rz = traj[:, 0] - pivot[0], traj[:, 1] - pivot[2]
+            objects[:, 0] = pivot[0] + c * rx - s_ * rz
+            objects[:, 1] = pivot[2] + s_ * rx + c * rz
     # row 0: the initial state (the nonlinear kernel writes it too, when it starts)
-    out[0, 0] = (x[1, 0] - x[0, 0]) / (x[1, 2] - x[0, 2])
-    out[0, 1] = (x[1, 1] - x[0, 1]) / (x[1, 2] - x[0, 2])
+    xh0 = _to_housing(x, v, float(theta[0]), 0.0, pivot)[0] if whisking else x
+    out[0, 0] = (xh0[1, 0] - xh0[0, 0]) / (xh0[1, 2] - xh0[0, 2])
+    out[0, 1] = (xh0[1, 1] - xh0[0, 1]) / (xh0[1, 2] - xh0[0, 2])
     while k < n_steps:
         # --- linear free flight, if nothing can touch the whisker for a while
-        z, lost = lm.amplitudes(x, v)
-        if lost <= ENERGY_TOL and lm.nonlinearity(x) <= LINEARITY_TOL:
+        xh, vh = (
+            _to_housing(x, v, float(theta[k]), float(rate[k]), pivot) if whisking else (x, v)
+        )
+        z, lost = lm.amplitudes(xh, vh)
+        if (lost <= ENERGY_TOL and lm.nonlinearity(xh) <= LINEARITY_TOL
+                and not (whisking and too_fast[k])):
             bound = np.einsum("ij,j->i", lm.node_bound, np.abs(z))
             zr = lm.reduced(z)
             k_end = k + first_possible_contact(
-                spec.kind, spec.params, spec.frame, h_max, traj[k:], lm.x_rest,
+                spec.kind, spec.params, spec.frame, h_max, objects[k:], lm.x_rest,
                 rod.radius, bound, CONTACT_MARGIN_M, spec.first_node,
             )
+            if whisking:
+                fast = np.flatnonzero(too_fast[k:])
+                if fast.size:
+                    k_end = min(k_end, k + int(fast[0]))
             k_end = min(max(k_end - 1, k), n_steps)
             if k_end - k >= MIN_LINEAR_STEPS or k_end == n_steps > k:
                 row = out[k].copy()
                 wanted = k_end - k
                 n_done = modal_advance(
                     zr, decay, lm.magnet, lm.x_rest[0], lm.x_rest[1], wanted,
-                    settings.stop_tan, out[k:],
+                    settings.stop_tan, out[k:], gain0, gain1,
+                    load0[k:] if whisking else no_load, load1[k:] if whisking else no_load,
                 )
                 out[k] = row
                 k += n_done
                 xl, vl = lm.state(lm.expanded(zr))
+                th, thd = (float(theta[k]), float(rate[k])) if whisking else (0.0, 0.0)
+                if whisking:
+                    xl, vl = _to_world(xl, vl, th, thd, pivot)
                 x[:, :] = xl
                 v[:, :] = vl
-                a[:, :] = _initial_acceleration(rod, damping, x, v)
+                a[:, :] = _initial_acceleration(rod, damping, x, v, th, thd)
                 _reset_contact_memory(spec, traj[k], rod, x, v, anchors)
                 if n_done < wanted:  # the stop event fired
                     return k, 1
@@ -616,6 +658,38 @@ def _hybrid(
             return k, status
         free_steps = FREE_STEPS_RETRY
     return k, 0
+
+
+def _to_housing(
+    x: np.ndarray, v: np.ndarray, theta: float, rate: float, pivot: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Positions and velocities (n, 3) as seen from a follicle housing turned by
+    ``theta`` (rad) about ``y`` through ``pivot`` and turning at ``rate`` (rad/s)."""
+    c, s = math.cos(theta), math.sin(theta)
+    r = x - pivot
+    w = v - rate * np.column_stack([r[:, 2], np.zeros(len(r)), -r[:, 0]])
+    xh, vh = x.copy(), w.copy()
+    xh[:, 0] = pivot[0] + c * r[:, 0] - s * r[:, 2]
+    xh[:, 2] = pivot[2] + s * r[:, 0] + c * r[:, 2]
+    vh[:, 0] = c * w[:, 0] - s * w[:, 2]
+    vh[:, 2] = s * w[:, 0] + c * w[:, 2]
+    return xh, vh
+
+
+def _to_world(
+    xh: np.ndarray, vh: np.ndarray, theta: float, rate: float, pivot: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The inverse of :func:`_to_housing`."""
+    c, s = math.cos(theta), math.sin(theta)
+    r = xh - pivot
+    x, v = xh.copy(), vh.copy()
+    x[:, 0] = pivot[0] + c * r[:, 0] + s * r[:, 2]
+    x[:, 2] = pivot[2] - s * r[:, 0] + c * r[:, 2]
+    v[:, 0] = c * vh[:, 0] + s * vh[:, 2]
+    v[:, 2] = -s * vh[:, 0] + c * vh[:, 2]
+    rw = x - pivot
+    v += rate * np.column_stack([rw[:, 2], np.zeros(len(rw)), -rw[:, 0]])
+    return x, v
 
 
 def _reset_contact_memory(
@@ -722,9 +796,11 @@ def simulate(
         Whisking: the follicle housing's angle over time (:class:`BaseMotion`),
         or None for a housing at rest. A whisker starting at rest (no
         ``initial_state`` or ``initial_positions_m``) starts turned with the
-        housing and moving with it. Linear free flight is not used while the
-        housing moves (its modes are those of a housing at rest), so
-        ``linear_free_flight`` is then ignored.
+        housing and moving with it. Linear free flight then runs in the housing's
+        frame, driven by its angular acceleration, wherever its rate stays within
+        ``sqrt(LINEARITY_TOL)`` times the first natural frequency (the centrifugal
+        load it leaves out is of that order; :mod:`vibrissa.whisker.modal`); with a
+        surface contact the nonlinear rod integrates throughout.
 
     Raises
     ------
@@ -804,7 +880,7 @@ def simulate(
     states = np.zeros((n_states, 2, n, 3))
     node_state = NodeState(x, v, a)
     anchors = Anchors(pole_anchor, plane_anchors)
-    if linear_free_flight and record_every == 0 and base_motion is None:
+    if linear_free_flight and record_every == 0 and (base_motion is None or spec.kind != PLANE):
         done, status = _hybrid(
             model, rod, damping, spec, traj, settings, out, states, node_state, anchors
         )
