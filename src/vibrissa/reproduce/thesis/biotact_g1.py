@@ -152,8 +152,10 @@ class BiotactG1(Experiment):
                      "textures": json.loads(ds.attrs.get("textures", "{}")),
                      "evaluation": "train on whisks 1..n of every class, validate on the "
                                    "rest (6.4.4); hit rate = correct / validation whisks"},
-            "parameters": {"texture": {"unit": "", "values": textures},
-                           "distance_mm": {"unit": "mm", "values": dists}},
+            "parameters": {"texture": {"coordinate": "texture", "unit": "name",
+                                       "values": textures},
+                           "distance_mm": {"coordinate": "distance_mm", "unit": "mm",
+                                           "values": dists}},
             "classifiers": {"naive_bayes": "stationary naive Bayes, raw values, 100 bins over "
                                            "each channel's range, Gaussian FWHM 5 bins",
                             "template": "class-mean templates, raw, sum of squared errors"},
