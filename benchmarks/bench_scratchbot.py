@@ -14,45 +14,8 @@ Runs ``run_experiment("scratchbot")`` from scratch in temporary directories, fir
 
 from __future__ import annotations
 
-import argparse
-import json
-import os
-import platform
-import tempfile
-import time
-from pathlib import Path
-
-from vibrissa._atomic import atomic_write_text
-from vibrissa.reproduce import run_experiment
-
-BUDGET_S = {"quick": 60.0, "full": 600.0}
-
-
-def _run(quick: bool, workers: int | None) -> dict:
-    key = "quick" if quick else "full"
-    with tempfile.TemporaryDirectory() as tmp:
-        load = os.getloadavg()[0]
-        t0 = time.perf_counter()
-        res = run_experiment("scratchbot", Path(tmp) / "out", quick=quick, workers=workers)
-        wall = time.perf_counter() - t0
-    return {"wall_seconds": round(wall, 2), "stages": res["meta"]["wall_seconds"],
-            "budget_seconds": BUDGET_S[key], "within_budget": wall <= BUDGET_S[key],
-            "load_average_at_start": round(load, 2),
-            "n_trials": res["meta"]["dataset"]["n_trials"], "relations": res["relations"]}
-
-
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--workers", type=int, default=None, help="generation processes")
-    ap.add_argument("--out", default="benchmarks/results/scratchbot.json")
-    args = ap.parse_args()
-    runs = {"quick": _run(True, args.workers), "full": _run(False, args.workers)}
-    machine = {"cores": os.cpu_count(), "python": platform.python_version(),
-               "platform": platform.platform()}
-    atomic_write_text(Path(args.out), json.dumps({"machine": machine, **runs}, indent=2) + "\n")
-    print(json.dumps({k: v["wall_seconds"] for k, v in runs.items()}))
-
+from reproduce_budget import bench_main
 
 if __name__ == "__main__":
-    main()
+    bench_main("scratchbot", "benchmarks/results/scratchbot.json", __doc__,
+               lambda res: {"relations": res["relations"]})

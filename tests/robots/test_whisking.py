@@ -210,3 +210,19 @@ def test_a_side_is_several_whiskers_and_cia_protracts_the_other_side(model):
         run_whisking([WhiskerSetup(model, side=2)], [WhiskPattern(2.0)] * 2, None, 0.1)
     with pytest.raises(ValueError, match="divide the control period"):
         run_whisking([WhiskerSetup(model)], WhiskPattern(2.0), None, 0.1, dt_s=3e-4)
+
+
+def test_a_varying_pattern_changes_amplitude_at_full_retraction_only():
+    from vibrissa.robots.whisking import VaryingWhiskPattern
+
+    p = VaryingWhiskPattern(2.0, 30.0, 5.0, amplitudes_deg=(30.0, 20.0))
+    t = np.arange(0, 1.5, 1e-3)
+    osc = p.oscillator_deg(t)
+    # whisk 1 peaks at 5 + 30, whisk 2 at 5 + 20, and the last amplitude repeats
+    assert osc[(t > 0.2) & (t < 0.3)].max() == pytest.approx(35.0, abs=1e-3)
+    assert osc[(t > 0.7) & (t < 0.8)].max() == pytest.approx(25.0, abs=1e-3)
+    assert osc[(t > 1.2) & (t < 1.3)].max() == pytest.approx(25.0, abs=1e-3)
+    # continuous: every whisk starts and ends at full retraction
+    assert np.max(np.abs(np.diff(osc))) < 0.2
+    with pytest.raises(ValueError, match="amplitudes_deg"):
+        VaryingWhiskPattern(2.0, 30.0, amplitudes_deg=(30.0, -1.0))

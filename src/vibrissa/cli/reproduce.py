@@ -175,7 +175,7 @@ def _command(exp: Experiment) -> Any:
     ]
     for o in exp.options:
         params.append(inspect.Parameter(
-            o.name, Opt, annotation=str if o.choices else int,
+            o.name, Opt, annotation=str if o.choices or o.numbers else int,
             default=typer.Option(o.default, o.flag, help=o.help)))
     command.__signature__ = inspect.Signature(params)  # type: ignore[attr-defined]
     command.__name__ = exp.name.replace("-", "_")

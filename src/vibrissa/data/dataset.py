@@ -32,6 +32,7 @@ __all__ = [
     "attr_value",
     "concat_datasets",
     "coordinate_attrs",
+    "signal_coords",
     "label_names",
     "make_dataset",
     "select",
@@ -80,6 +81,26 @@ _COORD_ATTRS: dict[str, tuple[str, str | None]] = {
 }
 _UNIT_SUFFIXES = (("_mm_s", "mm/s"), ("_mm", "mm"), ("_ms", "ms"), ("_s", "s"), ("_hz", "Hz"),
                   ("_deg", "degree"), ("_v", "V"))
+
+
+def signal_coords(n_trials: int, channels: Sequence[str], n_samples: int,
+                  sample_rate_hz: float, time_long_name: str,
+                  labels: Mapping[str, Any] | None = None) -> dict[str, Any]:
+    """The ``trial``, ``channel`` and ``time`` coordinates of a simulated dataset, and
+    per-trial ``labels`` (name -> one value per trial) with their attributes.
+
+    ``time`` runs from 0 in steps of ``1 / sample_rate_hz`` s; ``time_long_name`` says
+    from what.
+    """
+    coords: dict[str, Any] = {
+        "trial": np.arange(int(n_trials)),
+        "channel": np.array(list(channels)),
+        "time": ("time", np.arange(int(n_samples)) / float(sample_rate_hz),
+                 {"units": "s", "long_name": time_long_name}),
+    }
+    for name, vals in (labels or {}).items():
+        coords[name] = ("trial", vals, coordinate_attrs(name, vals))
+    return coords
 
 
 def coordinate_attrs(name: str, values: Any = None) -> dict[str, str]:

@@ -23,7 +23,7 @@ import xarray as xr
 
 from vibrissa import __version__
 from vibrissa._validate import positive
-from vibrissa.data.dataset import coordinate_attrs
+from vibrissa.data.dataset import signal_coords
 from vibrissa.experiments.streams import SURFACES, TRIALS, stream
 from vibrissa.robots.roomba import CONDITIONS, Roomba, run_floor_trial
 from vibrissa.whisker.floors import FLOORS, floor_spec, make_floor
@@ -223,20 +223,14 @@ class FloorProtocol:
         if results["signal"].shape[0] != len(specs):
             raise ValueError(f"expected {len(specs)} trials, got {results['signal'].shape[0]}")
         fs = self.sensor.sample_rate_hz
-        coords: dict[str, Any] = {
-            "trial": np.arange(len(specs)),
-            "channel": np.array(["x", "y"]),
-            "time": ("time", np.arange(self.n_samples) / fs,
-                     {"units": "s", "long_name": "time from the start of the recording"}),
-        }
         per_trial: dict[str, np.ndarray] = {
             "floor": np.array([s.floor for s in specs]),
             "condition": np.array([s.condition for s in specs]),
             "run": np.array([s.trial for s in specs], dtype=np.int64),
             **{name: results[name] for name in FLOOR_DIAGNOSTICS},
         }
-        for name, vals in per_trial.items():
-            coords[name] = ("trial", vals, coordinate_attrs(name, vals))
+        coords = signal_coords(len(specs), ["x", "y"], self.n_samples, fs,
+                               "time from the start of the recording", per_trial)
         g = preset(self.whisker)
         s = _hall(self.sensor, self.whisker, self.n_elements)
         whisker = {**g.to_dict(), "n_elements": self.n_elements, "hall_gain_v": s.gain_v,

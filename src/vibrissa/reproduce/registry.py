@@ -14,6 +14,7 @@ report. Adding an experiment is adding a module (plus its protocol).
 from __future__ import annotations
 
 import importlib
+import math
 import pkgutil
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping
@@ -30,8 +31,10 @@ _REGISTRY: dict[str, Experiment] = {}
 
 @dataclass(frozen=True)
 class Option:
-    """An experiment's own option: an integer (e.g. chapter 4's ``n_seeds``) or, with
-    ``choices``, a comma-separated selection of names (e.g. 6.2's ``floors``).
+    """An experiment's own option: an integer (e.g. chapter 4's ``n_seeds``), with
+    ``choices`` a comma-separated selection of names (e.g. 6.2's ``floors``), or with
+    ``numbers`` a comma-separated list of finite numbers (e.g. 6.4's ``distances``;
+    an empty string: none given, the protocol's own).
 
     Attributes
     ----------
@@ -46,6 +49,8 @@ class Option:
         The names a selection may hold (empty: an integer option).
     item : str
         What one name is, for messages (``"floor texture"``).
+    numbers : bool
+        A comma-separated list of numbers (``minimum``: fewest, unless empty).
     """
 
     name: str
@@ -54,19 +59,44 @@ class Option:
     minimum: int = 1
     choices: tuple[str, ...] = ()
     item: str = "name"
+    numbers: bool = False
 
     @property
     def flag(self) -> str:
         """The command-line flag."""
         return "--" + self.name.replace("_", "-")
 
-    def check(self, value: Any) -> int | tuple[str, ...]:
-        """The value as int (or as a tuple of names), or ValueError naming the flag."""
+    def check(self, value: Any) -> int | tuple[str, ...] | tuple[float, ...]:
+        """The value as int (or as a tuple of names or numbers), or ValueError naming
+        the flag."""
         if self.choices:
             return self._check_names(value)
+        if self.numbers:
+            return self._check_numbers(value)
         if isinstance(value, bool) or not isinstance(value, int) or value < self.minimum:
             raise ValueError(f"{self.flag} must be an integer >= {self.minimum}, got {value!r}")
         return int(value)
+
+    def _check_numbers(self, value: Any) -> tuple[float, ...]:
+        if isinstance(value, str):
+            parts = [v.strip() for v in value.split(",") if v.strip()]
+        elif isinstance(value, tuple | list):
+            parts = list(value)
+        else:
+            parts = [value]
+        try:
+            if any(isinstance(v, bool) for v in parts):
+                raise ValueError
+            nums = tuple(float(v) for v in parts)
+        except (TypeError, ValueError):
+            raise ValueError(f"{self.flag} must be comma-separated numbers, got {value!r}"
+                             ) from None
+        if not all(math.isfinite(v) for v in nums):
+            raise ValueError(f"{self.flag} must be finite numbers, got {value!r}")
+        if nums and len(nums) < self.minimum:
+            raise ValueError(f"{self.flag} needs at least {self.minimum} numbers, got "
+                             f"{len(nums)}")
+        return nums
 
     def _check_names(self, value: Any) -> tuple[str, ...]:
         if isinstance(value, str):

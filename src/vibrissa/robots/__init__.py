@@ -5,6 +5,7 @@ machine and synthetic runs (:mod:`vibrissa.robots.crunchbot`)."""
 
 from vibrissa.robots.whisking import (
     RCPControl,
+    VaryingWhiskPattern,
     WhiskerSetup,
     WhiskPattern,
     rcp_gating,
@@ -25,6 +26,7 @@ __all__ = [
     "RCPControl",
     "SurfaceStimulus",
     "TrialResult",
+    "VaryingWhiskPattern",
     "WhiskPattern",
     "WhiskerSetup",
     "XYStage",

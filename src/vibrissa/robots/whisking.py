@@ -41,7 +41,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.signal import butter, sosfilt, sosfilt_zi
+from scipy.signal import butter, sosfilt_zi
 
 from vibrissa._validate import finite, finite_array, non_negative, positive
 from vibrissa.whisker.hall import calibrated_gain
@@ -50,6 +50,7 @@ from vibrissa.whisker.simulate import (
     BaseMotion,
     DynamicState,
     PoleContact,
+    SurfaceContact,
     Trajectory,
     simulate,
 )
@@ -57,6 +58,7 @@ from vibrissa.whisker.simulate import (
 __all__ = [
     "ContactFilter",
     "RCPControl",
+    "VaryingWhiskPattern",
     "WhiskPattern",
     "WhiskerSetup",
     "WhiskingResult",
@@ -144,13 +146,25 @@ class ContactFilter:
                              f"rate ({rate_hz} Hz)")
         self.sos = butter(int(order), fc, fs=rate, output="sos")
         self.state = np.zeros((int(n_whiskers), *sosfilt_zi(self.sos).shape))
+        # one sample at a time in plain floats (sosfilt's transposed direct form II, the
+        # same operations in the same order): the closed loop calls this every control
+        # period, where sosfilt's per-call overhead cost more than the whisker's dynamics
+        self._sections = [tuple(float(c) for c in sec[[0, 1, 2, 4, 5]]) for sec in self.sos]
+        self._z = [[[0.0, 0.0] for _ in self._sections] for _ in range(int(n_whiskers))]
 
     def step(self, x: np.ndarray) -> float:
         """Feed one sample of every whisker's ``x``; return ``pi`` for this sample."""
         best = 0.0
         for w, xw in enumerate(np.atleast_1d(x)):
-            y, self.state[w] = sosfilt(self.sos, [float(xw)], zi=self.state[w])
-            best = max(best, abs(float(y[0])))
+            y = float(xw)
+            zs = self._z[w]
+            for (b0, b1, b2, a1, a2), z in zip(self._sections, zs, strict=True):
+                x_in = y
+                y = b0 * x_in + z[0]
+                z[0] = b1 * x_in - a1 * y + z[1]
+                z[1] = b2 * x_in - a2 * y
+            self.state[w] = zs
+            best = max(best, abs(y))
         return best
 
 
@@ -199,6 +213,36 @@ class WhiskPattern:
         ``gain``, contact-induced asymmetry); the phase is untouched."""
         osc = self.oscillator_deg(t_s)
         return self.retracted_deg + (1.0 - z) * gain * (osc - self.retracted_deg)
+
+
+@dataclass(frozen=True)
+class VaryingWhiskPattern(WhiskPattern):
+    """A :class:`WhiskPattern` whose amplitude changes from whisk to whisk.
+
+    Whisk ``k`` (from full retraction at phase ``2 pi k``) protracts by
+    ``amplitudes_deg[k]``; the last one repeats. The angle stays continuous, since
+    every whisk starts and ends at ``retracted_deg``. Empty: ``amplitude_deg``.
+    """
+
+    amplitudes_deg: tuple[float, ...] = ()
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        for a in self.amplitudes_deg:
+            positive("amplitudes_deg", a)
+            if abs(self.retracted_deg) + a >= 80.0:
+                raise ValueError("retracted_deg and amplitudes_deg must keep the housing "
+                                 "within +/-80 deg")
+
+    def oscillator_deg(self, t_s: np.ndarray | float) -> np.ndarray:
+        """The unmodulated angle at times ``t_s``."""
+        ph = 2 * math.pi * self.frequency_hz * np.asarray(t_s, dtype=float) + self.phase_rad
+        if not self.amplitudes_deg:
+            amp: np.ndarray | float = self.amplitude_deg
+        else:
+            k = np.clip(np.floor(ph / (2 * math.pi)), 0, len(self.amplitudes_deg) - 1)
+            amp = np.asarray(self.amplitudes_deg, dtype=float)[k.astype(int)]
+        return self.retracted_deg + amp * 0.5 * (1.0 - np.cos(ph))
 
 
 @dataclass(frozen=True)
@@ -254,7 +298,7 @@ class WhiskerSetup:
     """
 
     model: RodModel
-    contact: PoleContact | None = None
+    contact: PoleContact | SurfaceContact | None = None
     trajectory: Trajectory | None = None
     side: int = 0
     hall_gain_v: float | None = None
@@ -298,6 +342,8 @@ class WhiskingResult:
     deflection: np.ndarray
     dt_s: float
     gains: list[float] = field(default_factory=list)
+    #: Magnet tilt toward y (out of the whisking plane), shape (n_whiskers, n).
+    tan_y: np.ndarray | None = None
 
 
 def motor_follow(command_deg: np.ndarray, dt_s: float, bandwidth_hz: float,
@@ -448,6 +494,7 @@ def run_whisking(
     n_steps = n_ctrl * spp
     time_s = np.arange(n_steps + 1) * dt
     tan_x = np.zeros((n_w, n_steps + 1))
+    tan_y = np.zeros((n_w, n_steps + 1))
     force = np.zeros((n_w, n_steps + 1))
     angle = np.zeros((n_w, n_steps + 1))
     ctime = np.arange(n_ctrl + 1) * tc
@@ -467,6 +514,7 @@ def run_whisking(
         res = simulate(wh.model, wh.contact, wh.trajectory, (k1 - k0) * dt, dt,
                        initial_state=state, base_motion=bm, linear_free_flight=False)
         tan_x[w, k0:k1 + 1] = res.tan_xy[:, 0]
+        tan_y[w, k0:k1 + 1] = res.tan_xy[:, 1]
         force[w, k0:k1 + 1] = res.contact_force_n
         angle[w, k0:k1 + 1] = ang
         return res.final_state
@@ -485,7 +533,7 @@ def run_whisking(
             for n in range(n_ctrl + 1):
                 pis[s, n] = filters[s].step(defl[members, n])
         return WhiskingResult(time_s, tan_x, force, angle, ctime, command, pis, zs, defl, dt,
-                              gains)
+                              gains, tan_y)
 
     states: list[DynamicState | None] = [None] * n_w
     for n in range(n_ctrl):
@@ -505,7 +553,8 @@ def run_whisking(
             members = [i for i, wh in enumerate(whiskers) if wh.side == s]
             pis[s, n + 1] = filters[s].step(defl[members, n + 1])
             zs[s, n + 1] = _gate_step(zs[s, n], pis[s, n + 1], decays[s], ctrl.sigma_z)
-    return WhiskingResult(time_s, tan_x, force, angle, ctime, command, pis, zs, defl, dt, gains)
+    return WhiskingResult(time_s, tan_x, force, angle, ctime, command, pis, zs, defl, dt, gains,
+                          tan_y)
 
 
 @dataclass

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 
@@ -152,11 +153,17 @@ class SurfaceContact:
 
     def frame(self) -> np.ndarray:
         """Rows: outward normal, in-plane u, in-plane w (= y)."""
-        a = math.radians(self.angle_deg)
-        n = np.array([self.side * math.cos(a), 0.0, -math.sin(a)])
-        u = np.array([self.side * math.sin(a), 0.0, math.cos(a)])
-        w = np.cross(n, u)
-        return np.vstack([n, u, w])
+        return _surface_frame(float(self.angle_deg), int(self.side)).copy()
+
+
+@lru_cache(maxsize=64)
+def _surface_frame(angle_deg: float, side: int) -> np.ndarray:
+    # cached: a closed loop builds the contact every control period
+    a = math.radians(angle_deg)
+    n = np.array([side * math.cos(a), 0.0, -math.sin(a)])
+    u = np.array([side * math.sin(a), 0.0, math.cos(a)])
+    w = np.cross(n, u)
+    return np.vstack([n, u, w])
 
 
 def _sample_times(time_s: np.ndarray) -> np.ndarray:
