@@ -19,6 +19,12 @@ from vibrissa.robots.crunchbot.fsm import (
     Observation,
     transition,
 )
+from vibrissa.robots.crunchbot.record import (
+    CLASSIFIERS,
+    N_OBSTACLE_WHISKERS,
+    WHISKER_NAMES,
+    RunRecord,
+)
 from vibrissa.robots.crunchbot.synthetic import (
     CRUNCHBOT_LAYOUT,
     cast_rays,
@@ -28,6 +34,10 @@ from vibrissa.robots.crunchbot.synthetic import (
 )
 
 __all__ = [
+    "CLASSIFIERS",
+    "N_OBSTACLE_WHISKERS",
+    "WHISKER_NAMES",
+    "RunRecord",
     "CRUNCHBOT_LAYOUT",
     "PRESETS",
     "ROBOT_RADIUS_M",
