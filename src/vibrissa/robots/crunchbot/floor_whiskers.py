@@ -98,8 +98,8 @@ def _tips(pose: np.ndarray) -> np.ndarray:
 def _slides(pose: np.ndarray) -> np.ndarray:
     """Slide increments ``(n - 1, 2 whiskers, 2)`` (along u, across y; mm) between poses."""
     d = np.diff(_tips(pose), axis=0)
-    mid = pose[:-1, 2] + 0.5 * np.array([math.remainder(a, math.tau)
-                                         for a in np.diff(pose[:, 2])])
+    turn = (np.diff(pose[:, 2]) + math.pi) % math.tau - math.pi
+    mid = pose[:-1, 2] + 0.5 * turn
     c, s = np.cos(mid)[:, None], np.sin(mid)[:, None]
     along = c * d[..., 0] + s * d[..., 1]
     across = -(-s * d[..., 0] + c * d[..., 1])
@@ -278,9 +278,12 @@ class FloorWhiskers:
         pose : ndarray of shape (n, 3)
             True arena-frame poses ``(x_m, y_m, heading_rad)`` at those times.
         window_s : float, optional
-            ``None``: the whole step, continuing the whiskers' state. ``w``: only the
-            step's last ``w`` seconds are valid (the rest NaN), simulated from the
-            whiskers settled :attr:`lead_in_s` before them.
+            ``None``: the whole step, continuing the whiskers' state (the first call
+            starts from the whiskers settled at rest). ``w``: only the step's last ``w``
+            seconds are valid (the rest NaN), simulated from the whiskers settled and
+            sliding, put down :attr:`lead_in_s` before them (the lead-in may reach back
+            into the previous steps' poses). A continuous call after a window-mode one
+            starts again from the whiskers settled at rest.
 
         Returns
         -------
