@@ -175,7 +175,8 @@ class FloorWhiskers:
         self.sensor: HallSensor = settings.calibrate(geometry, n_elements)
         self._sheets: dict[str, Surface] = {}
         self._contacts: dict[str, SurfaceContact] = {}
-        self._settled: dict[str, DynamicState] = {}
+        self._settled: dict[tuple, DynamicState] = {}
+        self._base: tuple[np.ndarray, np.ndarray] | None = None
         ss = np.random.SeedSequence([self.seed, 16, 2])
         self._noise = [np.random.default_rng(s) for s in ss.spawn(2)]
         start = np.random.default_rng(np.random.SeedSequence([self.seed, 16, 3]))
@@ -232,11 +233,12 @@ class FloorWhiskers:
 
     def _plane(self) -> tuple[np.ndarray, np.ndarray]:
         """The pressed floor's base point (x, z; mm) at slide 0 and the u direction (x, z)."""
-        n, u, _ = SurfaceContact(make_floor("vinyl", tile_u_mm=1.0, tile_w_mm=1.0),
-                                 angle_deg=self.tilt_deg).frame()
-        tip = np.array([0.0, 0.0, self.model.geometry.length_mm])
-        origin = tip + n * self.preload_mm
-        return origin[[0, 2]], u[[0, 2]]
+        if self._base is None:
+            n, u, _ = SurfaceContact(make_floor("vinyl", tile_u_mm=1.0, tile_w_mm=1.0),
+                                     angle_deg=self.tilt_deg).frame()
+            tip = np.array([0.0, 0.0, self.model.geometry.length_mm])
+            self._base = ((tip + n * self.preload_mm)[[0, 2]], u[[0, 2]])
+        return self._base
 
     def settled(self, texture: str, slide_mm: Sequence[float] = (0.0, 0.0),
                 sliding_s: float = 0.0) -> DynamicState:
