@@ -67,6 +67,8 @@ __all__ = [
 CORNER_RADIUS_MM = 1.0
 #: A feature closer than this to the straight swept whisker is within reach (m).
 REACH_MARGIN_M = 0.02
+#: A feature closer than this to the straight whisker is touching it (m).
+CONTACT_TOL_M = 2e-3
 #: Largest surface angle simulated (deg): see the module's note.
 MAX_SURFACE_ANGLE_DEG = 85.0
 #: Wall friction coefficient (painted wood against the whisker; ours).
@@ -136,11 +138,17 @@ def arena_features(arena: Arena) -> tuple[Feature, ...]:
 
 
 def _point_segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Distances from points ``p`` (..., 2) to segments ``a``-``b`` (F, 2): (..., F)."""
+    """Distances from points ``p`` (..., 2) to segments ``a``-``b`` (F, 2): (..., F).
+
+    A point nearest a segment's end gets 1 mm more: there the face's end (a corner, or
+    the next wall) is what the whisker meets, not the face.
+    """
     ab = b - a
     ap = p[..., None, :] - a
-    t = np.clip((ap * ab).sum(-1) / np.maximum((ab * ab).sum(-1), 1e-18), 0.0, 1.0)
-    return np.linalg.norm(ap - t[..., None] * ab, axis=-1)
+    raw = (ap * ab).sum(-1) / np.maximum((ab * ab).sum(-1), 1e-18)
+    t = np.clip(raw, 0.0, 1.0)
+    d = np.linalg.norm(ap - t[..., None] * ab, axis=-1)
+    return d + np.where((raw != t) & ((ab * ab).sum(-1) > 0), 1e-3, 0.0)
 
 
 @dataclass
@@ -256,15 +264,17 @@ class ObstacleWhiskers:
         return dist.min(axis=2)
 
     def _first_met(self, dist: np.ndarray) -> np.ndarray:
-        """Per whisker the first feature within reach over the samples (-1: none)."""
-        near = dist < REACH_MARGIN_M
+        """Per whisker the feature the straight swept whisker meets first (within
+        :data:`CONTACT_TOL_M`), else the nearest within reach (-1: none)."""
         out = np.full(dist.shape[1], -1)
         for w in range(dist.shape[1]):
-            rows = np.flatnonzero(near[:, w].any(axis=1))
-            if rows.size:
-                k = rows[0]
-                cand = np.where(near[k, w], dist[k, w], np.inf)
-                out[w] = int(np.argmin(cand))
+            d = dist[:, w]
+            touch = d < CONTACT_TOL_M
+            if touch.any():
+                k = int(np.flatnonzero(touch.any(axis=1))[0])
+                out[w] = int(np.argmin(d[k]))
+            elif d.min() < REACH_MARGIN_M:
+                out[w] = int(np.argmin(d.min(axis=0)))
         return out
 
     # ---------------------------------------------------------------- physics
