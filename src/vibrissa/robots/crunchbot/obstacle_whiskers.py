@@ -60,7 +60,7 @@ from vibrissa.whisker.surfaces import Surface
 
 __all__ = [
     "CORNER_RADIUS_MM", "REACH_MARGIN_M", "STRAIN_SOURCE", "Feature", "ObstacleWhiskers",
-    "StepSignals", "arena_features",
+    "StepSignals", "arena_features", "feature_distances",
 ]
 
 #: Radius of an obstacle's vertical corner edge (mm; ours).
@@ -138,17 +138,35 @@ def arena_features(arena: Arena) -> tuple[Feature, ...]:
 
 
 def _point_segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Distances from points ``p`` (..., 2) to segments ``a``-``b`` (F, 2): (..., F).
-
-    A point nearest a segment's end gets 1 mm more: there the face's end (a corner, or
-    the next wall) is what the whisker meets, not the face.
-    """
+    """Distance from points ``p`` to segments ``a``-``b`` (all broadcast, last axis 2)."""
     ab = b - a
-    ap = p[..., None, :] - a
-    raw = (ap * ab).sum(-1) / np.maximum((ab * ab).sum(-1), 1e-18)
-    t = np.clip(raw, 0.0, 1.0)
-    d = np.linalg.norm(ap - t[..., None] * ab, axis=-1)
-    return d + np.where((raw != t) & ((ab * ab).sum(-1) > 0), 1e-3, 0.0)
+    ap = p - a
+    t = np.clip((ap * ab).sum(-1) / np.maximum((ab * ab).sum(-1), 1e-18), 0.0, 1.0)
+    return np.linalg.norm(ap - t[..., None] * ab, axis=-1)
+
+
+def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+
+
+def feature_distances(base: np.ndarray, tip: np.ndarray, a: np.ndarray, b: np.ndarray,
+                      is_pole: np.ndarray) -> np.ndarray:
+    """Distance of each feature from each straight whisker ``base``-``tip`` (..., 2):
+    ``(..., F)``. A corner (``is_pole``) is a point ``a``; a face is the segment
+    ``a``-``b``, and where it is nearest the whisker at one of its ends it counts 1 mm
+    further: there its end (a corner, or the next wall) is what the whisker meets."""
+    p0, p1 = base[..., None, :], tip[..., None, :]
+    to_a = _point_segment_distance(a, p0, p1)
+    to_b = _point_segment_distance(b, p0, p1)
+    ends = np.minimum(_point_segment_distance(p0, a, b), _point_segment_distance(p1, a, b))
+    r, q = p1 - p0, b - a
+    den = _cross(r, q)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = _cross(a - p0, q) / den
+        u = _cross(a - p0, r) / den
+    crossing = (den != 0) & (t >= 0) & (t <= 1) & (u > 0) & (u < 1)
+    face = np.where(crossing, 0.0, np.minimum(ends, np.minimum(to_a, to_b) + 1e-3))
+    return np.where(is_pole, to_a, face)
 
 
 @dataclass
@@ -240,10 +258,9 @@ class ObstacleWhiskers:
         self.physics_whisker_steps = 0
         self.failures = 0
         self.steps = 0
-        n_pts = 15
-        self._along = np.linspace(0.0, self.length_m, n_pts)
         self._fa = np.array([f.a for f in self.features])
         self._fb = np.array([f.b if f.kind == "plane" else f.a for f in self.features])
+        self._is_pole = np.array([f.kind == "pole" for f in self.features])
         self._node_arc = self.model.x_rest[:, 2].copy()
 
     # ---------------------------------------------------------------- geometry
@@ -258,10 +275,8 @@ class ObstacleWhiskers:
     def _distances(self, poses: np.ndarray) -> np.ndarray:
         """``(n, W, F)`` distance of each feature from each straight whisker."""
         base, ang = self.bases(poses)
-        d = np.stack([np.cos(ang), np.sin(ang)], axis=-1)
-        pts = base[:, :, None, :] + self._along[None, None, :, None] * d[:, :, None, :]
-        dist = _point_segment_distance(pts, self._fa, self._fb)  # (n, W, P, F)
-        return dist.min(axis=2)
+        tip = base + self.length_m * np.stack([np.cos(ang), np.sin(ang)], axis=-1)
+        return feature_distances(base, tip, self._fa, self._fb, self._is_pole)
 
     def _first_met(self, dist: np.ndarray) -> np.ndarray:
         """Per whisker the feature the straight swept whisker meets first (within

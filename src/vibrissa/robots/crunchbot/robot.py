@@ -11,7 +11,8 @@ classifiers and times each call (``time.perf_counter``):
   the step's samples (Hall volts about the rest value);
 * surface angle at ``HIT_2``, from the 8 channels (4 whiskers x (x, y), volts about
   rest) of the samples since ``HIT_1``;
-* floor texture log-likelihoods from the latest 200 samples of each floor whisker.
+* floor texture log-likelihoods from the latest 200 samples of each floor whisker (raw
+  volts, as ``collect_floor_training`` gives them).
 
 It writes the :class:`~vibrissa.slam.log.SensorLog` in the map frame with the row
 semantics of :func:`~vibrissa.robots.crunchbot.synthetic.synthetic_log` (``HIT_1``,
@@ -231,7 +232,7 @@ def run_crunchbot(arena: Arena, seconds: float = 360.0, seed: int = 0,
                 window = loop.recent(window_n, slice(W, W + 2))
                 if len(window) == window_n and np.all(np.isfinite(window)):
                     loglik = np.stack([loop.timed("floor_texture", floor_clf.loglik,
-                                                  deflection_volts(window[:, k], offset))
+                                                  window[:, k].astype(float))
                                        for k in range(2)])
                     pred = tuple(textures[int(np.argmax(r))] for r in loglik)
         if state.name == fsm.HIT_2 and classifiers is not None and classifiers.angle is not None:
