@@ -11,9 +11,10 @@ The data are collected as in the thesis, on the same body and whiskers the runs 
   placed on the line would start inside the shaft), and the robot creeps forward at the
   FWD_2 speed (0.02 m/s) for 1 s into it, as it does after HIT_1 in a run; the label is
   the true contact arc from the physics, the feature the peak deflection (what the
-  control loop reads per step). The body whisk of 6.5.1 (:func:`body_whisk`) is written out as a scripted
-  behaviour but not used here: the loop's radial reports come from forward creeping
-  steps, and training on the same motion keeps the feature's speed dependence out.
+  control loop reads per step). The body whisk of 6.5.1 (:func:`body_whisk`) is written
+  out as a scripted behaviour but not used here: the loop's radial reports come from
+  forward creeping steps, and training on the same motion keeps the feature's speed
+  dependence out.
 * surface angle (6.5.5.3): the robot drives into a wall at 15 angles (20-160 deg, 10 deg
   steps) 4 times each: FWD_1 at 0.05 m/s until a whisker touches (HIT_1), then FWD_2
   creeping for 2 s (cut by the strain limit, after which the robot holds still and the
@@ -112,7 +113,7 @@ def collect_radial_training(seed: int = 0, contacts_per_point: int = 5,
     return out
 
 
-def _approach(angle_deg: float, rng: np.random.Generator, ow_cache: dict) -> np.ndarray:
+def _approach(angle_deg: float, rng: np.random.Generator) -> np.ndarray:
     """One drive into the right-hand wall with it at ``angle_deg`` in the robot's frame:
     the 8-channel recording (volts about rest) from HIT_1, 2 s (held at its end)."""
     s = fsm.FsmSettings()
@@ -155,10 +156,9 @@ def collect_angle_training(seed: int = 0, runs_per_angle: int = 4,
     """Surface-angle training drives: ``(recordings (n, 4000, 8), angles_rad (n,))``."""
     rng = np.random.default_rng(seed)
     recs, labels = [], []
-    cache: dict = {}
     for a in angles_deg:
         for _ in range(runs_per_angle):
-            recs.append(_approach(float(a), rng, cache))
+            recs.append(_approach(float(a), rng))
             labels.append(math.radians(float(a)))
     return np.stack(recs), np.array(labels)
 
