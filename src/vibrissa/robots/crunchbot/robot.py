@@ -1,0 +1,317 @@
+"""The simulated CrunchBot: body, whiskers, the FSM loop and its real-time reports (6.5).
+
+:func:`run_crunchbot` drives the 6.5.3 finite state machine
+(:func:`~vibrissa.robots.crunchbot.fsm.transition`) on the Create base
+(:mod:`.body`) with the four obstacle whiskers on the rod model
+(:mod:`.obstacle_whiskers`) and the two floor whiskers (``FloorWhiskers`` of
+:mod:`.floor_whiskers`). After every FSM step the control loop calls the real-time
+classifiers and times each call (``time.perf_counter``):
+
+* radial distance, per whisker that touched in the step, from the peak deflection of
+  the step's samples (Hall volts about the rest value);
+* surface angle at ``HIT_2``, from the 8 channels (4 whiskers x (x, y), volts about
+  rest) of the samples since ``HIT_1``;
+* floor texture log-likelihoods from the latest 200 samples of each floor whisker (raw
+  volts, as ``collect_floor_training`` gives them).
+
+It writes the :class:`~vibrissa.slam.log.SensorLog` in the map frame with the row
+semantics of :func:`~vibrissa.robots.crunchbot.synthetic.synthetic_log` (``HIT_1``,
+``HIT_2`` and ``ABORT`` rows are zero-length and repeat the step before's contacts), and
+the :class:`~vibrissa.robots.crunchbot.record.RunRecord`.
+
+**Truth mode** (``classifiers=None``): the log's radial distances are the TRUE ones from
+the physics and no surface angle is given; for tests and for collecting training data,
+never for the reproduction's scores.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from vibrissa import _validate as v
+from vibrissa.robots.crunchbot import fsm
+from vibrissa.robots.crunchbot.arena import Arena
+from vibrissa.robots.crunchbot.body import odometry, plan_motion
+from vibrissa.robots.crunchbot.obstacle_whiskers import ObstacleWhiskers
+from vibrissa.robots.crunchbot.record import CLASSIFIERS, RunRecord
+from vibrissa.robots.crunchbot.synthetic import CRUNCHBOT_LAYOUT, FLOOR_WHISKERS_M
+from vibrissa.slam.filter import apply_motion
+from vibrissa.slam.log import SensorLog
+
+if TYPE_CHECKING:
+    from vibrissa.classify.realtime import (
+        FloorTextureNB,
+        RadialDistanceLinear,
+        SurfaceAngleTemplates,
+    )
+
+__all__ = ["FLOOR_MODES", "FLOOR_WINDOW_S", "RealtimeClassifiers", "run_crunchbot"]
+
+#: How the floor whiskers are simulated: the last 100 ms of each step, all of it, none.
+FLOOR_MODES = ("window", "continuous", "off")
+#: The floor classifier's window: the latest 100 ms (200 samples at 2 kHz, 6.5.2).
+FLOOR_WINDOW_S = 0.1
+
+
+@dataclass(frozen=True)
+class RealtimeClassifiers:
+    """What the control loop calls; built by
+    :func:`~vibrissa.robots.crunchbot.training.train_classifiers`.
+
+    Attributes
+    ----------
+    floor
+        Floor texture naive Bayes on the latest 100 ms of a floor whisker, or ``None``.
+    radial
+        One radial-distance fit per obstacle whisker.
+    angle
+        The multi-whisker surface-angle templates, or ``None``.
+    """
+
+    floor: FloorTextureNB | None
+    radial: tuple[RadialDistanceLinear, ...]
+    angle: SurfaceAngleTemplates | None
+
+
+def deflection_volts(hall_v: np.ndarray, offset_v: float) -> np.ndarray:
+    """Hall volts about the rest value (what the classifiers read)."""
+    return np.asarray(hall_v, float) - offset_v
+
+
+def _default_floor(arena: Arena, sample_rate_hz: float, seed: int) -> Any:
+    from vibrissa.robots.crunchbot.floor_whiskers import FloorWhiskers  # helper B's part
+
+    return FloorWhiskers(arena, sample_rate_hz=sample_rate_hz, seed=seed)
+
+
+class _Loop:
+    """The bookkeeping of one run: rows of the log and the per-sample arrays."""
+
+    def __init__(self) -> None:
+        self.rows: dict[str, list] = {k: [] for k in (
+            "state", "odo", "contact", "dist", "angle", "floor", "pose", "true_m",
+            "tex_true", "tex_pred")}
+        self.hall: list[np.ndarray] = []
+        self.pose: list[np.ndarray] = []
+        self.step_start = [0]
+        self.n = 0
+        self.latency: dict[str, list[float]] = {c: [] for c in CLASSIFIERS}
+
+    def timed(self, name: str, fn: Callable[..., Any], *args: Any) -> Any:
+        t = time.perf_counter()
+        out = fn(*args)
+        self.latency[name].append(time.perf_counter() - t)
+        return out
+
+    def recent(self, n: int, cols: slice) -> np.ndarray:
+        """The latest ``n`` samples of the given whisker columns (fewer at the start)."""
+        out, need = [], n
+        for chunk in reversed(self.hall):
+            if need <= 0:
+                break
+            out.append(chunk[-need:, cols])
+            need -= len(out[-1])
+        return np.concatenate(out[::-1]) if out else np.zeros((0, 2, 2))
+
+    def since(self, index: int) -> np.ndarray:
+        """Obstacle-whisker samples from sample ``index`` on, ``(m, 4, 2)``."""
+        allh = np.concatenate(self.hall) if self.hall else np.zeros((0, 6, 2))
+        return allh[index:, :4]
+
+
+def run_crunchbot(arena: Arena, seconds: float = 360.0, seed: int = 0,
+                  classifiers: RealtimeClassifiers | None = None, *, floor: str = "window",
+                  progress: Callable[[float], None] | None = None,
+                  settings: fsm.FsmSettings | None = None, sample_rate_hz: float = 2000.0,
+                  odometry_error: float = 0.1, heading_drift_rad_m: float = 0.1,
+                  map_size_m: float = 2.5, cell_m: float = 0.05,
+                  floor_factory: Callable[[Arena, float, int], Any] | None = None,
+                  stats: dict | None = None) -> RunRecord:
+    """Run the simulated CrunchBot for ``seconds`` of robot time.
+
+    Parameters
+    ----------
+    arena
+        Where it runs (starts at ``arena.start``).
+    seconds
+        Robot time (s); the run ends after the step that passes it.
+    seed
+        Same seed, same record (FSM turns, odometry error, sensor noise, floors).
+    classifiers
+        The real-time classifiers; ``None``: truth mode (the module's note).
+    floor
+        ``"window"`` simulates each step's last 100 ms of the floor whiskers (what the
+        classifier reads), ``"continuous"`` all of it, ``"off"`` none (their columns NaN,
+        ``floor_loglik`` None).
+    progress
+        Called after each step with the fraction of ``seconds`` done.
+    settings
+        The FSM's numbers.
+    sample_rate_hz
+        The whiskers' rate (2 kHz).
+    odometry_error, heading_drift_rad_m
+        The odometry's error (:func:`~vibrissa.slam.filter.noisy_increment`).
+    map_size_m, cell_m
+        The SLAM map the log's frame centres the arena in.
+    floor_factory
+        ``(arena, sample_rate_hz, seed) -> FloorWhiskers``-like object (default the real
+        one); for tests.
+    stats
+        If given, filled with counts: steps, steps with physics, whisker-steps with
+        physics, steps touching.
+
+    Raises
+    ------
+    ValueError
+        One line: ``seconds`` not positive, an unknown ``floor`` mode.
+    """
+    v.positive("seconds", seconds)
+    if floor not in FLOOR_MODES:
+        raise ValueError(f"unknown floor mode {floor!r}; choose one of {', '.join(FLOOR_MODES)}")
+    v.non_negative("odometry_error", odometry_error)
+    wall0 = time.perf_counter()
+    s = settings or fsm.FsmSettings()
+    rng_fsm, rng_odo, rng_noise, rng_floor = (
+        np.random.default_rng(q) for q in np.random.SeedSequence(seed).spawn(4))
+    whiskers = ObstacleWhiskers(arena, sample_rate_hz, CRUNCHBOT_LAYOUT)
+    offset = whiskers.sensor.offset_v
+    floor_sim = None
+    if floor != "off":
+        floor_sim = (floor_factory or _default_floor)(
+            arena, sample_rate_hz, int(rng_floor.integers(2**31)))
+    floor_clf = classifiers.floor if classifiers is not None and floor != "off" else None
+    textures = tuple(floor_clf.classes_) if floor_clf is not None else ()
+    window_n = int(round(FLOOR_WINDOW_S * sample_rate_hz))
+    W = CRUNCHBOT_LAYOUT.n_whiskers
+    loop = _Loop()
+    pose = arena.start.as_array()
+    state = fsm.FsmState(fsm.FWD_1)
+    command = fsm.command_for(fsm.FWD_1, s, rng_fsm)
+    touching = np.zeros(W, bool)
+    dist = np.full(W, np.nan)
+    strain = np.zeros(W)
+    loglik = np.zeros((2, len(textures)))
+    pred = ("", "")
+    hit1_sample = 0
+    touch_steps = 0
+    elapsed = 0.0
+    while elapsed < seconds:
+        start = pose.copy()
+        planned, bumped = plan_motion(arena, pose, command, sample_rate_hz)
+        forward = command.linear_m_s > 0
+        sig, m = whiskers.advance(start, planned, rng_noise,
+                                  s.strain_limit if forward else None,
+                                  stop_on_contact=state.name == fsm.FWD_1)
+        bumped = bumped and m == len(planned)
+        poses = planned[:m]
+        angle = math.nan
+        true_m = np.full(W, np.nan)
+        if m:
+            pose = poses[-1].copy()
+            t_s = (loop.n + 1 + np.arange(m)) / sample_rate_hz
+            hall = np.full((m, 6, 2), np.nan)
+            hall[:, :W] = sig.hall_v
+            if floor_sim is not None:
+                hall[:, W:] = floor_sim.advance(
+                    t_s, poses, FLOOR_WINDOW_S if floor == "window" else None)
+            loop.hall.append(hall)
+            loop.pose.append(poses)
+            loop.n += m
+            touching = sig.contact.any(axis=0)
+            strain = sig.strain.max(axis=0)
+            true_m = sig.first_contact_m.copy()
+            dist = _radial(loop, classifiers, sig, touching, true_m, offset, whiskers.length_m)
+            touch_steps += int(touching.any())
+            if floor_clf is not None:
+                window = loop.recent(window_n, slice(W, W + 2))
+                if len(window) == window_n and np.all(np.isfinite(window)):
+                    loglik = np.stack([loop.timed("floor_texture", floor_clf.loglik,
+                                                  window[:, k].astype(float))
+                                       for k in range(2)])
+                    pred = tuple(textures[int(np.argmax(r))] for r in loglik)
+        if state.name == fsm.HIT_2 and classifiers is not None and classifiers.angle is not None:
+            rec = deflection_volts(loop.since(hit1_sample), offset).reshape(-1, 2 * W)
+            if len(rec) >= 2:
+                angle = math.remainder(
+                    float(loop.timed("surface_angle", classifiers.angle.predict, rec)), math.pi)
+        if state.name == fsm.HIT_1:
+            hit1_sample = loop.n
+        fl = apply_motion(pose, np.c_[FLOOR_WHISKERS_M, np.zeros(2)])
+        r = loop.rows
+        r["state"].append(state.name)
+        r["odo"].append(odometry(start, pose, rng_odo, odometry_error, heading_drift_rad_m))
+        r["contact"].append(touching.copy())
+        r["dist"].append(np.where(touching, dist, np.nan))
+        r["angle"].append(angle)
+        r["pose"].append(start)
+        r["true_m"].append(true_m)
+        r["floor"].append(loglik.copy())
+        r["tex_true"].append(tuple(str(t) for t in arena.texture_at(fl[:, 0], fl[:, 1])))
+        r["tex_pred"].append(pred)
+        loop.step_start.append(loop.n)
+        elapsed += max(m, 1) / sample_rate_hz if command.duration_s > 0 else 0.0
+        obs = fsm.Observation(tuple(bool(x) for x in touching),
+                              tuple(float(x) for x in strain), bumped)
+        state, command = fsm.transition(state, obs, rng_fsm, s)
+        if progress is not None:
+            progress(min(elapsed / seconds, 1.0))
+    if stats is not None:
+        stats.update(steps=whiskers.steps, physics_steps=whiskers.physics_steps,
+                     physics_whisker_steps=whiskers.physics_whisker_steps,
+                     touch_steps=touch_steps, failures=whiskers.failures)
+    return _record(arena, seed, loop, pose, textures, sample_rate_hz, map_size_m, cell_m,
+                   floor_clf is not None, time.perf_counter() - wall0)
+
+
+def _radial(loop: _Loop, classifiers: RealtimeClassifiers | None, sig: Any,
+            touching: np.ndarray, true_m: np.ndarray, offset: float,
+            length_m: float) -> np.ndarray:
+    """Radial distance per touching whisker: the classifier's, or the truth."""
+    out = np.full(len(touching), np.nan)
+    for w in np.flatnonzero(touching):
+        if classifiers is None:
+            est = true_m[w] if np.isfinite(true_m[w]) else length_m
+        else:
+            from vibrissa.classify.realtime import peak_deflection  # helper B's part
+
+            clf = classifiers.radial[w]
+
+            def call(h: np.ndarray, clf: Any = clf) -> float:
+                return float(clf.predict(peak_deflection(h)))
+
+            est = loop.timed("radial_distance", call, deflection_volts(sig.hall_v[:, w], offset))
+        out[w] = float(np.clip(est, 0.0, length_m)) if np.isfinite(est) else length_m
+    return out
+
+
+def _record(arena: Arena, seed: int, loop: _Loop, pose: np.ndarray,
+            textures: tuple[str, ...], rate: float, map_size_m: float, cell_m: float,
+            with_floor: bool, wall_s: float) -> RunRecord:
+    r = loop.rows
+    offset = arena.map_offset_m(map_size_m, cell_m)
+    true_pose = np.vstack([*r["pose"], pose]) + np.array([offset, offset, 0.0])
+    log = SensorLog(
+        layout=CRUNCHBOT_LAYOUT, state=np.array(r["state"]), odometry=np.array(r["odo"]),
+        contact=np.array(r["contact"]), radial_distance_m=np.array(r["dist"]),
+        surface_angle_rad=np.array(r["angle"]), start_pose=true_pose[0].copy(),
+        floor_loglik=np.array(r["floor"]) if with_floor else None,
+        floor_whisker_m=FLOOR_WHISKERS_M if with_floor else None,
+        textures=textures if with_floor else (), true_pose=true_pose)
+    n = loop.n
+    hall = np.concatenate(loop.hall).astype(np.float32) if loop.hall else np.zeros(
+        (0, 6, 2), np.float32)
+    return RunRecord(
+        arena=arena, seed=seed, log=log, sample_rate_hz=rate,
+        time_s=np.arange(1, n + 1) / rate, hall_v=hall,
+        pose=np.concatenate(loop.pose) if loop.pose else np.zeros((0, 3)),
+        step_start=np.array(loop.step_start), contact_true_m=np.array(r["true_m"]),
+        floor_texture_true=np.array(r["tex_true"], dtype=str).reshape(-1, 2),
+        floor_texture_pred=np.array(r["tex_pred"], dtype=str).reshape(-1, 2),
+        latency_s={k: np.array(x) for k, x in loop.latency.items()},
+        wall_seconds=wall_s)
