@@ -31,7 +31,7 @@ from vibrissa.slam import (
 from vibrissa.slam.filter import apply_motion
 
 __all__ = ["THESIS", "dead_reckoning", "evaluate_crunchbot", "floor_texture_accuracy",
-           "latency_stats", "radial_distance_errors_mm", "slam_job", "trajectory_error_mm"]
+           "json_ready", "latency_stats", "radial_distance_errors_mm", "slam_job", "trajectory_error_mm"]
 
 #: The thesis' numbers (6.5.4, 6.5.6): map error of eq. 6.3 per mode and of a random
 #: map; radial-distance error (std, mm) per obstacle whisker and all together.
@@ -105,6 +105,17 @@ def latency_stats(latency_s: Mapping[str, np.ndarray]) -> dict[str, dict[str, An
                      "p99": float(1000 * np.percentile(a, 99)) if a.size else math.nan,
                      "n_calls": int(a.size)}
     return out
+
+
+def json_ready(value: Any) -> Any:
+    """``value`` with every NaN or infinite float (nested in dicts and lists) as ``None``."""
+    if isinstance(value, Mapping):
+        return {k: json_ready(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [json_ready(v) for v in value]
+    if isinstance(value, float | np.floating):
+        return float(value) if math.isfinite(value) else None
+    return value
 
 
 def _mean_std(values: Sequence[float]) -> dict[str, float]:
