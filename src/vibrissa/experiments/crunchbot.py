@@ -47,8 +47,8 @@ from vibrissa.robots.crunchbot.record import (
 )
 from vibrissa.slam.log import SensorLog, WhiskerLayout
 
-__all__ = ["ROBOT_KINDS", "CrunchbotProtocol", "crunchbot_protocol", "default_robot",
-           "hall_run", "run_kinds", "sensor_logs"]
+__all__ = ["ROBOT_KINDS", "CrunchbotProtocol", "check_watch", "crunchbot_protocol", "default_robot",
+           "hall_run", "run_kinds", "sensor_logs", "watch_run"]
 
 #: What a protocol's robot is: the simulated physical robot, the exact-contact oracle
 #: with synthetic signals, or a callable the caller passed.
@@ -140,12 +140,7 @@ class CrunchbotProtocol:
     @property
     def robot_kind(self) -> str:
         """One of :data:`ROBOT_KINDS`."""
-        q = _qualname(self.simulate_run)
-        if q == ":".join(_PHYSICS):
-            return "simulated-physics"
-        if q == ":".join(_SYNTHETIC):
-            return "synthetic-oracle"
-        return "custom"
+        return _robot_kind(self.simulate_run)
 
     def arenas(self) -> tuple[Arena, Arena | None]:
         """The SLAM arena and the floor-texture arena (``None``: none)."""
@@ -438,3 +433,109 @@ def crunchbot_protocol(quick: bool = False, **overrides: Any) -> CrunchbotProtoc
     base: dict[str, Any] = ({"n_runs": 3, "seconds": 40.0, "texture_seconds": 30.0,
                              "quick_training": True} if quick else {})
     return CrunchbotProtocol(**{**base, **overrides})
+
+
+def check_watch(arena: str, seconds: float, seed: int, particles: int, mode: str) -> Arena:
+    """Check every option of :func:`watch_run` before any work; return the arena.
+
+    Raises
+    ------
+    ValueError
+        One line naming the option: an unknown arena or a bad arena file (unknown tile
+        texture, overlapping obstacles, a robot starting inside one), ``seconds <= 0``,
+        ``particles <= 0``, a negative seed, an unknown mode.
+    """
+    from vibrissa.slam import MODES
+
+    if not (isinstance(seconds, int | float) and not isinstance(seconds, bool)
+            and np.isfinite(seconds) and seconds > 0):
+        raise ValueError(f"--seconds must be a positive number, got {seconds!r}")
+    if isinstance(particles, bool) or not isinstance(particles, int) or particles <= 0:
+        raise ValueError(f"--particles must be a positive integer, got {particles!r}")
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise ValueError(f"--seed must be a non-negative integer, got {seed!r}")
+    if mode not in MODES:
+        raise ValueError(f"--mode: unknown mapping mode {mode!r}; choose one of "
+                         f"{', '.join(MODES)}")
+    try:
+        return get_arena(arena)
+    except ValueError as exc:
+        raise ValueError(f"--arena: {exc}") from None
+
+
+def watch_run(out_dir: Path, arena: Arena, seconds: float = 360.0, seed: int = 0,
+              particles: int = 100, mode: str = "blob",
+              simulate_run: Callable[..., RunRecord] | None = None,
+              train: Callable[..., Any] | None = None,
+              progress: Callable[[str, float], None] | None = None) -> dict[str, Any]:
+    """One run, then SLAM step by step, then ``crunchbot.gif`` and ``crunchbot.html`` in
+    ``out_dir`` (both written atomically); returns a summary.
+
+    ``progress(stage, fraction)`` with stage ``"robot"``, ``"slam"`` or ``"draw"``.
+    """
+    from vibrissa.evaluate.crunchbot import dead_reckoning, trajectory_error_mm
+    from vibrissa.evaluate.crunchbot_view import (
+        slam_frames,
+        write_animation,
+        write_viewer_html,
+    )
+    from vibrissa.slam import SlamSettings, map_error, smooth_ground_truth
+
+    if simulate_run is None:
+        simulate_run, default_train = default_robot()
+        train = train if train is not None else default_train
+    kwargs: dict[str, Any] = {}
+    if train is not None:
+        kwargs["classifiers"] = train(seed, quick=True)
+    if progress is not None and _qualname(simulate_run) != ":".join(_SYNTHETIC):
+        kwargs["progress"] = lambda f: progress("robot", f)
+    rec = simulate_run(arena, seconds, seed, **kwargs)
+    if progress:
+        progress("robot", 1.0)
+    log = rec.log
+    settings = SlamSettings(n_particles=particles, mode=mode)
+    frames = slam_frames(log, settings, seed, progress=(
+        (lambda d, n: progress("slam", d / n)) if progress else None))
+    offset = arena.map_offset_m(settings.map_size_m, settings.cell_m)
+    boxes = [[b[0] + offset, b[1] + offset, b[2] + offset, b[3] + offset]
+             for b in [(0.0, 0.0, arena.size_m, arena.size_m)]
+             + [o.bounds() for o in arena.obstacles]]
+    tiles = [(c * arena.tile_m + offset, r * arena.tile_m + offset,
+              (c + 1) * arena.tile_m + offset, (r + 1) * arena.tile_m + offset, name)
+             for r, row in enumerate(arena.tiles) for c, name in enumerate(row)]
+    starts = np.asarray(rec.step_start)
+    step_time = np.asarray(rec.time_s)[np.minimum(starts, len(rec.time_s) - 1)]
+    every = max(1, int(round(rec.sample_rate_hz / 50)))  # 50 Hz traces in the page
+    mag = np.hypot(rec.hall_v[::every, :, 0], rec.hall_v[::every, :, 1])
+    traces = {name: mag[:, i] for i, name in enumerate(WHISKER_NAMES)}
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    grid = arena.occupancy_grid(settings.cell_m, settings.map_size_m)
+    err = map_error(frames.best_map, smooth_ground_truth(grid))
+    traj = trajectory_error_mm(frames.estimate, log.true_pose)
+    summary = {"arena": arena.name, "seconds": rec.seconds, "seed": seed, "mode": mode,
+               "particles": particles, "n_steps": log.n_steps,
+               "robot": _robot_kind(simulate_run), "map_error": err,
+               "trajectory_error_mm": traj,
+               "dead_reckoning_error_mm": trajectory_error_mm(dead_reckoning(log),
+                                                              log.true_pose),
+               "real_time_factor": rec.real_time_factor}
+    if progress:
+        progress("draw", 0.0)
+    gif = write_animation(out_dir / "crunchbot.gif", log, frames, boxes)
+    text = (f"{summary['robot']} robot, arena {arena.name}, {rec.seconds:.0f} s, seed {seed}, "
+            f"{mode} mode, {particles} particles: map error {err:.3f} (eq. 6.3), trajectory "
+            f"error {traj:.1f} mm. Hall traces: magnitude (V) of each whisker.")
+    html = write_viewer_html(out_dir / "crunchbot.html", log, frames, boxes,
+                             step_time_s=step_time, traces=traces,
+                             trace_time_s=np.asarray(rec.time_s)[::every], tiles=tiles,
+                             title=f"CrunchBot in {arena.name}", summary=text)
+    if progress:
+        progress("draw", 1.0)
+    return {**summary, "animation": str(gif), "html": str(html)}
+
+
+def _robot_kind(run: Callable | None) -> str:
+    q = _qualname(run)
+    return ("simulated-physics" if q == ":".join(_PHYSICS) else
+            "synthetic-oracle" if q == ":".join(_SYNTHETIC) else "custom")

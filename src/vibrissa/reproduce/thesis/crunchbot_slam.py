@@ -279,9 +279,7 @@ class CrunchbotSlam(Experiment):
             "floor_texture": results["floor_texture"],
             "classifier_latency_ms": {c: {k: v[k] for k in ("median", "p99")}
                                       for c, v in results["classifier_latency_ms"].items()},
-            "meta": {"real_time_factor": meta["real_time_factor"], "robot": meta["robot"],
-                     "n_runs": meta["n_runs"], "seconds_per_run": meta["seconds_per_run"],
-                     "particles": meta["particles"]},
+            "meta": dict(meta),
         }
 
     def console_table(self, summary: Mapping[str, Any]) -> Any:
