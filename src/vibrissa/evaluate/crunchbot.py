@@ -31,7 +31,8 @@ from vibrissa.slam import (
 from vibrissa.slam.filter import apply_motion
 
 __all__ = ["THESIS", "dead_reckoning", "evaluate_crunchbot", "floor_texture_accuracy",
-           "json_ready", "latency_stats", "radial_distance_errors_mm", "slam_job", "trajectory_error_mm"]
+           "json_ready", "latency_stats", "radial_distance_errors_mm", "slam_job",
+           "trajectory_error_mm"]
 
 #: The thesis' numbers (6.5.4, 6.5.6): map error of eq. 6.3 per mode and of a random
 #: map; radial-distance error (std, mm) per obstacle whisker and all together.

@@ -160,9 +160,13 @@ canvas{border:1px solid #999;max-width:100%}
 <div id="controls"><button id="play" type="button">Play</button>
 <input id="slider" type="range" min="0" value="0" step="1" aria-label="time step">
 <span id="label"></span></div>
-<div id="views"><canvas id="arena" width="460" height="460" aria-label="arena, robot and particles"></canvas>
+<div id="views">
+<canvas id="arena" width="460" height="460" aria-label="arena, robot and particles"></canvas>
 <canvas id="map" width="460" height="460" aria-label="best particle's map"></canvas></div>
-<p class="legend"><span>black: true robot</span><span style="color:#d62728">red: whisker in contact</span><span style="color:#ff7f0e">orange: particles</span><span style="color:#2ca02c">green: filter estimate</span></p>
+<p class="legend"><span>black: true robot</span>
+<span style="color:#d62728">red: whisker in contact</span>
+<span style="color:#ff7f0e">orange: particles</span>
+<span style="color:#2ca02c">green: filter estimate</span></p>
 <canvas id="traces" width="940" height="220" aria-label="whisker traces"></canvas>
 <script id="data" type="application/json">__DATA__</script>
 <script>
@@ -190,7 +194,8 @@ function drawRobot(ctx, t) {
   ctx.strokeStyle = "#000"; ctx.lineWidth = 2; ctx.beginPath();
   ctx.arc(tx(ctx, p[0]), ty(ctx, p[1]), tx(ctx, D.body_radius_m), 0, 2 * Math.PI); ctx.stroke();
   ctx.beginPath(); ctx.moveTo(tx(ctx, p[0]), ty(ctx, p[1]));
-  ctx.lineTo(tx(ctx, p[0] + D.body_radius_m * c), ty(ctx, p[1] + D.body_radius_m * s)); ctx.stroke();
+  ctx.lineTo(tx(ctx, p[0] + D.body_radius_m * c), ty(ctx, p[1] + D.body_radius_m * s));
+  ctx.stroke();
   D.whiskers.forEach((w, i) => {
     const touch = t < D.contact.length && D.contact[t][i];
     ctx.strokeStyle = touch ? "#d62728" : "#777"; ctx.lineWidth = 1.5; ctx.beginPath();
@@ -203,7 +208,8 @@ function drawArena(t) {
   ctx.clearRect(0, 0, ctx.canvas.width, ctx.canvas.height); drawBoxes(ctx);
   ctx.strokeStyle = "#2ca02c"; ctx.lineWidth = 1; ctx.beginPath();
   for (let k = 0; k <= t; k++) { const e = D.estimate[k];
-    if (k) ctx.lineTo(tx(ctx, e[0]), ty(ctx, e[1])); else ctx.moveTo(tx(ctx, e[0]), ty(ctx, e[1])); }
+    if (k) ctx.lineTo(tx(ctx, e[0]), ty(ctx, e[1]));
+    else ctx.moveTo(tx(ctx, e[0]), ty(ctx, e[1])); }
   ctx.stroke();
   ctx.fillStyle = "#ff7f0e";
   D.particles[t].forEach(q => ctx.fillRect(tx(ctx, q[0]) - 1, ty(ctx, q[1]) - 1, 2, 2));
