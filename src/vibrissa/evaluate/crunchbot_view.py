@@ -11,6 +11,7 @@ and its whiskers, the particles and the current map, with the whisker traces und
 from __future__ import annotations
 
 import base64
+import html
 import json
 import os
 from collections.abc import Callable, Mapping, Sequence
@@ -306,5 +307,5 @@ def write_viewer_html(path: str | os.PathLike[str], log: SensorLog, frames: Slam
         "trace_colours": list(_TRACE_COLOURS[: len(traces)]), "summary": summary,
     }
     text = json.dumps(data, separators=(",", ":")).replace("</", "<\\/")
-    html = _PAGE.replace("__TITLE__", title).replace("__DATA__", text)
-    return atomic_write_text(Path(path), html)
+    page = _PAGE.replace("__TITLE__", html.escape(title)).replace("__DATA__", text)
+    return atomic_write_text(Path(path), page)
