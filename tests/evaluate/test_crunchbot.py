@@ -87,3 +87,28 @@ def test_evaluation_refuses_bad_input():
     with pytest.raises(ValueError, match="true_pose"):
         evaluate_crunchbot([replace(log, true_pose=None)], np.zeros((50, 50)))
     assert THESIS["map_error"]["template"] < THESIS["map_error"]["blob"]
+
+
+def test_figures_draw_with_missing_numbers(tmp_path):
+    from vibrissa.evaluate.figures.common import save_figure
+    from vibrissa.evaluate.figures.crunchbot import (
+        average_maps_figure,
+        radial_distance_figure,
+        texture_trace_figure,
+        trajectory_figure,
+    )
+
+    truth = np.zeros((50, 50))
+    true = np.array([[0.05, np.nan], [0.07, np.nan]])
+    figs = {
+        "maps": average_maps_figure(truth, {"blob": truth + 0.3}, {"blob": 0.3}),
+        "radial": radial_distance_figure(true + 0.001, true, ["w1", "w2"],
+                                         {"w1": 1.0, "w2": float("nan")}),
+        "texture": texture_trace_figure(np.arange(4.0), np.array([[0, 1], [0, 1], [1, -1],
+                                                                  [2, 2]]),
+                                        np.array([[0, 1], [1, 1], [1, 0], [-1, 2]]),
+                                        ["a", "b", "c"], ["left", "right"]),
+        "trajectory": trajectory_figure(np.zeros((3, 3)), {"blob": np.ones((3, 3))}, truth),
+    }
+    for name, fig in figs.items():
+        assert save_figure(fig, tmp_path / f"{name}.png").stat().st_size > 0

@@ -74,7 +74,9 @@ def radial_distance_figure(estimated_m: np.ndarray, true_m: np.ndarray,
         if not ok.any():
             continue
         e, t = 1000 * estimated_m[ok, w], 1000 * true_m[ok, w]
-        a1.plot(t, e, ".", ms=3, label=f"{name} (std {errors_mm[name]:.2f} mm)")
+        err = errors_mm.get(name)
+        shown = "—" if err is None or not np.isfinite(err) else f"{err:.2f}"
+        a1.plot(t, e, ".", ms=3, label=f"{name} (std {shown} mm)")
         a2.hist(e - t, bins=30, histtype="step", label=name)
         lims = [min(lims[0], t.min(), e.min()), max(lims[1], t.max(), e.max())]
     if np.isfinite(lims).all():
