@@ -182,15 +182,8 @@ class CrunchbotSlam(Experiment):
         if tex_runs.size and textures:
             r = int(tex_runs[0])
             n = int(dataset["n_steps"].values[r])
-            states = np.array(json.loads(dataset.attrs["states"]))[
-                dataset["state"].values[r, :n].astype(int)]
-            pose = dataset["true_pose"].values[r, : n + 1]
-            # robot time at each step's end: FWD/BACK 0.5 s, TURN its angle at 0.3 rad/s
-            turn = np.abs(np.diff(np.unwrap(pose[:, 2])))
-            dt = np.where(np.isin(states, ("FWD_1", "FWD_2", "BACK")), 0.5,
-                          np.where(states == "TURN", turn / 0.3, 0.0))
             out["texture"] = save_figure(texture_trace_figure(
-                np.cumsum(dt), dataset["floor_texture_true"].values[r, :n],
+                dataset["step_end_s"].values[r, :n], dataset["floor_texture_true"].values[r, :n],
                 dataset["floor_texture_pred"].values[r, :n], textures,
                 [str(f) for f in dataset["floor_whisker"].values]),
                 fig_dir / "texture_trace.png")
