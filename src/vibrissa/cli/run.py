@@ -39,7 +39,7 @@ def crunchbot_cmd(
     from rich.console import Console
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-    from vibrissa.experiments.crunchbot import check_watch, default_robot, watch_run
+    from vibrissa.experiments.crunchbot import check_watch, default_robot, robot_kind, watch_run
 
     a = check_watch(arena, seconds, seed, particles, mode)
     try:
@@ -47,9 +47,9 @@ def crunchbot_cmd(
     except ValueError as exc:
         raise ValueError(f"--out: {exc}") from None
     console = Console(stderr=True)
-    run, _ = default_robot()
-    kind = "synthetic-oracle (exact contacts, synthetic signals)" if run.__name__ == \
-        "synthetic_record" else "simulated robot"
+    kind = robot_kind(default_robot()[0])
+    if kind == "synthetic-oracle":
+        kind += ": exact contacts, synthetic signals"
     console.print(f"crunchbot: {seconds:g} s of robot time in arena {a.name!r} "
                   f"({kind}), then SLAM with {particles} particles in {mode} mode over about "
                   f"{int(seconds * 2)} FSM steps, then an animation and a page -> {out}",

@@ -48,7 +48,7 @@ from vibrissa.robots.crunchbot.record import (
 from vibrissa.slam.log import SensorLog, WhiskerLayout
 
 __all__ = ["ROBOT_KINDS", "CrunchbotProtocol", "check_watch", "crunchbot_protocol", "default_robot",
-           "hall_run", "run_kinds", "sensor_logs", "watch_run"]
+           "hall_run", "robot_kind", "run_kinds", "sensor_logs", "watch_run"]
 
 #: What a protocol's robot is: the simulated physical robot, the exact-contact oracle
 #: with synthetic signals, or a callable the caller passed.
@@ -140,7 +140,7 @@ class CrunchbotProtocol:
     @property
     def robot_kind(self) -> str:
         """One of :data:`ROBOT_KINDS`."""
-        return _robot_kind(self.simulate_run)
+        return robot_kind(self.simulate_run)
 
     def arenas(self) -> tuple[Arena, Arena | None]:
         """The SLAM arena and the floor-texture arena (``None``: none)."""
@@ -518,7 +518,7 @@ def watch_run(out_dir: Path, arena: Arena, seconds: float = 360.0, seed: int = 0
     traj = trajectory_error_mm(frames.estimate, log.true_pose)
     summary = {"arena": arena.name, "seconds": rec.seconds, "seed": seed, "mode": mode,
                "particles": particles, "n_steps": log.n_steps,
-               "robot": _robot_kind(simulate_run), "map_error": err,
+               "robot": robot_kind(simulate_run), "map_error": err,
                "trajectory_error_mm": traj,
                "dead_reckoning_error_mm": trajectory_error_mm(dead_reckoning(log),
                                                               log.true_pose),
@@ -538,7 +538,8 @@ def watch_run(out_dir: Path, arena: Arena, seconds: float = 360.0, seed: int = 0
     return {**summary, "animation": str(gif), "html": str(html)}
 
 
-def _robot_kind(run: Callable | None) -> str:
+def robot_kind(run: Callable | None) -> str:
+    """Which of :data:`ROBOT_KINDS` a ``simulate_run`` callable is."""
     q = _qualname(run)
     return ("simulated-physics" if q == ":".join(_PHYSICS) else
             "synthetic-oracle" if q == ":".join(_SYNTHETIC) else "custom")
