@@ -98,6 +98,9 @@ def test_runs_are_chunks_and_round_trip_to_sensor_logs(tmp_path):
     tex = sensor_logs(ds, "texture")[0]
     assert tex.floor_loglik is not None and set(tex.textures) == {
         "vinyl", "smooth-carpet", "rough-carpet"}
+    from vibrissa.robots.crunchbot.synthetic import FLOOR_WHISKERS_M
+
+    assert np.array_equal(tex.floor_whisker_m, FLOOR_WHISKERS_M)
     lat = ds["latency_floor_texture_s"].values
     assert np.isfinite(lat).sum() == int(ds["n_steps"].values.sum())
     assert np.isnan(ds["latency_surface_angle_s"].values).all()

@@ -315,8 +315,11 @@ class CrunchbotProtocol:
             **{name: ("trial", vals) for name, vals in per_trial.items()},
         }
         lay = {k: np.asarray(merged[k][0]).tolist() for k in
-               ("layout_base_m", "layout_angle_rad", "layout_length_m", "floor_whisker_m")}
+               ("layout_base_m", "layout_angle_rad", "layout_length_m")}
         lay["body_radius_m"] = float(merged["layout_body_radius_m"][0])
+        # runs in an arena without tiles report no floor whiskers: take one that does
+        floor = [f for f in merged["floor_whisker_m"] if np.isfinite(f).all()]
+        lay["floor_whisker_m"] = np.asarray(floor[0]).tolist() if floor else None
         return xr.Dataset(data, coords=coords, attrs={
             "sample_rate_hz": 1.0 / fsm.FsmSettings().step_s,
             "protocol": self.name,

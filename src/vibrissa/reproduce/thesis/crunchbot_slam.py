@@ -238,6 +238,13 @@ class CrunchbotSlam(Experiment):
             out += ["Run 0: the true path and the filter's pose estimate per mode "
                     "(the thesis could not measure this):", "",
                     f"![trajectory]({figures['trajectory']})", ""]
+        out += ["## Per run", "",
+                md_table(["run", "FSM steps", *[f"{m} map error" for m in modes],
+                          *[f"{m} trajectory (mm)" for m in modes], "dead reckoning (mm)"],
+                         [[r["run"], r["n_steps"], *[fmt(r[m]["map_error"], 3) for m in modes],
+                           *[fmt(r[m]["trajectory_error_mm"], 1) for m in modes],
+                           fmt(r["dead_reckoning_error_mm"], 1)] for r in results["per_run"]]),
+                ""]
         rd = results["radial_distance_error_mm"]
         n_c = results["radial_distance_contacts"]
         keys = [k for k in rd if k != "combined"]
