@@ -136,6 +136,16 @@ FIXTURES: dict[str, Callable[[Path], None]] = {
     "not-toml.toml": _bytes(b"[[[ not toml"),
     "unknown-keys.json": _bytes(json.dumps({"signal": "data", "colour": "blue"}).encode()),
     "no-classifiers.json": _bytes(json.dumps({"meta": {}}).encode()),
+    # CrunchBot arena files (issue 16): an unknown tile texture, overlapping obstacles,
+    # the robot starting inside an obstacle
+    "bad-texture.toml": _bytes(b'size_m = 1.0\ntiles = [["vinyl", "velvet"], '
+                               b'["vinyl", "vinyl"]]\nstart = {x_m = 0.3, y_m = 0.3}\n'),
+    "overlap.toml": _bytes(b"size_m = 1.25\nstart = {x_m = 0.2, y_m = 0.2}\n"
+                           b"[[obstacles]]\nx_m = 0.5\ny_m = 0.5\nsize_m = 0.3\n"
+                           b"[[obstacles]]\nx_m = 0.6\ny_m = 0.6\nsize_m = 0.3\n"),
+    "inside.json": _bytes(json.dumps({"size_m": 1.25, "start": {"x_m": 0.6, "y_m": 0.6},
+                                      "obstacles": [{"x_m": 0.5, "y_m": 0.5,
+                                                     "size_m": 0.25}]}).encode()),
 }
 
 
@@ -331,6 +341,29 @@ def _cases() -> list[Case]:
         add(["reproduce", "scratchbot", "--quick", "--out", "r", "--seed", value], "--seed")
     add("reproduce scratchbot --quick --out r --workers 0", "--workers")
     add("reproduce scratchbot --quick --out file.txt", "file.txt", "file.txt")
+    # crunchbot (issue 16): vibrissa run crunchbot and vibrissa reproduce crunchbot-slam
+    rc = ["run", "crunchbot", "--seconds", "5", "--out", "o"]
+    add([*rc, "--arena", "bad-texture.toml"], "velvet", "bad-texture.toml")
+    add([*rc, "--arena", "overlap.toml"], "overlap.toml", "overlap.toml")
+    add([*rc, "--arena", "inside.json"], "inside.json", "inside.json")
+    add([*rc, "--arena", "missing.toml"], "missing.toml")
+    add([*rc, "--arena", "nowhere"], "--arena")
+    add([*rc, "--arena", "file.txt"], "--arena", "file.txt")
+    for value in ("0", "-3", "abc"):
+        add([*rc, "--particles", value], "--particles")
+    for value in ("-1", "0", "nan", "inf", "abc"):
+        add(["run", "crunchbot", "--out", "o", "--seconds", value], "--seconds")
+    add([*rc, "--mode", "bogus"], "--mode")
+    add([*rc, "--seed", "-1"], "--seed")
+    add("run crunchbot --seconds 5 --out file.txt", "file.txt", "file.txt")
+    add("run crunchbot --seconds 5", "--out")
+    cs = ["reproduce", "crunchbot-slam", "--quick", "--out", "r"]
+    for value in ("0", "-3", "2.5", "abc"):
+        add([*cs, "--particles", value], "--particles")
+    for value in ("-1", "0"):
+        add([*cs, "--seconds", value], "--seconds")
+    for value in ("0", "1,2"):
+        add([*cs, "--runs", value], "--runs")
     # identify
     add("identify extra", "extra")
     add("identify --bogus", "--bogus")

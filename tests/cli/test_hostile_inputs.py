@@ -20,7 +20,7 @@ from hostile_corpus import CASES, run_console, run_in_process
 from vibrissa.cli import app
 
 #: The commands of ``vibrissa --help`` (each must be in the corpus).
-COMMANDS = ("whisker", "bench", "generate", "import", "plot", "reproduce", "identify")
+COMMANDS = ("whisker", "bench", "generate", "import", "plot", "reproduce", "identify", "run")
 
 #: The issue's own command lines (findings 1-3, 7 and 8), each a case of the corpus.
 ISSUE_COMMANDS = [
@@ -73,6 +73,11 @@ def no_simulation(monkeypatch):
     monkeypatch.setattr(importlib.import_module("vibrissa.whisker.simulate"), "run_dynamics",
                         refuse)
     monkeypatch.setattr(importlib.import_module("vibrissa.whisker.rod"), "solve_static", refuse)
+    # CrunchBot: the synthetic robot's run and the particle filter's steps (issue 16)
+    monkeypatch.setattr(importlib.import_module("vibrissa.robots.crunchbot.synthetic"),
+                        "synthetic_log", refuse)
+    monkeypatch.setattr(importlib.import_module("vibrissa.slam.filter").ParticleFilter, "step",
+                        refuse)
 
 
 @pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])

@@ -10,7 +10,7 @@ from __future__ import annotations
 import typer
 
 from vibrissa import __version__
-from vibrissa.cli import bench, data, generate, identify, plot, reproduce, whisker
+from vibrissa.cli import bench, data, generate, identify, plot, reproduce, run, whisker
 from vibrissa.cli._usage import OneLineUsageErrors
 
 app = typer.Typer(
@@ -39,7 +39,7 @@ def _root(
     """Whisker-based tactile sensing toolkit."""
 
 
-for _module in (whisker, bench, generate, data, plot, reproduce, identify):
+for _module in (whisker, bench, generate, data, plot, reproduce, identify, run):
     _module.register(app)
 
 

@@ -80,3 +80,41 @@ def test_tiled_arena_gives_floor_likelihoods_of_the_true_tile() -> None:
     assert log.floor_loglik.shape == (log.n_steps, 2, 3)
     assert np.allclose(np.exp(log.floor_loglik).max(axis=2), 0.8)
     assert synthetic_log(PRESETS["slam"], 5.0).floor_loglik is None
+
+
+def test_synthetic_record_wraps_the_log_with_synthetic_signals() -> None:
+    from vibrissa.robots.crunchbot.synthetic import synthetic_record
+
+    arena = PRESETS["slam"]
+    rec = synthetic_record(arena, 30.0, seed=3)
+    log = synthetic_log(arena, 30.0, seed=3)
+    assert np.array_equal(rec.log.state, log.state)
+    assert np.allclose(rec.log.true_pose, log.true_pose)
+    # robot time: FWD/BACK 0.5 s each, TURN its angle at 0.3 rad/s, events none
+    assert rec.seconds >= 30.0 and rec.step_start[-1] == len(rec.time_s)
+    # the poses at step boundaries are the true ones, in the arena frame
+    offset = arena.map_offset_m(2.5, 0.05)
+    inside = rec.step_start[:-1] < len(rec.time_s)
+    at = rec.pose[rec.step_start[:-1][inside]]
+    want = log.true_pose[:-1][inside] - [offset, offset, 0.0]
+    assert np.allclose(at[:, :2], want[:, :2])
+    # a touching whisker is deflected during its step, a free one reads only noise
+    touch = np.flatnonzero(log.contact[:, 0] & (np.diff(rec.step_start) > 0))
+    assert touch.size
+    t = touch[0]
+    seg = rec.hall_v[rec.step_start[t]:rec.step_start[t + 1], 0, 0]
+    length = CRUNCHBOT_LAYOUT.length_m[0]
+    assert np.mean(seg) == pytest.approx((length - log.radial_distance_m[t, 0]) / length,
+                                         abs=0.01)
+    assert np.array_equal(np.isfinite(rec.contact_true_m), log.contact)
+    assert rec.latency_s == {} and rec.wall_seconds > 0
+
+
+def test_synthetic_record_predicts_the_true_tile_texture() -> None:
+    from vibrissa.robots.crunchbot.synthetic import synthetic_record
+
+    rec = synthetic_record(PRESETS["tiles"], 20.0, seed=1)
+    assert set(np.unique(rec.floor_texture_true)) <= {"vinyl", "smooth-carpet", "rough-carpet"}
+    assert np.array_equal(rec.floor_texture_true, rec.floor_texture_pred)
+    with pytest.raises(ValueError, match="sample_rate_hz"):
+        synthetic_record(PRESETS["tiles"], 5.0, sample_rate_hz=0.0)

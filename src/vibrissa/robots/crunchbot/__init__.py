@@ -29,6 +29,7 @@ from vibrissa.robots.crunchbot.synthetic import (
     CRUNCHBOT_LAYOUT,
     cast_rays,
     synthetic_log,
+    synthetic_record,
     texture_grid,
     whisker_contacts,
 )
@@ -54,6 +55,7 @@ __all__ = [
     "get_arena",
     "load_arena",
     "synthetic_log",
+    "synthetic_record",
     "texture_grid",
     "transition",
     "whisker_contacts",

@@ -8,7 +8,9 @@ stops early when a whisker's strain passes the limit or its body would hit somet
 odometry it reports is the true movement plus the same relative error the filter assumes.
 Floor whiskers report a fixed likelihood for the true tile texture. The result is a
 :class:`~vibrissa.slam.log.SensorLog` with perfect sensors, for tests and benchmarks; the
-simulated robot with real whiskers will write the same log.
+simulated robot with real whiskers will write the same log. :func:`synthetic_record`
+wraps it in a :class:`~vibrissa.robots.crunchbot.record.RunRecord` with made-up
+(synthetic) Hall signals, for fast tests and the viewer.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ import numpy as np
 from vibrissa import _validate as v
 from vibrissa.robots.crunchbot import fsm
 from vibrissa.robots.crunchbot.arena import ROBOT_RADIUS_M, Arena
+from vibrissa.robots.crunchbot.record import N_OBSTACLE_WHISKERS, RunRecord
 from vibrissa.slam.filter import apply_motion, noisy_increment
 from vibrissa.slam.log import SensorLog, WhiskerLayout
 
@@ -196,3 +199,75 @@ def synthetic_log(arena: Arena, seconds: float = 360.0, seed: int = 0,
         floor_loglik=np.array(rows["floor"]) if textures else None,
         floor_whisker_m=FLOOR_WHISKERS_M if textures else None, textures=textures,
         true_pose=true_pose)
+
+
+def _step_durations(log: SensorLog, settings: fsm.FsmSettings) -> np.ndarray:
+    """Robot time of each step of a synthetic log: FWD/BACK one step, TURN its rotation
+    at the turn rate, the HIT/ABORT events none."""
+    state = np.asarray(log.state)
+    dur = np.where(np.isin(state, (fsm.FWD_1, fsm.FWD_2, fsm.BACK)), settings.step_s, 0.0)
+    turn = np.abs(np.diff(np.unwrap(np.asarray(log.true_pose)[:, 2])))
+    return np.where(state == fsm.TURN, turn / settings.turn_rate_rad_s, dur)
+
+
+#: Standard deviation (V) of the synthetic floor whiskers' noise per texture (made up).
+_SYNTHETIC_FLOOR_NOISE_V = {"vinyl": 0.01, "smooth-carpet": 0.03, "rough-carpet": 0.06}
+
+
+def synthetic_record(arena: Arena, seconds: float = 360.0, seed: int = 0,
+                     sample_rate_hz: float = 2000.0, gain_v: float = 1.0,
+                     noise_v: float = 0.005, **log_options) -> RunRecord:
+    """A :class:`RunRecord` from :func:`synthetic_log`: SYNTHETIC Hall signals, no physics.
+
+    For tests and the viewer while the simulated robot is not there: the contacts are the
+    exact ray-cast ones of :func:`synthetic_log`; the Hall outputs are made up from them.
+    An obstacle whisker touching at ``d`` from its base reads ``gain_v * (L - d) / L`` in
+    x through the whole step (0 when free), a floor whisker reads noise whose size
+    depends on the tile under it, and every channel gets Gaussian noise of ``noise_v``.
+    Poses between step boundaries are interpolated linearly. The floor prediction is the
+    most likely texture of the log (the true one); ``latency_s`` is empty (no classifier
+    ran); ``wall_seconds`` is the time this function took.
+
+    Parameters
+    ----------
+    arena, seconds, seed
+        As :func:`synthetic_log` (``log_options`` go there too).
+    sample_rate_hz
+        Rate of the synthetic whisker samples.
+    """
+    import time
+
+    t0 = time.perf_counter()
+    v.positive("sample_rate_hz", sample_rate_hz)
+    settings = log_options.get("settings") or fsm.FsmSettings()
+    log = synthetic_log(arena, seconds, seed, **log_options)
+    rng = np.random.default_rng([seed, 1])
+    offset = arena.map_offset_m(log_options.get("map_size_m", 2.5), log_options.get("cell_m",
+                                                                                  0.05))
+    true = np.asarray(log.true_pose) - np.array([offset, offset, 0.0])
+    true[:, 2] = np.unwrap(true[:, 2])
+    counts = np.round(_step_durations(log, settings) * sample_rate_hz).astype(np.int64)
+    start = np.concatenate([[0], np.cumsum(counts)])
+    n = int(start[-1])
+    step = np.repeat(np.arange(log.n_steps), counts)
+    frac = (np.arange(n) - start[step]) / np.maximum(counts[step], 1)
+    pose = true[step] + frac[:, None] * (true[step + 1] - true[step])
+    length = np.asarray(log.layout.length_m, float)
+    defl = np.where(log.contact, gain_v * (length - np.nan_to_num(log.radial_distance_m,
+                                                                  nan=0.0)) / length, 0.0)
+    hall = rng.normal(0.0, noise_v, (n, 6, 2))
+    hall[:, :N_OBSTACLE_WHISKERS, 0] += defl[step]
+    fl = apply_motion(true[1:, None, :], np.c_[FLOOR_WHISKERS_M, np.zeros(2)][None])
+    tex_true = arena.texture_at(fl[..., 0], fl[..., 1]).astype(str)
+    sd = np.vectorize(lambda t: _SYNTHETIC_FLOOR_NOISE_V.get(t, 0.0), otypes=[float])(tex_true)
+    hall[:, N_OBSTACLE_WHISKERS:, :] += rng.standard_normal((n, 2, 2)) * sd[step][..., None]
+    if log.floor_loglik is not None and log.textures:
+        pred = np.asarray(log.textures, dtype=object)[np.argmax(log.floor_loglik, axis=2)]
+    else:
+        pred = np.full((log.n_steps, 2), "", dtype=object)
+    return RunRecord(
+        arena=arena, seed=seed, log=log, sample_rate_hz=float(sample_rate_hz),
+        time_s=np.arange(n) / sample_rate_hz, hall_v=hall.astype(np.float32), pose=pose,
+        step_start=start, contact_true_m=np.where(log.contact, log.radial_distance_m, np.nan),
+        floor_texture_true=tex_true.astype(object), floor_texture_pred=pred.astype(object),
+        latency_s={}, wall_seconds=time.perf_counter() - t0)
