@@ -141,3 +141,16 @@ def test_texture_course_reports_every_100_ms() -> None:
     np.testing.assert_allclose(course.decision_time_s, [0.1, 0.2, 0.3, 0.4, 0.5])
     assert np.all(course.texture_true == "vinyl")
     assert np.isnan(course.accuracy())
+
+
+def test_window_mode_takes_a_step_shorter_than_the_window() -> None:
+    """A step cut short (the strain limit or the bumper stopped it after a few samples)
+    still gives its samples: the lead-in reaches back into the previous step."""
+    fw = FloorWhiskers(_arena("vinyl", "vinyl"), seed=2)
+    s = fw.arena.start
+    t, p = _straight(0, s.x_m, s.y_m)
+    fw.advance(t, p, window_s=0.1)
+    t2 = t[-1] + (np.arange(9) + 1) / FS
+    p2 = np.column_stack([s.x_m + FWD_SPEED_M_S * t2, np.full(9, s.y_m), np.zeros(9)])
+    h = fw.advance(t2, p2, window_s=0.1)
+    assert h.shape == (9, 2, 2) and np.all(np.isfinite(h))

@@ -368,8 +368,10 @@ class FloorWhiskers:
             lift = self._height_change(tex[0, w], state, slide[0, w])
             fade = np.clip(1.0 - (times - times[0]) / self.lead_in_s, 0.0, 1.0)
             hall, _ = self._run(w, times, slide[:, w], tex[:, w], state, lift * fade)
-            n = hall.shape[0]
-            out[-n:, w][valid[-n:]] = hall[valid[-n:]]
+            # the run may start in an earlier step (the lead-in reaches back into the
+            # kept history) or inside this one: align the ends
+            n = min(hall.shape[0], t.size)
+            out[-n:, w][valid[-n:]] = hall[-n:][valid[-n:]]
         return out
 
     def _height_change(self, texture: str, state: DynamicState, slide_mm: np.ndarray) -> float:
