@@ -235,7 +235,9 @@ class ObstacleWhiskers:
     hall
         The sensors' settings (calibrated on the ``crunchbot`` whisker).
     dt_s
-        The rod's internal step (halved up to twice when a step fails to converge).
+        The rod's internal step. A step that fails to converge is tried again at half and
+        a quarter of it; if that fails too, the whisker meets nothing that step (counted
+        in ``failures``: rare deep contacts where the rod model gives up).
     """
 
     def __init__(self, arena: Arena, sample_rate_hz: float = 2000.0,

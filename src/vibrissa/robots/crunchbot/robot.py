@@ -163,8 +163,9 @@ def run_crunchbot(arena: Arena, seconds: float = 360.0, seed: int = 0,
         ``(arena, sample_rate_hz, seed) -> FloorWhiskers``-like object (default the real
         one); for tests.
     stats
-        If given, filled with counts: steps, steps with physics, whisker-steps with
-        physics, steps touching.
+        If given, filled with counts: ``steps``, ``physics_steps`` (any whisker ran the
+        physics), ``physics_whisker_steps``, ``touch_steps``, ``failures`` (steps where
+        a whisker's physics gave up and it met nothing).
 
     Raises
     ------
