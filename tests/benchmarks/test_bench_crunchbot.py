@@ -3,19 +3,13 @@ timing is asserted)."""
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import sys
-from pathlib import Path
-
-ROOT = Path(__file__).resolve().parents[2]
 
 
-def test_bench_crunchbot_times_the_robot_and_each_mode(tmp_path, monkeypatch) -> None:
-    spec = importlib.util.spec_from_file_location("bench_crunchbot",
-                                                  ROOT / "benchmarks" / "bench_crunchbot.py")
-    bench = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(bench)
+def test_bench_crunchbot_times_the_robot_and_each_mode(tmp_path, monkeypatch,
+                                                       bench_script) -> None:
+    bench = bench_script("bench_crunchbot")
     out = tmp_path / "crunchbot.json"
     monkeypatch.setattr(sys, "argv", ["bench_crunchbot.py", "--seconds", "6", "--particles",
                                       "4", "--out", str(out)])

@@ -73,6 +73,7 @@ def test_evaluation_with_perfect_odometry_tracks_the_truth():
     for m in ("blob", "geometric", "template"):
         assert ev["trajectory_error_mm"][m]["mean"] < 30
         assert ev["map_error"][m]["mean"] < ev["map_error"]["random"]
+        assert ev["map_error"][m]["mean"] < ev["map_error"]["empty"]
     assert ev["trajectory_error_mm"]["dead_reckoning"]["mean"] == pytest.approx(0, abs=1e-6)
     assert abs(ev["map_error"]["random"] - 0.5) < 0.01  # cell-wise Bernoulli(0.5)
     assert ev["_mean_maps"]["blob"].shape == (50, 50) and len(ev["per_run"]) == 2

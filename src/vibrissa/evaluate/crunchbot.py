@@ -28,6 +28,7 @@ from vibrissa.slam import (
     run_slam,
     smooth_ground_truth,
 )
+from vibrissa.slam.error import UNEXPLORED
 from vibrissa.slam.filter import apply_motion
 
 __all__ = ["THESIS", "dead_reckoning", "evaluate_crunchbot", "floor_texture_accuracy",
@@ -147,7 +148,8 @@ def evaluate_crunchbot(logs: Sequence[SensorLog], ground_truth: np.ndarray, *,
     -------
     dict
         ``map_error`` (per mode mean/std, ``random``: the cell-wise Bernoulli(0.5) map,
-        ``random_smoothed``), ``trajectory_error_mm`` (per mode and ``dead_reckoning``),
+        ``random_smoothed``, ``empty``: a map that explored nothing, all 0.3),
+        ``trajectory_error_mm`` (per mode and ``dead_reckoning``),
         ``per_run`` and, not for JSON, ``_mean_maps`` / ``_estimates`` / ``_truth``.
     """
     if isinstance(particles, bool) or not isinstance(particles, int) or particles <= 0:
@@ -175,7 +177,8 @@ def evaluate_crunchbot(logs: Sequence[SensorLog], ground_truth: np.ndarray, *,
     return {
         "map_error": {**{m: _mean_std([r["map_error"] for r in by[m]]) for m in modes},
                       "random": random_map_error(truth, rng),
-                      "random_smoothed": random_map_error(truth, rng, smooth=True)},
+                      "random_smoothed": random_map_error(truth, rng, smooth=True),
+                      "empty": map_error(np.full(truth.shape, UNEXPLORED), truth)},
         "trajectory_error_mm": {**{m: _mean_std([r["trajectory_error_mm"] for r in by[m]])
                                    for m in modes}, "dead_reckoning": _mean_std(dr)},
         "per_run": [{"run": r, "n_steps": lg.n_steps,
