@@ -73,7 +73,12 @@ def no_simulation(monkeypatch):
     monkeypatch.setattr(importlib.import_module("vibrissa.whisker.simulate"), "run_dynamics",
                         refuse)
     monkeypatch.setattr(importlib.import_module("vibrissa.whisker.rod"), "solve_static", refuse)
-    # CrunchBot: the synthetic robot's run and the particle filter's steps (issue 16)
+    # CrunchBot: the simulated robot's run and training, the synthetic robot's run and
+    # the particle filter's steps (issue 16)
+    monkeypatch.setattr(importlib.import_module("vibrissa.robots.crunchbot.robot"),
+                        "run_crunchbot", refuse)
+    monkeypatch.setattr(importlib.import_module("vibrissa.robots.crunchbot.training"),
+                        "train_classifiers", refuse)
     monkeypatch.setattr(importlib.import_module("vibrissa.robots.crunchbot.synthetic"),
                         "synthetic_log", refuse)
     monkeypatch.setattr(importlib.import_module("vibrissa.slam.filter").ParticleFilter, "step",

@@ -38,17 +38,15 @@ def fake_robot(arena, seconds, seed, classifiers=None):
                                    "radial_distance": np.array([2e-5, 3e-5])})
 
 
-def test_default_robot_is_the_synthetic_oracle_until_the_simulated_robot_exists():
+def test_default_robot_is_the_simulated_physical_robot():
+    from vibrissa.robots.crunchbot.robot import run_crunchbot
+    from vibrissa.robots.crunchbot.training import train_classifiers
+
     run, train = default_robot()
     p = crunchbot_protocol(quick=True)
-    try:
-        import vibrissa.robots.crunchbot.robot  # noqa: F401
-    except ImportError:
-        assert run is synthetic_record and train is None
-        assert p.robot_kind == "synthetic-oracle"
-    else:
-        assert p.robot_kind == "simulated-physics"
-    assert p.to_dict()["robot"] == p.robot_kind
+    assert run is run_crunchbot and train is train_classifiers
+    assert p.robot_kind == "simulated-physics" == p.to_dict()["robot"]
+    assert CrunchbotProtocol(simulate_run=synthetic_record).robot_kind == "synthetic-oracle"
     assert p.n_trials == p.n_runs + 1 and p.chunk_size == 1
 
 

@@ -48,8 +48,6 @@ def crunchbot_cmd(
         raise ValueError(f"--out: {exc}") from None
     console = Console(stderr=True)
     kind = robot_kind(default_robot()[0])
-    if kind == "synthetic-oracle":
-        kind += ": exact contacts, synthetic signals"
     console.print(f"crunchbot: {seconds:g} s of robot time in arena {a.name!r} "
                   f"({kind}), then SLAM with {particles} particles in {mode} mode over about "
                   f"{int(seconds * 2)} FSM steps, then an animation and a page -> {out}",

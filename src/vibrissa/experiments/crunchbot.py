@@ -13,18 +13,17 @@ figure; all twenty would be gigabytes).
 
 The robot is a parameter. By default it is the simulated physical robot
 (:func:`vibrissa.robots.crunchbot.robot.run_crunchbot`, trained by
-:func:`vibrissa.robots.crunchbot.training.train_classifiers`), imported lazily; while
-that module is missing the default falls back to the exact-contact oracle
-(:func:`vibrissa.robots.crunchbot.synthetic.synthetic_record`, synthetic Hall signals,
-no classifiers) and says so: :attr:`CrunchbotProtocol.robot_kind` is
-``"synthetic-oracle"`` and the reproduction reports it in ``meta.robot`` and its report.
+:func:`vibrissa.robots.crunchbot.training.train_classifiers`); tests and the viewer may
+pass the exact-contact oracle (:func:`vibrissa.robots.crunchbot.synthetic.synthetic_record`,
+synthetic Hall signals, no classifiers), and the reproduction then says so:
+:attr:`CrunchbotProtocol.robot_kind` is ``"synthetic-oracle"`` in ``meta.robot`` and in its
+report.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import hashlib
-import importlib
 import json
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -54,29 +53,17 @@ __all__ = ["ROBOT_KINDS", "CrunchbotProtocol", "check_watch", "crunchbot_protoco
 #: with synthetic signals, or a callable the caller passed.
 ROBOT_KINDS = ("simulated-physics", "synthetic-oracle", "custom")
 _PHYSICS = ("vibrissa.robots.crunchbot.robot", "run_crunchbot")
-_TRAINING = ("vibrissa.robots.crunchbot.training", "train_classifiers")
 _SYNTHETIC = ("vibrissa.robots.crunchbot.synthetic", "synthetic_record")
 #: The classifiers trained in this process, by (train function, seed, quick).
 _TRAINED: dict[tuple[str, int, bool], Any] = {}
 
 
-def _lookup(module: str, name: str) -> Callable | None:
-    try:
-        return getattr(importlib.import_module(module), name)
-    except (ImportError, AttributeError):
-        return None
+def default_robot() -> tuple[Callable[..., RunRecord], Callable[..., Any]]:
+    """``(simulate_run, train)``: the simulated physical robot and its training."""
+    from vibrissa.robots.crunchbot.robot import run_crunchbot
+    from vibrissa.robots.crunchbot.training import train_classifiers
 
-
-def default_robot() -> tuple[Callable[..., RunRecord], Callable[..., Any] | None]:
-    """``(simulate_run, train)``: the simulated physical robot and its training when
-    :mod:`vibrissa.robots.crunchbot.robot` exists, else the synthetic oracle and no
-    training."""
-    run = _lookup(*_PHYSICS)
-    if run is not None:
-        return run, _lookup(*_TRAINING)
-    synthetic = _lookup(*_SYNTHETIC)
-    assert synthetic is not None
-    return synthetic, None
+    return run_crunchbot, train_classifiers
 
 
 def _qualname(f: Callable | None) -> str | None:

@@ -30,26 +30,26 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from vibrissa import _validate as v
+from vibrissa.classify.realtime import (
+    FloorTextureNB,
+    RadialDistanceLinear,
+    SurfaceAngleTemplates,
+    peak_deflection,
+)
 from vibrissa.robots.crunchbot import fsm
 from vibrissa.robots.crunchbot.arena import Arena
 from vibrissa.robots.crunchbot.body import odometry, plan_motion
+from vibrissa.robots.crunchbot.floor_whiskers import FloorWhiskers
 from vibrissa.robots.crunchbot.obstacle_whiskers import ObstacleWhiskers
 from vibrissa.robots.crunchbot.record import CLASSIFIERS, RunRecord
 from vibrissa.robots.crunchbot.synthetic import CRUNCHBOT_LAYOUT, FLOOR_WHISKERS_M
 from vibrissa.slam.filter import apply_motion
 from vibrissa.slam.log import SensorLog
-
-if TYPE_CHECKING:
-    from vibrissa.classify.realtime import (
-        FloorTextureNB,
-        RadialDistanceLinear,
-        SurfaceAngleTemplates,
-    )
 
 __all__ = ["FLOOR_MODES", "FLOOR_WINDOW_S", "RealtimeClassifiers", "run_crunchbot"]
 
@@ -85,8 +85,6 @@ def deflection_volts(hall_v: np.ndarray, offset_v: float) -> np.ndarray:
 
 
 def _default_floor(arena: Arena, sample_rate_hz: float, seed: int) -> Any:
-    from vibrissa.robots.crunchbot.floor_whiskers import FloorWhiskers  # helper B's part
-
     return FloorWhiskers(arena, sample_rate_hz=sample_rate_hz, seed=seed)
 
 
@@ -279,14 +277,12 @@ def _radial(loop: _Loop, classifiers: RealtimeClassifiers | None, sig: Any,
         if classifiers is None:
             est = true_m[w] if np.isfinite(true_m[w]) else length_m
         else:
-            from vibrissa.classify.realtime import peak_deflection  # helper B's part
-
             clf = classifiers.radial[w]
 
             def call(h: np.ndarray, clf: Any = clf) -> float:
-                return float(clf.predict(peak_deflection(h)))
+                return float(clf.predict(peak_deflection(h, offset)))
 
-            est = loop.timed("radial_distance", call, deflection_volts(sig.hall_v[:, w], offset))
+            est = loop.timed("radial_distance", call, sig.hall_v[:, w])
         out[w] = float(np.clip(est, 0.0, length_m)) if np.isfinite(est) else length_m
     return out
 

@@ -19,33 +19,41 @@ The data are collected as in the thesis, on the same body and whiskers the runs 
   steps) 4 times each: FWD_1 at 0.05 m/s until a whisker touches (HIT_1), then FWD_2
   creeping for 2 s (cut by the strain limit, after which the robot holds still and the
   recording holds its last value); 8 channels (4 whiskers x (x, y)) from HIT_1.
-* floor texture: helper B's ``collect_floor_training``.
+* floor texture (6.5.2): :func:`~vibrissa.robots.crunchbot.floor_whiskers.collect_floor_training`
+  on the three tile textures of 6.5.1 (:data:`TILE_TEXTURES`).
 
-The classifiers themselves are helper B's (:mod:`vibrissa.classify.realtime`), imported
-when :func:`train_classifiers` runs.
+The classifiers are :mod:`vibrissa.classify.realtime`'s.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 
 import numpy as np
 
+from vibrissa.classify.realtime import (
+    FloorTextureNB,
+    RadialDistanceLinear,
+    SurfaceAngleTemplates,
+    peak_deflection,
+)
 from vibrissa.robots.crunchbot import fsm
 from vibrissa.robots.crunchbot.arena import Arena, Obstacle, Pose
 from vibrissa.robots.crunchbot.body import plan_motion
+from vibrissa.robots.crunchbot.floor_whiskers import collect_floor_training
 from vibrissa.robots.crunchbot.obstacle_whiskers import ObstacleWhiskers
 from vibrissa.robots.crunchbot.robot import RealtimeClassifiers, deflection_volts
 from vibrissa.robots.crunchbot.synthetic import CRUNCHBOT_LAYOUT
 
-__all__ = ["ANGLES_DEG", "RADIAL_POINTS_M", "body_whisk", "collect_angle_training",
+__all__ = ["ANGLES_DEG", "RADIAL_POINTS_M", "TILE_TEXTURES", "body_whisk", "collect_angle_training",
            "collect_radial_training", "train_classifiers"]
 
 #: Where the radial-distance training contacts are (m from the base).
 RADIAL_POINTS_M = 0.135 - 0.01 * np.arange(6)
 #: Wall angles of the surface-angle training, in the robot's frame (deg).
 ANGLES_DEG = np.arange(20, 161, 10)
+#: The tile textures of the arena of 6.5.1: vinyl, smooth carpet and rough carpet.
+TILE_TEXTURES = ("vinyl", "smooth-carpet", "rough-carpet")
 #: Length of a surface-angle recording from HIT_1 (s).
 ANGLE_RECORD_S = 2.0
 _BLOCK_M = 0.05
@@ -75,21 +83,20 @@ def _block_at(corner: np.ndarray, pointing_left: bool) -> Obstacle:
 
 
 def collect_radial_training(seed: int = 0, contacts_per_point: int = 5,
-                            whiskers: tuple[int, ...] = (0, 1, 2, 3),
-                            peak: Callable[[np.ndarray], float] | None = None
+                            whiskers: tuple[int, ...] = (0, 1, 2, 3)
                             ) -> dict[int, tuple[np.ndarray, np.ndarray]]:
     """Radial-distance training contacts per whisker.
 
     Returns
     -------
     dict
-        whisker index -> ``(peak, distance_m)``: the step's peak deflection (``peak``
-        of the Hall volts about rest, default the largest magnitude) and the true
-        contact arc (m), one entry per contact that touched.
+        whisker index -> ``(peak, distance_m)``: the step's peak deflection
+        (:func:`~vibrissa.classify.realtime.peak_deflection` about the sensor's rest
+        output, as the control loop reads it) and the true contact arc (m), one entry per
+        contact that touched.
     """
     rng = np.random.default_rng(seed)
     lay = CRUNCHBOT_LAYOUT
-    peak = peak or (lambda h: float(np.hypot(h[:, 0], h[:, 1]).max()))
     out: dict[int, tuple[np.ndarray, np.ndarray]] = {}
     for w in whiskers:
         d = np.array([math.cos(lay.angle_rad[w]), math.sin(lay.angle_rad[w])])
@@ -107,7 +114,7 @@ def collect_radial_training(seed: int = 0, contacts_per_point: int = 5,
                 sig, _ = ow.advance(_START, poses, rng)
                 if not sig.contact[:, w].any():
                     continue
-                feats.append(peak(deflection_volts(sig.hall_v[:, w], ow.sensor.offset_v)))
+                feats.append(peak_deflection(sig.hall_v[:, w], ow.sensor.offset_v))
                 dists.append(sig.first_contact_m[w])
         out[w] = (np.array(feats), np.array(dists))
     return out
@@ -169,21 +176,12 @@ def train_classifiers(seed: int = 0, quick: bool = False) -> RealtimeClassifiers
     ``quick``: 2 contacts per radial point, 2 drives per angle, 2 s of floor per texture
     (for tests and previews); otherwise the thesis' 5, 4 and 10 s.
     """
-    from vibrissa.classify.realtime import (  # helper B's part
-        FloorTextureNB,
-        RadialDistanceLinear,
-        SurfaceAngleTemplates,
-        peak_deflection,
-    )
-    from vibrissa.robots.crunchbot.floor_whiskers import collect_floor_training
-    from vibrissa.whisker.floors import floor_names
-
-    radial_data = collect_radial_training(seed, 2 if quick else 5, peak=peak_deflection)
+    radial_data = collect_radial_training(seed, 2 if quick else 5)
     radial = tuple(RadialDistanceLinear().fit(*radial_data[w])
                    for w in range(CRUNCHBOT_LAYOUT.n_whiskers))
     recs, angles = collect_angle_training(seed + 1, 2 if quick else 4)
     angle = SurfaceAngleTemplates().fit(recs, angles, 2000.0)
-    windows, labels = collect_floor_training(tuple(floor_names()), 2.0 if quick else 10.0,
+    windows, labels = collect_floor_training(TILE_TEXTURES, 2.0 if quick else 10.0,
                                              seed + 2)
     floor = FloorTextureNB().fit(windows, labels, 2000.0)
     return RealtimeClassifiers(floor=floor, radial=radial, angle=angle)
