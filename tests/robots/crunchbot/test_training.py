@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import math
-import sys
-import types
 
 import numpy as np
 import pytest
@@ -40,29 +38,25 @@ def test_the_body_whisk_turns_toward_then_away_and_backs_off() -> None:
 
 def test_train_classifiers_fits_one_radial_model_per_whisker(
         monkeypatch: pytest.MonkeyPatch) -> None:
-    fitted: list = []
+    """The wiring: each collection feeds its classifier (collections replaced by data of
+    known shape, the classifiers real)."""
+    rng = np.random.default_rng(0)
+    asked: dict = {}
 
-    class Model:
-        def fit(self, *args):
-            fitted.append((type(self).__name__, [np.shape(a) for a in args]))
-            return self
+    def floor(textures, seconds, seed):
+        asked["textures"] = textures
+        labels = [t for t in textures for _ in range(4)]
+        return rng.normal(size=(len(labels), 200, 2)) + np.repeat(
+            np.arange(len(textures)), 4)[:, None, None], labels
 
-    fake = types.ModuleType("vibrissa.classify.realtime")
-    fake.FloorTextureNB = type("FloorTextureNB", (Model,), {})
-    fake.RadialDistanceLinear = type("RadialDistanceLinear", (Model,), {})
-    fake.SurfaceAngleTemplates = type("SurfaceAngleTemplates", (Model,), {})
-    fake.peak_deflection = lambda h: 0.0
-    floor = types.ModuleType("vibrissa.robots.crunchbot.floor_whiskers")
-    floor.collect_floor_training = lambda textures, seconds, seed: (
-        np.zeros((3, 200, 2)), ["vinyl"] * 3)
-    monkeypatch.setitem(sys.modules, "vibrissa.classify.realtime", fake)
-    monkeypatch.setitem(sys.modules, "vibrissa.robots.crunchbot.floor_whiskers", floor)
-    monkeypatch.setattr(training, "collect_radial_training", lambda seed, n, peak: {
-        w: (np.arange(3.0), np.arange(3.0)) for w in range(4)})
+    monkeypatch.setattr(training, "collect_radial_training", lambda seed, n: {
+        w: (np.arange(3.0), 0.1 + 0.01 * np.arange(3.0)) for w in range(4)})
     monkeypatch.setattr(training, "collect_angle_training", lambda seed, n: (
-        np.zeros((2, 4000, 8)), np.array([0.5, 1.0])))
+        rng.normal(size=(2, 4000, 8)), np.array([0.5, 1.0])))
+    monkeypatch.setattr(training, "collect_floor_training", floor)
     clf = training.train_classifiers(seed=0, quick=True)
     assert isinstance(clf, RealtimeClassifiers) and len(clf.radial) == 4
-    names = [n for n, _ in fitted]
-    assert names.count("RadialDistanceLinear") == 4
-    assert ("SurfaceAngleTemplates", [(2, 4000, 8), (2,), ()]) in fitted
+    assert clf.radial[2].predict(1.0) == pytest.approx(0.11)
+    assert asked["textures"] == training.TILE_TEXTURES
+    assert set(clf.floor.classes_) == set(training.TILE_TEXTURES)
+    assert clf.angle.predict(rng.normal(size=(100, 8))) in (0.5, 1.0)
