@@ -171,6 +171,17 @@ class CrunchbotProtocol:
         """The seed run ``index`` passes to the robot."""
         return int(stream(self.seed, TRIALS, index).generate_state(1)[0] % (2 ** 31))
 
+    def radial_fit_residuals_mm(self) -> dict[str, float] | None:
+        """Per obstacle whisker, the residual standard deviation (mm) of the radial
+        distance line on its own training contacts: the quantity of the thesis' table in
+        6.5.6.2 ("standard error for the regression", figure 6.12). ``None`` for a robot
+        without trained radial classifiers."""
+        clf = self.classifiers() if self.train is not None else None
+        radial = getattr(clf, "radial", None)
+        if not radial or not all(hasattr(r, "residual_std_m_") for r in radial):
+            return None
+        return {WHISKER_NAMES[w]: 1e3 * float(r.residual_std_m_) for w, r in enumerate(radial)}
+
     def classifiers(self) -> Any:
         """The trained real-time classifiers (``None`` without training), trained once per
         process, seed and ``quick_training``."""
@@ -318,6 +329,7 @@ class CrunchbotProtocol:
             "arena": json.dumps(_arena_dict(slam)),
             "texture_arena": json.dumps(_arena_dict(tex) if tex else None),
             "hall_sample_rate_hz": float(merged["sample_rate_hz"][self.hall_run]),
+            "radial_fit_residual_mm": json.dumps(self.radial_fit_residuals_mm()),
             "seed": int(self.seed),
             "vibrissa_version": __version__,
             "source": f"simulated: CrunchBot tactile SLAM runs (thesis 6.5), robot "

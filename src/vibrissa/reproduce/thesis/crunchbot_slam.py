@@ -138,6 +138,8 @@ class CrunchbotSlam(Experiment):
             "trajectory_error_mm": ev["trajectory_error_mm"],
             "radial_distance_error_mm": {k: radial[k] for k in (*names, "combined")},
             "radial_distance_contacts": radial["n_contacts"],
+            "radial_distance_fit_residual_mm": json.loads(
+                ds.attrs.get("radial_fit_residual_mm", "null")),
             "floor_texture": {"accuracy": floor_acc},
             "classifier_latency_ms": lat,
             "ordering": {"template_lt_geometric_lt_blob":
@@ -253,11 +255,18 @@ class CrunchbotSlam(Experiment):
         rd = results["radial_distance_error_mm"]
         n_c = results["radial_distance_contacts"]
         keys = [k for k in rd if k != "combined"]
+        fit = results.get("radial_distance_fit_residual_mm") or {}
         out += ["## Radial distance (6.5.4)", "",
-                md_table(["whisker", "thesis std (mm)", "this run std (mm)", "contact steps"],
-                         [[k, fmt(th["radial_distance_error_mm"].get(k)), fmt(rd[k]),
-                           n_c.get(k, "")] for k in keys]
-                         + [["combined", fmt(th["radial_distance_error_mm"]["combined"]),
+                "The thesis' table (6.5.6.2) gives the standard error of each whisker's "
+                "regression on its training contacts (figure 6.12's error bars). Beside it: "
+                "the same residual of our fitted lines on their training contacts, and the "
+                "error of the estimates the robot reported in its SLAM runs against the "
+                "simulator's true contact point, which the thesis could not measure.", "",
+                md_table(["whisker", "thesis std (mm)", "training-fit residual std (mm)",
+                          "in-run error std (mm)", "in-run contact steps"],
+                         [[k, fmt(th["radial_distance_error_mm"].get(k)), fmt(fit.get(k)),
+                           fmt(rd[k]), n_c.get(k, "")] for k in keys]
+                         + [["combined", fmt(th["radial_distance_error_mm"]["combined"]), "",
                              fmt(rd["combined"]), sum(n_c.values())]]), ""]
         if "radial" in figures:
             out += [f"![radial distance (figure 6.12)]({figures['radial']})", ""]
@@ -281,6 +290,7 @@ class CrunchbotSlam(Experiment):
             "map_error": results["map_error"],
             "trajectory_error_mm": results["trajectory_error_mm"],
             "radial_distance_error_mm": results["radial_distance_error_mm"],
+            "radial_distance_fit_residual_mm": results.get("radial_distance_fit_residual_mm"),
             "floor_texture": results["floor_texture"],
             "classifier_latency_ms": {c: {k: v[k] for k in ("median", "p99")}
                                       for c, v in results["classifier_latency_ms"].items()},
