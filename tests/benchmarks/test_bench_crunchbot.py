@@ -12,11 +12,11 @@ def test_bench_crunchbot_times_the_robot_and_each_mode(tmp_path, monkeypatch,
     bench = bench_script("bench_crunchbot")
     out = tmp_path / "crunchbot.json"
     monkeypatch.setattr(sys, "argv", ["bench_crunchbot.py", "--seconds", "6", "--particles",
-                                      "4", "--out", str(out)])
+                                      "4", "--quick-training", "--out", str(out)])
     bench.main()
     res = json.loads(out.read_text())
     assert res["n_particles"] == 4 and res["seconds"] >= 6
-    assert res["robot"] in ("synthetic-oracle", "simulated-physics")
+    assert res["robot"] == "simulated-physics" and res["quick_training"] is True
     assert res["robot_wall_seconds"] > 0
     assert set(res["modes"]) == {"blob", "geometric", "template"}
     for m in res["modes"].values():
