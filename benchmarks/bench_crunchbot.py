@@ -80,7 +80,8 @@ def main() -> None:
                        "platform": platform.platform()},
            "load_average_at_start": round(load, 2),
            "command": "benchmarks/bench_crunchbot.py " + " ".join(
-               f"--{k} {v}" for k, v in vars(args).items() if k != "out"),
+               f"--{k.replace('_', '-')}" + ("" if isinstance(v, bool) else f" {v}")
+               for k, v in vars(args).items() if k != "out" and v is not False),
            "robot": kind, "seconds": rec.seconds, "n_steps": rec.log.n_steps,
            "n_particles": args.particles, "training_seconds": round(train_s, 3),
            "quick_training": args.quick_training,
