@@ -48,7 +48,10 @@ def _page(run, tmp_path) -> Path:
     log, fr = run
     t = np.arange(log.n_steps + 1) * 0.5
     return write_viewer_html(tmp_path / "v.html", log, fr, BOXES, step_time_s=t,
-                             traces={"w1": np.abs(np.sin(t)), "w2": np.zeros_like(t)},
+                             # a floor whisker in window mode: NaN outside its windows
+                             traces={"w1": np.abs(np.sin(t)), "w2": np.zeros_like(t),
+                                     "floor": np.where(np.arange(t.size) % 4 == 3, 0.2,
+                                                       np.nan)},
                              trace_time_s=t, tiles=[(0.6, 0.6, 1.1, 1.1, "vinyl")],
                              title="a <b>run</b> &", summary="s")
 

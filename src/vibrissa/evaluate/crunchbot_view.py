@@ -237,8 +237,10 @@ function drawTraces(t) {
   ctx.clearRect(0, 0, W, H);
   const tmax = T.length ? T[T.length - 1] : 1, vmax = D.trace_max || 1;
   D.traces.forEach((tr, i) => { ctx.strokeStyle = colours[i]; ctx.lineWidth = 1; ctx.beginPath();
-    tr.forEach((v, k) => { const x = T[k] / tmax * W, y = H - 12 - v / vmax * (H - 24);
-      if (k) ctx.lineTo(x, y); else ctx.moveTo(x, y); }); ctx.stroke();
+    let pen = false;  // null: no sample there (e.g. a floor whisker outside its window)
+    tr.forEach((v, k) => { if (v === null) { pen = false; return; }
+      const x = T[k] / tmax * W, y = H - 12 - v / vmax * (H - 24);
+      if (pen) ctx.lineTo(x, y); else ctx.moveTo(x, y); pen = true; }); ctx.stroke();
     ctx.fillStyle = colours[i]; ctx.fillText(D.trace_names[i], 4 + 80 * i, 10); });
   const x = D.times[t] / tmax * W;
   ctx.strokeStyle = "#000"; ctx.beginPath(); ctx.moveTo(x, 0); ctx.lineTo(x, H); ctx.stroke();
@@ -267,6 +269,13 @@ _TILE_COLOURS = {"vinyl": "#f2f2f2", "smooth-carpet": "#e6dccb", "rough-carpet":
 _TRACE_COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b")
 
 
+def _finite_or_null(a: np.ndarray) -> list:
+    """``a`` as nested lists with ``None`` (JSON ``null``) where it is not finite: JSON
+    has no NaN, and ``JSON.parse`` refuses the page's data otherwise."""
+    arr = np.asarray(a, float)
+    return np.where(np.isfinite(arr), arr, None).tolist()
+
+
 def write_viewer_html(path: str | os.PathLike[str], log: SensorLog, frames: SlamFrames,
                       boxes: Sequence[Sequence[float]], *, step_time_s: np.ndarray,
                       traces: Mapping[str, np.ndarray], trace_time_s: np.ndarray,
@@ -292,7 +301,8 @@ def write_viewer_html(path: str | os.PathLike[str], log: SensorLog, frames: Slam
     base = np.asarray(lay.base_m)
     tip = np.asarray(lay.points(np.asarray(lay.length_m)))
     r4 = lambda a: np.round(np.asarray(a, float), 4).tolist()  # noqa: E731
-    vmax = max((float(np.nanmax(v)) for v in traces.values() if np.size(v)), default=1.0)
+    vmax = max((float(np.max(np.asarray(v)[np.isfinite(v)])) for v in traces.values()
+                if np.isfinite(v).any()), default=1.0)
     data = {
         "map_size_m": frames.maps.shape[1] * frames.cell_m, "n_cells": frames.maps.shape[1],
         "poses": r4(log.true_pose), "estimate": r4(frames.estimate),
@@ -302,10 +312,10 @@ def write_viewer_html(path: str | os.PathLike[str], log: SensorLog, frames: Slam
         "times": r4(step_time_s), "whiskers": r4(np.c_[base, tip]),
         "body_radius_m": lay.body_radius_m, "boxes": r4(boxes),
         "tiles": [[*r4(t[:4]), _TILE_COLOURS.get(t[4], "#eee")] for t in tiles],
-        "traces": [np.round(np.asarray(v, float), 3).tolist() for v in traces.values()],
+        "traces": [_finite_or_null(np.round(np.asarray(v, float), 3)) for v in traces.values()],
         "trace_names": list(traces), "trace_time": r4(trace_time_s), "trace_max": vmax,
         "trace_colours": list(_TRACE_COLOURS[: len(traces)]), "summary": summary,
     }
-    text = json.dumps(data, separators=(",", ":")).replace("</", "<\\/")
+    text = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
     page = _PAGE.replace("__TITLE__", html.escape(title)).replace("__DATA__", text)
     return atomic_write_text(Path(path), page)
