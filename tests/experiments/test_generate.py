@@ -290,3 +290,20 @@ def test_a_run_that_fails_before_keeping_a_trial_leaves_nothing(tmp_path, monkey
     with pytest.raises(RuntimeError, match="a bug"):
         generate(small(), tmp_path / "x.nc", workers=1)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_kept_trials_counts_the_finished_shards_on_disk(tmp_path):
+    """What an interrupted generation says it kept is what is on disk, even when the
+    signal lands between a shard's write and the progress report after it."""
+    import json
+
+    from vibrissa.experiments.generate import kept_trials, parts_dir
+
+    out = tmp_path / "x.nc"
+    assert kept_trials(out) == 0  # nothing yet
+    parts = parts_dir(out)
+    parts.mkdir()
+    (parts / "manifest.json").write_text(json.dumps({"n_trials": 10, "chunk_size": 4}))
+    for name in ("chunk-00000.npz", "chunk-00002.npz", ".chunk-00001.npz.tmp"):
+        (parts / name).write_bytes(b"")
+    assert kept_trials(out) == 4 + 2  # chunks 0 (4 trials) and 2 (the last, 2 trials)

@@ -152,6 +152,7 @@ def register(app: typer.Typer) -> None:
         from vibrissa.experiments.generate import (
             check_generation,
             generate,
+            kept_trials,
             parts_dir,
         )
         from vibrissa.experiments.protocols import get_protocol, parse_grid
@@ -203,8 +204,8 @@ def register(app: typer.Typer) -> None:
                     return "before any trial was simulated; nothing was written"
                 return (f"before the generation started; {parts}/ is kept as it was; rerun "
                         "the same command to resume")
-            return (f"{kept[0]} of {proto.n_trials} trials kept in {parts}/; rerun the same "
-                    "command to resume")
+            return (f"{kept_trials(out)} of {proto.n_trials} trials kept in {parts}/; rerun "
+                    "the same command to resume")
 
         with interruptible(interrupted):
             # every option is checked: state the work, then start it

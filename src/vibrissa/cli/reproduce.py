@@ -66,7 +66,7 @@ def _run(exp: Experiment, quick: bool, json_out: bool, out: Path, seed: int,
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     from vibrissa.evaluate.baseline import load_baseline
-    from vibrissa.experiments.generate import parts_dir
+    from vibrissa.experiments.generate import kept_trials, parts_dir
     from vibrissa.reproduce import check_job_arguments, dataset_path, run_experiment
 
     count_option("--seed", seed, minimum=0)
@@ -91,7 +91,7 @@ def _run(exp: Experiment, quick: bool, json_out: bool, out: Path, seed: int,
             return (f"the simulated dataset is kept in {data}; rerun the same command to "
                     "evaluate it without simulating again")
         if "generate" in stages:
-            return (f"{stages['generate']} of {protocol.n_trials} trials kept in "
+            return (f"{kept_trials(data)} of {protocol.n_trials} trials kept in "
                     f"{parts_dir(data)}/; rerun the same command to resume")
         return "before any trial was simulated; rerun the same command to start again"
 

@@ -53,6 +53,7 @@ __all__ = [
     "check_size",
     "dataset_bytes",
     "generate",
+    "kept_trials",
     "WORKERS_PER_CORE",
     "max_workers",
     "parts_dir",
@@ -117,6 +118,28 @@ def _chunks(n: int, size: int) -> list[np.ndarray]:
 
 def _shard_path(parts: Path, k: int) -> Path:
     return parts / f"chunk-{k:05d}.npz"
+
+
+def kept_trials(out: str | os.PathLike[str]) -> int:
+    """Trials in the finished shards of the generation of ``out``: what a rerun keeps.
+
+    Counted on disk (a shard exists only once written whole), from the shard names and
+    the chunking in the parts' manifest, so it is right even when an interruption lands
+    between a shard's write and the progress report that follows it. 0 without a
+    readable manifest.
+    """
+    parts = parts_dir(out)
+    try:
+        manifest = json.loads((parts / "manifest.json").read_text())
+        chunks = _chunks(int(manifest["n_trials"]), int(manifest["chunk_size"]))
+    except (OSError, ValueError, KeyError, TypeError):
+        return 0
+    n = 0
+    for p in parts.glob("chunk-*.npz"):
+        k = p.stem.removeprefix("chunk-")
+        if k.isdigit() and int(k) < len(chunks):
+            n += len(chunks[int(k)])
+    return n
 
 
 def _write_shard(parts: Path, k: int, result: dict[str, np.ndarray]) -> None:
