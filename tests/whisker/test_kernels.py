@@ -89,3 +89,57 @@ def test_pole_surface_and_free_runs_share_one_compiled_solver(model):
     free_vibration(model, 1.0, 0.01, record_every=5)
     assert len(_kernels.run_dynamics.signatures) == 1
     assert len(_kernels.solve_static.signatures) == 1
+
+
+def _dense(S):
+    n = S.shape[0]
+    bw = _kernels.BW
+    out = np.zeros((n, n))
+    for r in range(n):
+        for c in range(max(0, r - bw), min(n, r + bw + 1)):
+            out[r, c] = S[r, bw + c - r]
+    return out
+
+
+def test_the_stretching_springs_iteration_matrix_is_their_exact_derivative():
+    # A fast, bent, stretched shaft with material damping: the damping force
+    # beta EA/L0 (t . dv) t turns with the edge, which the iteration matrix must
+    # include (without it, a whisker whipping at metres per second made Newton
+    # stall or fail near its thin tip, where the true stiffness is tiny)
+    model = RodModel(n_elements=8)
+    rod = model.rod_arrays()._replace(kb=np.zeros_like(model.kb), kf=0.0)
+    damping = _kernels.Damping(0.0, 1e-3, 0.0)
+    rng = np.random.default_rng(3)
+    n = rod.mass.shape[0]
+    x = np.zeros((n, 3))
+    x[:, 2] = np.r_[0.0, np.cumsum(rod.L0)]
+    x[2:, 0] = 0.2 * (x[2:, 2] - x[1, 2]) ** 2 / x[-1, 2]  # bent
+    x[1:] += 2e-4 * rng.standard_normal((n - 1, 3))  # and stretched unevenly
+    v = 3.0 * rng.standard_normal((n, 3))
+    v[0] = 0.0
+
+    def forces(xx, vv):
+        F = np.zeros((n, 3))
+        S = np.zeros((3 * n, 2 * _kernels.BW + 1))
+        _kernels.add_internal(xx, vv, rod, damping, F, S, 0.0, 0.0, False)
+        return F.ravel()
+
+    def matrix(cD, cK):
+        F = np.zeros((n, 3))
+        S = np.zeros((3 * n, 2 * _kernels.BW + 1))
+        _kernels.add_internal(x, v, rod, damping, F, S, cD, cK, True)
+        return _dense(S)
+
+    K = np.zeros((3 * n, 3 * n))
+    D = np.zeros((3 * n, 3 * n))
+    for j in range(3 * n):
+        e = np.zeros(3 * n)
+        h = 1e-9
+        e[j] = h
+        K[:, j] = -(forces(x + e.reshape(n, 3), v) - forces(x - e.reshape(n, 3), v)) / (2 * h)
+        e[j] = 1e-3
+        D[:, j] = -(forces(x, v + e.reshape(n, 3)) - forces(x, v - e.reshape(n, 3))) / 2e-3
+    moving = np.repeat(rod.free, 3)
+    for got, want in ((matrix(0.0, 1.0), K), (matrix(1.0, 0.0), D)):
+        err = np.abs(got - want)[np.ix_(moving, moving)].max()
+        assert err <= 1e-6 * np.abs(want).max(), err

@@ -9,6 +9,7 @@ from scipy import signal
 from vibrissa.whisker.geometry import PRESETS
 from vibrissa.whisker.rod import RodModel, SimulationError
 from vibrissa.whisker.simulate import (
+    BaseMotion,
     PoleContact,
     SurfaceContact,
     Trajectory,
@@ -192,3 +193,20 @@ def test_diverging_simulation_raises_instead_of_returning_nan(model):
             max_halvings=0,
             max_iterations=3,
         )
+
+
+def test_a_whisker_dragged_along_a_frictionless_wall_by_its_turning_housing_converges():
+    # CrunchBot's TURN with a whisker on a wall: the tip grazes the face with
+    # millinewton forces, where Newton's steps used to carry it in and out of
+    # contact in turn until the step failed (at t = 0.097 s with dt = 0.25 ms);
+    # a step that raises the residual is now shortened (a line search)
+    model = RodModel(PRESETS["crunchbot"], n_elements=16)
+    t = np.linspace(0.0, 0.5, 1001)
+    push = Trajectory(t, np.column_stack([np.zeros_like(t),
+                                          135.0 - 40.0 * np.minimum(t / 0.25, 1.0)]))
+    turn = BaseMotion(t, 0.3 * t, np.full_like(t, 0.3))
+    wall = SurfaceContact(Surface(np.zeros((4, 4)), 1e-3, 0.0, "wall"), angle_deg=60.0,
+                          friction=0.0)
+    res = simulate(model, wall, push, 0.5, 2.5e-4, base_motion=turn)
+    assert res.contact_force_n.max() > 0.0
+    assert np.all(np.isfinite(res.tan_xy))

@@ -65,6 +65,10 @@ from numba import njit
 
 BW = 8  # half bandwidth of the tangent matrices (3 DOF per node, 3-node stencil)
 STEADY_STEPS = 8  # steps of unchanged contact state before long steps are tried
+#: A Newton update of a dynamic step is cut to this fraction of an element's length.
+STEP_CAP_FRACTION = 0.2
+#: Halvings of an exact Newton step that raised the residual before it is kept anyway.
+MAX_BACKTRACKS = 6
 
 #: Column of a trajectory row (``traj[k]``, ``tr``) holding the follicle housing's
 #: whisk angle (rad); the next column holds its rate (rad/s). Rows of only
@@ -247,6 +251,7 @@ class _StepWork(NamedTuple):
     R: np.ndarray
     info: np.ndarray
     newton: np.ndarray
+    dx: np.ndarray
 
 
 # ----------------------------------------------------------------------------------
@@ -469,12 +474,18 @@ def add_internal_whisking(x, v, rod, damping, F, S, cD, cK, jac, theta, theta_do
             F[a, c] += fmag * t1[c]
             F[b, c] -= fmag * t1[c]
         if jac:
-            geo = cK * ka * (1.0 - L0[e] / ln)
+            # the force fmag t turns with the edge: its elastic part and its damping
+            # part (whose rate t . dv also turns) both add geometric stiffness
+            geo = cK * ka * (1.0 - L0[e] / ln + beta_d * rate / ln)
             tt_coef = cK * ka + cD * beta_d * ka
+            cdv = cK * beta_d * ka / ln
+            for c in range(3):
+                d[c] = v[b, c] - v[a, c] - rate * t1[c]  # (I - t t^T) dv
             for i in range(3):
                 for j in range(3):
                     tt = t1[i] * t1[j]
-                    H[i, j] = tt_coef * tt + geo * ((1.0 if i == j else 0.0) - tt)
+                    H[i, j] = (tt_coef * tt + geo * ((1.0 if i == j else 0.0) - tt)
+                               + cdv * t1[i] * d[j])
             for r in range(3):
                 ra = 3 * a + r
                 rb = 3 * b + r
@@ -1228,6 +1239,14 @@ def _ga_step(state, work, rod, damping, contact, tr, anchors, h, settings):
     ``work.newton`` carries the modified-Newton bookkeeping between calls:
     [need_factor, steps since factorisation, step size of the factors,
     iterations used]. Returns True on convergence.
+
+    The Newton updates are globalised: one longer than :data:`STEP_CAP_FRACTION` of
+    an element is shortened to that length, and when an update computed from a fresh
+    factorisation raised the squared residual it is halved (up to
+    :data:`MAX_BACKTRACKS` times) before the next direction is computed. Without
+    this a node at a grazing contact (a whisker's thin tip brushing a wall with
+    millinewton forces) was carried in and out of the penalty by alternate
+    iterations until the step failed and was retried in halves.
     """
     x = state.x
     v = state.v
@@ -1263,6 +1282,11 @@ def _ga_step(state, work, rod, damping, contact, tr, anchors, h, settings):
                 x[i, c] = xn[i, c] + h * vn[i, c] + 0.5 * h * h * an[i, c]
             else:
                 x[i, c] = xn[i, c]
+    dx = work.dx
+    step_cap = STEP_CAP_FRACTION * rod.L0[1]
+    r_prev = np.inf  # squared residual where the last Newton direction was computed
+    exact_prev = False  # ... and whether that direction came from a fresh factorisation
+    backtracks = 0
     for it in range(max_iter):
         for i in range(n):
             for c in range(3):
@@ -1279,11 +1303,24 @@ def _ga_step(state, work, rod, damping, contact, tr, anchors, h, settings):
                 va[i, c] = (1.0 - af) * vnew + af * vn[i, c]
         factor = newton[0] > 0.0
         _assemble(xa, va, rod, damping, contact, tr, anchors, F, S, cD, cK, factor, info)
+        rr = 0.0
         for i in range(n):
             m = mass[i]
             for c in range(3):
                 R[3 * i + c] = F[i, c] - m * ((1.0 - am) * a[i, c] + am * an[i, c])
         _fix_rhs(R, free)
+        for k in range(3 * n):
+            rr += R[k] * R[k]
+        if exact_prev and rr > r_prev and backtracks < MAX_BACKTRACKS:
+            # the last exact Newton step raised the residual (a contact switched on or
+            # off across it and its linearisation overshot): go back half of it
+            for i in range(n):
+                for c in range(3):
+                    dx[i, c] *= 0.5
+                    x[i, c] -= dx[i, c]
+            backtracks += 1
+            newton[0] = 1.0
+            continue
         if factor:
             for i in range(n):
                 for c in range(3):
@@ -1297,15 +1334,21 @@ def _ga_step(state, work, rod, damping, contact, tr, anchors, h, settings):
             newton[2] = h
         band_backsolve(S, R)
         mx = 0.0
-        for i in range(n):
-            for c in range(3):
-                d = R[3 * i + c]
-                x[i, c] += d
-                if abs(d) > mx:
-                    mx = abs(d)
+        for k in range(3 * n):
+            if abs(R[k]) > mx:
+                mx = abs(R[k])
         if not np.isfinite(mx):
             newton[0] = 1.0
             return False
+        # a Newton update longer than a fraction of an element is cut to that length
+        frac = 1.0 if mx <= step_cap else step_cap / mx
+        for i in range(n):
+            for c in range(3):
+                d = frac * R[3 * i + c]
+                dx[i, c] = d
+                x[i, c] += d
+        r_prev = rr
+        exact_prev = factor
         if mx < tol:
             newton[3] = it + 1
             for i in range(n):
@@ -1499,6 +1542,7 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
         np.zeros(3 * n),
         np.zeros(12),
         np.array([1.0, 0.0, 0.0, 0.0]),
+        np.zeros_like(x),
     )
     xn = work.xn
     vn = work.vn
