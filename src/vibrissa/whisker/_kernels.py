@@ -1481,7 +1481,7 @@ def _try_stride(state, work, rod, damping, contact, traj, anchors, settings, k, 
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, records, status):
     """Integrate ``len(traj) - 1`` steps of size ``settings.dt`` from ``state`` in place.
 
@@ -1654,7 +1654,7 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
 # ----------------------------------------------------------------------------------
 # linear free flight (see vibrissa.whisker.modal)
 # ----------------------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def modal_advance(z, decay, out_modes, pivot, magnet_rest, steps, stop_tan, out,
                   gain0, gain1, load0, load1):
     """Advance complex modal amplitudes ``z`` by ``steps`` exact steps, in place.

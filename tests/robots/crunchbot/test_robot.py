@@ -68,6 +68,16 @@ def test_same_seed_same_bytes(truth_run) -> None:
     assert other.hall_v.tobytes() != truth_run.hall_v.tobytes()
 
 
+def test_whiskers_on_threads_give_the_same_bytes(truth_run, monkeypatch) -> None:
+    # the truth run used this machine's cores; one thread must give the same record
+    import vibrissa.robots.crunchbot.obstacle_whiskers as ow
+
+    monkeypatch.setattr(ow, "default_workers", lambda: 1)
+    alone = run_crunchbot(NEAR_WALL, 4.0, seed=2, floor="off")
+    assert alone.hall_v.tobytes() == truth_run.hall_v.tobytes()
+    assert alone.contact_true_m.tobytes() == truth_run.contact_true_m.tobytes()
+
+
 class _FakeFloor:
     """Stands in for helper B's FloorWhiskers: a constant signal per texture."""
 

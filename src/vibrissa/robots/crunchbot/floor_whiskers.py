@@ -41,6 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vibrissa._validate import finite_array, in_range, positive
+from vibrissa.robots.crunchbot._threads import default_workers, map_threads
 from vibrissa.robots.crunchbot.arena import ROBOT_RADIUS_M, Arena, Pose
 from vibrissa.robots.crunchbot.synthetic import FLOOR_WHISKERS_M
 from vibrissa.robots.roomba import SETTLE_S, Roomba
@@ -357,7 +358,8 @@ class FloorWhiskers:
         begin = min(begin, times.size - 2)
         times, slide, tex = times[begin:], slide[begin:], tex[begin:]
         valid = np.arange(t.size) >= t.size - max(1, int(round(window_s * self.sample_rate_hz)))
-        for w in range(2):
+
+        def one(w: int) -> None:
             state = self.settled(tex[0, w], sliding_s=SLIDING_S)
             state.time_s = float(times[0])
             state.plane_anchors[:] = 0.0
@@ -372,6 +374,9 @@ class FloorWhiskers:
             # kept history) or inside this one: align the ends
             n = min(hall.shape[0], t.size)
             out[-n:, w][valid[-n:]] = hall[-n:][valid[-n:]]
+
+        # the two whiskers are independent (each its own noise stream): side by side
+        map_threads(one, range(2), default_workers())
         return out
 
     def _height_change(self, texture: str, state: DynamicState, slide_mm: np.ndarray) -> float:

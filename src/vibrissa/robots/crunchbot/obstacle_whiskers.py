@@ -38,15 +38,18 @@ object; the thesis' robot read strain from the same sensors).
 from __future__ import annotations
 
 import math
+import threading
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from vibrissa.robots.crunchbot._threads import default_workers, map_threads
 from vibrissa.robots.crunchbot.arena import Arena
 from vibrissa.robots.crunchbot.synthetic import CRUNCHBOT_LAYOUT
 from vibrissa.slam.log import WhiskerLayout
 from vibrissa.whisker.geometry import preset
 from vibrissa.whisker.hall import HallSensor, HallSettings
+from vibrissa.whisker.modal import linear_modes
 from vibrissa.whisker.rod import RodModel, SimulationError
 from vibrissa.whisker.simulate import (
     BaseMotion,
@@ -264,6 +267,13 @@ class ObstacleWhiskers:
         self._fb = np.array([f.b if f.kind == "plane" else f.a for f in self.features])
         self._is_pole = np.array([f.kind == "pole" for f in self.features])
         self._node_arc = self.model.x_rest[:, 2].copy()
+        # the whiskers of one step are independent: their rod kernels release the
+        # GIL, so they run on threads (the model's lazily built parts are built here,
+        # before any thread shares them)
+        linear_modes(self.model)
+        _ = self.model.damping
+        self.workers = default_workers()
+        self._lock = threading.Lock()
 
     # ---------------------------------------------------------------- geometry
     def bases(self, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -363,7 +373,8 @@ class ObstacleWhiskers:
                 if attempt == 3:
                     raise
                 if attempt == 2:  # give up the object for this step, count it
-                    self.failures += 1
+                    with self._lock:
+                        self.failures += 1
                     contact, traj, dt = None, None, self.dt_s
                 else:
                     dt *= 0.5
@@ -448,7 +459,7 @@ class ObstacleWhiskers:
                 wk.feature = int(met[w])
             if wk.state is not None or wk.feature >= 0:
                 run.append(w)
-        results = {w: self._run(w, allp) for w in run}
+        results = self._run_all(run, allp)
         m_used = m
         for r in results.values():
             stop = r[1] if stop_on_contact else np.zeros(len(r[1]), bool)
@@ -457,7 +468,7 @@ class ObstacleWhiskers:
             if stop.any():
                 m_used = min(m_used, int(np.argmax(stop)) + 1)
         if m_used < m:
-            results = {w: self._run(w, allp[:m_used + 1]) for w in run}
+            results = self._run_all(run, allp[:m_used + 1])
         tan = np.zeros((m_used, W, 2))
         contact = np.zeros((m_used, W), bool)
         first = np.full(W, np.nan)
@@ -487,6 +498,11 @@ class ObstacleWhiskers:
         k = np.arange(1, len(mag) + 1)
         lo = np.maximum(k - STRAIN_WINDOW, 0)
         return np.where(touching, (c[k] - c[lo]) / (k - lo), 0.0)
+
+    def _run_all(self, run: list[int], allp: np.ndarray) -> dict[int, tuple]:
+        """:meth:`_run` for each whisker in ``run``, on up to :attr:`workers` threads."""
+        return dict(zip(run, map_threads(lambda w: self._run(w, allp), run, self.workers),
+                        strict=True))
 
     def _run(self, w: int, allp: np.ndarray) -> tuple:
         """Whisker ``w`` over the poses, split so no piece turns the housing too far."""
