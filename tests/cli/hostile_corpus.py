@@ -364,6 +364,13 @@ def _cases() -> list[Case]:
         add([*cs, "--seconds", value], "--seconds")
     for value in ("0", "1,2"):
         add([*cs, "--runs", value], "--runs")
+    for value in ("nonsense", "tcp://host", ""):
+        add([*cs, "--scheduler", value], "--scheduler")
+    add(["reproduce", "radial-distance", "--quick", "--out", "r", "--scheduler", "x y:1"],
+        "--scheduler")
+    # scratchbot simulates its conditions on local processes only
+    add(["reproduce", "scratchbot", "--quick", "--out", "r", "--scheduler", "tcp://h:8786"],
+        "--scheduler")
     # identify
     add("identify extra", "extra")
     add("identify --bogus", "--bogus")

@@ -128,3 +128,18 @@ def test_watch_run_writes_an_animation_and_a_page(tmp_path):
     assert "http://" not in html and "https://" not in html and "<script src" not in html
     assert 0 <= res["map_error"] <= 1 and res["trajectory_error_mm"] >= 0
     assert res["robot"] in ("synthetic-oracle", "simulated-physics")
+
+
+def test_a_dask_cluster_gives_the_same_runs(tmp_path):
+    distributed = pytest.importorskip("dask.distributed")
+    p = CrunchbotProtocol(n_runs=2, seconds=8.0, texture_seconds=6.0, seed=4,
+                          simulate_run=synthetic_record, train=None)
+    here = p.generate_dataset(tmp_path / "here.nc", workers=1)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster:
+        there = p.generate_dataset(tmp_path / "there.nc",
+                                   scheduler=cluster.scheduler_address)
+    timing = [v for v in here.variables if "seconds" in v or "latency" in v]
+    assert "wall_seconds" in timing  # measured, so it differs from run to run
+    assert there.drop_vars(timing).identical(here.drop_vars(timing))
+    assert there["signal"].values.tobytes() == here["signal"].values.tobytes()

@@ -76,3 +76,33 @@ def test_unknown_and_bad_options_fail_before_work(tmp_path):
 
 def test_option_flag():
     assert Option("n_seeds", 5, "h").flag == "--n-seeds"
+
+
+def test_the_dataset_is_simulated_on_the_dask_cluster_asked_for(tmp_path, monkeypatch):
+    distributed = pytest.importorskip("dask.distributed")
+    from vibrissa.experiments.crunchbot import CrunchbotProtocol
+    from vibrissa.reproduce import pipeline
+    from vibrissa.robots.crunchbot import synthetic_record
+
+    p = CrunchbotProtocol(n_runs=1, seconds=5.0, texture_seconds=4.0, seed=2,
+                          simulate_run=synthetic_record, train=None)
+    seen = []
+    own = p.generate_dataset
+
+    def spy(path, workers=None, progress=None, scheduler=None):
+        seen.append(scheduler)
+        return own(path, workers=workers, progress=progress, scheduler=scheduler)
+
+    object.__setattr__(p, "generate_dataset", spy)
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster:
+        ds, _, reused = pipeline.cached_dataset(p, tmp_path, scheduler=cluster.scheduler_address)
+    assert seen == [cluster.scheduler_address] and not reused
+    assert ds.sizes["trial"] == 2
+
+
+@pytest.mark.parametrize("address", ["nonsense", "tcp://host", "", 8786])
+def test_a_bad_scheduler_address_is_refused_before_any_work(tmp_path, address):
+    with pytest.raises(ValueError, match="scheduler must be a Dask address"):
+        run_experiment("radial-distance", tmp_path / "out", quick=True, scheduler=address)
+    assert not (tmp_path / "out").exists()

@@ -57,22 +57,24 @@ def _group(
     raise typer.Exit()
 
 
-_RENAME = option_renamer({"seed": "--seed", "workers": "--workers"})
+_RENAME = option_renamer({"seed": "--seed", "workers": "--workers", "scheduler": "--scheduler"})
 
 
 def _run(exp: Experiment, quick: bool, json_out: bool, out: Path, seed: int,
-         workers: int | None, figures: bool, baseline: Path | None, **options: Any) -> None:
+         workers: int | None, scheduler: str | None, figures: bool, baseline: Path | None,
+         **options: Any) -> None:
     from rich.console import Console
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     from vibrissa.evaluate.baseline import load_baseline
     from vibrissa.experiments.generate import kept_trials, parts_dir
     from vibrissa.reproduce import check_job_arguments, dataset_path, run_experiment
+    from vibrissa.reproduce.pipeline import check_scheduler
 
     count_option("--seed", seed, minimum=0)
     count_option("--workers", workers)
     try:
-        check_job_arguments(out, seed, workers)
+        check_job_arguments(out, seed, workers, scheduler=scheduler)
     except ValueError as exc:
         raise ValueError(_RENAME(str(exc))) from None
     try:
@@ -83,6 +85,10 @@ def _run(exp: Experiment, quick: bool, json_out: bool, out: Path, seed: int,
     before = load_baseline(baseline) if baseline is not None else None
     console = Console(stderr=True)
     protocol = exp.protocol_for(quick, seed, opts)
+    try:
+        check_scheduler(protocol, scheduler)
+    except ValueError as exc:
+        raise ValueError(_RENAME(str(exc))) from None
     data = dataset_path(protocol, out)
     stages: dict[str, int] = {}
 
@@ -99,6 +105,8 @@ def _run(exp: Experiment, quick: bool, json_out: bool, out: Path, seed: int,
         grid = "quick" if quick else "full"
         if data.exists():
             work = f"simulated dataset reused from {data}"
+        elif scheduler is not None:
+            work = f"simulating on the Dask cluster at {scheduler}"
         elif hasattr(protocol, "generate_dataset"):  # simulates itself, no XY estimate
             work = "simulating"
         else:
@@ -121,7 +129,8 @@ def _run(exp: Experiment, quick: bool, json_out: bool, out: Path, seed: int,
                 bar.update(tasks[stage], completed=done, total=total)
 
             res = run_experiment(
-                exp.name, out, quick=quick, seed=seed, workers=workers, progress=progress,
+                exp.name, out, quick=quick, seed=seed, workers=workers, scheduler=scheduler,
+                progress=progress,
                 figures=figures, baseline=before,
                 command=shlex.join(["vibrissa", *sys.argv[1:]]), **opts,
             )
@@ -166,6 +175,10 @@ def _command(exp: Experiment) -> Any:
         inspect.Parameter("workers", Opt, annotation=int, default=typer.Option(
             None, "--workers",
             help="Processes for simulating and for evaluating (default: all cores).")),
+        inspect.Parameter("scheduler", Opt, annotation=str, default=typer.Option(
+            None, "--scheduler",
+            help="Simulate the dataset on an existing Dask cluster at this address "
+            "(tcp://host:port); the evaluation runs here.")),
         inspect.Parameter("figures", Opt, annotation=bool, default=typer.Option(
             True, "--figures/--no-figures", help="Draw the figures.")),
         inspect.Parameter("baseline", Opt, annotation=Path, default=typer.Option(

@@ -54,6 +54,7 @@ __all__ = [
     "dataset_bytes",
     "generate",
     "kept_trials",
+    "SCHEDULER_ADDRESS",
     "WORKERS_PER_CORE",
     "max_workers",
     "parts_dir",
@@ -337,13 +338,16 @@ def check_generation(
                 f"workers must be at most {max_workers()} ({WORKERS_PER_CORE} per core of "
                 f"this machine; more processes only share the same cores), got {w}"
             )
-    elif not isinstance(scheduler, str) or not re.fullmatch(r"([a-z]+://)?[^\s:/]+:\d+",
-                                                            scheduler):
+    elif not isinstance(scheduler, str) or not SCHEDULER_ADDRESS.fullmatch(scheduler):
         raise ValueError(
             f"scheduler must be a Dask address like tcp://host:8786, got {scheduler!r}"
         )
     check_size(protocol)
     return check_writable(out)
+
+
+#: A Dask scheduler's address: ``tcp://host:port`` (the protocol may be left out).
+SCHEDULER_ADDRESS = re.compile(r"([a-z]+://)?[^\s:/]+:\d+")
 
 
 def max_workers() -> int:

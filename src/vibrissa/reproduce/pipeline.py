@@ -15,6 +15,7 @@ into its output directory:
 from __future__ import annotations
 
 import datetime as dt
+import inspect
 import os
 import shlex
 import sys
@@ -27,7 +28,12 @@ import numpy as np
 
 from vibrissa import __version__
 from vibrissa.data import DatasetFileError, load_dataset
-from vibrissa.experiments.generate import WORKERS_PER_CORE, generate, max_workers
+from vibrissa.experiments.generate import (
+    SCHEDULER_ADDRESS,
+    WORKERS_PER_CORE,
+    generate,
+    max_workers,
+)
 from vibrissa.reproduce.registry import Experiment, get_experiment
 
 __all__ = [
@@ -44,16 +50,21 @@ Progress = Callable[[str, int, int], None]
 
 
 def check_job_arguments(out_dir: str | os.PathLike[str], seed: object,
-                        workers: object = None, **counts: object) -> Path:
+                        workers: object = None, *, scheduler: object = None,
+                        **counts: object) -> Path:
     """Check a reproduction's arguments before any work is done; return ``out_dir``.
 
     Raises
     ------
     ValueError
         Naming the argument: ``seed`` not a non-negative integer, ``workers`` or any
-        of ``counts`` (e.g. ``n_seeds``) not a positive integer, ``out_dir`` an existing
-        file.
+        of ``counts`` (e.g. ``n_seeds``) not a positive integer, ``scheduler`` not a
+        Dask address (``tcp://host:port``), ``out_dir`` an existing file.
     """
+    if scheduler is not None and (not isinstance(scheduler, str) or not SCHEDULER_ADDRESS
+                                  .fullmatch(scheduler)):
+        raise ValueError(
+            f"scheduler must be a Dask address like tcp://host:8786, got {scheduler!r}")
     def integer(v: object) -> bool:
         return isinstance(v, int | np.integer) and not isinstance(v, bool)
 
@@ -73,6 +84,17 @@ def check_job_arguments(out_dir: str | os.PathLike[str], seed: object,
     return out
 
 
+def check_scheduler(protocol: Any, scheduler: str | None) -> None:
+    """Refuse ``scheduler`` for a protocol that simulates its dataset on local processes
+    only (its own ``generate_dataset`` takes no ``scheduler``)."""
+    if scheduler is None:
+        return
+    own = getattr(protocol, "generate_dataset", None)
+    if own is not None and "scheduler" not in inspect.signature(own).parameters:
+        raise ValueError(f"scheduler: the {protocol.name} session simulates on local "
+                         "processes only; leave out the scheduler")
+
+
 def dataset_path(protocol: Any, out_dir: str | os.PathLike[str]) -> Path:
     """Where a run writing ``out_dir`` keeps the dataset of ``protocol``.
 
@@ -87,11 +109,12 @@ def _file_name(protocol: Any) -> str:
 
 
 def cached_dataset(protocol: Any, data_dir: Path, progress: Progress | None = None,
-                   workers: int | None = None):
+                   workers: int | None = None, scheduler: str | None = None):
     """Load the dataset of ``protocol`` from ``data_dir``, generating it if absent.
 
     The file name carries the protocol's fingerprint, so a changed protocol never
-    reuses stale data; a corrupt cached file is regenerated.
+    reuses stale data; a corrupt cached file is regenerated. With ``scheduler`` (a
+    Dask address) the trials are simulated on that cluster instead of local processes.
 
     Returns
     -------
@@ -107,8 +130,9 @@ def cached_dataset(protocol: Any, data_dir: Path, progress: Progress | None = No
     cb = (lambda d, t: progress("generate", d, t)) if progress else None
     own = getattr(protocol, "generate_dataset", None)
     if own is not None:  # a protocol that simulates its whole dataset itself
-        return own(path, workers=workers, progress=cb), path, False
-    ds = generate(protocol, path, workers=workers, progress=cb,
+        extra = {"scheduler": scheduler} if scheduler is not None else {}
+        return own(path, workers=workers, progress=cb, **extra), path, False
+    ds = generate(protocol, path, workers=workers, scheduler=scheduler, progress=cb,
                   chunk_size=int(getattr(protocol, "chunk_size", 32)))
     return ds, path, False
 
@@ -129,6 +153,7 @@ def run_experiment(
     quick: bool = False,
     seed: int = 0,
     workers: int | None = None,
+    scheduler: str | None = None,
     progress: Progress | None = None,
     figures: bool = True,
     baseline: Mapping[str, Any] | None = None,
@@ -150,6 +175,9 @@ def run_experiment(
     workers : int, optional
         Processes for dataset generation and for the evaluation (default: all cores;
         the results do not depend on it).
+    scheduler : str, optional
+        Address of a Dask scheduler (``tcp://host:port``) to simulate the dataset on
+        (the evaluation stays local); the results do not depend on it.
     progress : callable, optional
         ``progress(stage, done, total)``.
     figures : bool, default=True
@@ -174,12 +202,13 @@ def run_experiment(
     """
     exp = get_experiment(name)
     opts = _options(exp, options)
-    out = check_job_arguments(out_dir, seed, workers)
+    out = check_job_arguments(out_dir, seed, workers, scheduler=scheduler)
     protocol = exp.protocol_for(bool(quick), int(seed), opts)
+    check_scheduler(protocol, scheduler)
     started = dt.datetime.now(dt.UTC)
     t0 = time.perf_counter()
     out.mkdir(parents=True, exist_ok=True)
-    ds, path, reused = cached_dataset(protocol, out / "data", progress, workers)
+    ds, path, reused = cached_dataset(protocol, out / "data", progress, workers, scheduler)
     t1 = time.perf_counter()
     cb = (lambda d, t, _desc: progress("evaluate", d, t)) if progress else None
     results = exp.evaluate(ds, seed=int(seed), progress=cb, options=opts, workers=workers)
@@ -197,6 +226,7 @@ def run_experiment(
         "options": opts,
         "started_at": started.isoformat(timespec="seconds"),
         "wall_seconds": {"generate": round(t1 - t0, 3), "evaluate": round(t2 - t1, 3)},
+        "scheduler": scheduler,
         "cores": {"available": os.cpu_count(),
                   "generate_workers": workers if workers is not None else os.cpu_count(),
                   "evaluate_workers": workers if workers is not None else os.cpu_count()},
