@@ -59,3 +59,12 @@ def test_a_forked_child_gets_its_own_pool() -> None:
 
 def test_default_workers_is_the_cores_this_process_may_use() -> None:
     assert _threads.default_workers() == len(os.sched_getaffinity(0))
+
+
+def test_the_pool_is_kept_for_calls_of_any_length() -> None:
+    _threads.map_threads(abs, [-1, -2], 2)
+    pool = _threads._POOL
+    _threads.map_threads(abs, [-1, -2, -3, -4, -5], 2)
+    assert _threads._POOL is pool
+    _threads.map_threads(abs, [-1, -2, -3], 3)  # another size: the old pool is let go
+    assert _threads._POOL is not pool and pool[2]._shutdown

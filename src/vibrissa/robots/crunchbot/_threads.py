@@ -35,6 +35,8 @@ def _pool(workers: int) -> ThreadPoolExecutor:
     global _POOL
     with _LOCK:
         if _POOL is None or _POOL[0] != os.getpid() or _POOL[1] != workers:
+            if _POOL is not None and _POOL[0] == os.getpid():
+                _POOL[2].shutdown(wait=False)  # another size asked for: no idle leftovers
             _POOL = (os.getpid(), workers,
                      ThreadPoolExecutor(workers, thread_name_prefix="crunchbot-whisker"))
         return _POOL[2]
@@ -46,4 +48,4 @@ def map_threads(fn: Callable[[T], R], items: Iterable[T], workers: int) -> list[
     items = list(items)
     if workers <= 1 or len(items) < 2:
         return [fn(i) for i in items]
-    return list(_pool(min(workers, len(items))).map(fn, items))
+    return list(_pool(workers).map(fn, items))
