@@ -147,3 +147,36 @@ def test_the_stretching_springs_iteration_matrix_is_their_exact_derivative():
     for got, want in ((matrix(0.0, 1.0), K), (matrix(1.0, 0.0), D)):
         err = np.abs(got - want)[np.ix_(moving, moving)].max()
         assert err <= 1e-6 * np.abs(want).max(), err
+
+
+def _flat_plane(first_node: int = 1) -> ContactSpec:
+    # a flat wall through the origin, its normal +x toward the whisker
+    frame = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    return ContactSpec(_kernels.PLANE, np.array([0.0, 2e4, 0.5, 0.3, 2e-6]), frame,
+                       np.zeros((4, 4)), 1e-3, 1e-3, first_node)
+
+
+def test_an_update_carrying_a_node_into_a_plane_stops_it_at_the_surface():
+    radius = np.full(3, 1e-4)
+    xa = np.zeros((3, 3))
+    xa[:, 0] = [5e-3, 3e-3, 1.1e-3]  # gaps 4.9, 2.9 and 1.0 mm outside the wall
+    dx = np.zeros(9)
+    dx[3 * 2] = -3e-3  # the full update moves node 2's alpha point by (1 - af) * 3 mm in
+    tr = np.zeros(6)
+    af = 1.0 / 3.0
+    frac = _kernels._plane_entry_fraction(xa, dx, _flat_plane(), tr, radius, af)
+    assert frac == pytest.approx(1.0e-3 / ((1.0 - af) * 3e-3))
+    # the node ends on the surface
+    assert xa[2, 0] + frac * (1.0 - af) * dx[6] - radius[2] == pytest.approx(0.0, abs=1e-12)
+    # moving away, or staying outside, or starting inside the smoothing zone: no limit
+    for step in (+3e-3, -0.5e-3):
+        dx[6] = step
+        assert _kernels._plane_entry_fraction(xa, dx, _flat_plane(), tr, radius, af) == 1.0
+    xa[2, 0] = radius[2] + 1e-6
+    dx[6] = -3e-3
+    assert _kernels._plane_entry_fraction(xa, dx, _flat_plane(), tr, radius, af) == 1.0
+    # nodes before first_node, and other contact kinds, are never limited
+    xa[2, 0] = 1.1e-3
+    assert _kernels._plane_entry_fraction(xa, dx, _flat_plane(3), tr, radius, af) == 1.0
+    pole = _flat_plane()._replace(kind=POLE)
+    assert _kernels._plane_entry_fraction(xa, dx, pole, tr, radius, af) == 1.0
