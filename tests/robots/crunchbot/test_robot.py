@@ -131,3 +131,35 @@ def test_classifiers_are_called_and_timed() -> None:
     if hit2.any():
         assert np.allclose(rec.log.surface_angle_rad[hit2], 1.2)
     assert set(rec.floor_texture_pred.ravel()) <= {"", *_Nb.classes_}
+
+
+class _RampFloor(_FakeFloor):
+    """A floor signal that differs at every sample, so a window read from the wrong
+    samples gives another report."""
+
+    def advance(self, time_s, pose, window_s=None):
+        out = np.empty((len(time_s), 2, 2), np.float32)
+        out[:] = (1.0 + np.asarray(time_s, np.float32))[:, None, None]
+        out[:, 1] *= 2.0
+        return out
+
+
+def test_the_floor_report_of_each_step_reads_that_steps_latest_window() -> None:
+    # the floor whiskers run beside the next step's obstacle whiskers: each row must
+    # still carry the classifier's report on the 200 samples ending with its own step
+    # (or the report before it when its step gave no full window)
+    rec = run_crunchbot(NEAR_WALL, 4.0, seed=2, classifiers=RealtimeClassifiers(
+        floor=_Nb(), radial=(_Radial(),) * 4, angle=None), floor="continuous",
+        floor_factory=_RampFloor)
+    floor = rec.hall_v[:, 4:6].astype(float)
+    expected, last = [], np.zeros((2, 2))
+    for j in range(len(rec.log.state)):
+        end = rec.step_start[j + 1]
+        if end > rec.step_start[j] and end >= 200:
+            window = floor[end - 200:end]
+            last = np.stack([_Nb().loglik(window[:, k]) for k in range(2)])
+        expected.append(last)
+    assert len({float(x) for x in rec.log.floor_loglik[:, 0, 0]}) > 5
+    np.testing.assert_array_equal(rec.log.floor_loglik, np.array(expected))
+    assert len(rec.latency_s["floor_texture"]) == 2 * sum(
+        e > s and e >= 200 for s, e in zip(rec.step_start[:-1], rec.step_start[1:]))

@@ -201,9 +201,6 @@ class FloorWhiskers:
         #: Per whisker, the fraction of the last simulation's steps in contact.
         self.last_contact_fraction = [float("nan"), float("nan")]
 
-    def _texture(self, name: str) -> str:
-        return name if name else self.default_texture
-
     def textures_at(self, pose: np.ndarray) -> tuple[str, str]:
         """Tile texture under each tip (left, right) at an arena-frame pose ``(3,)``."""
         p = finite_array("pose", pose)
@@ -218,9 +215,8 @@ class FloorWhiskers:
         edge = self.arena.size_m * (1.0 - 1e-9)
         tips = np.clip(tips, 0.0, edge)
         names = self.arena.texture_at(tips[..., 0], tips[..., 1])
-        out = np.empty(names.shape, dtype=object)
-        out[...] = [[self._texture(n) for n in row] for row in names]
-        return out
+        names[names == ""] = self.default_texture
+        return names
 
     def _sheet(self, texture: str) -> SurfaceContact:
         if texture not in self._contacts:

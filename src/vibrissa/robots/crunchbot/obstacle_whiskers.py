@@ -142,10 +142,10 @@ def arena_features(arena: Arena) -> tuple[Feature, ...]:
 
 def _point_segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Distance from points ``p`` to segments ``a``-``b`` (all broadcast, last axis 2)."""
-    ab = b - a
-    ap = p - a
-    t = np.clip((ap * ab).sum(-1) / np.maximum((ab * ab).sum(-1), 1e-18), 0.0, 1.0)
-    return np.linalg.norm(ap - t[..., None] * ab, axis=-1)
+    abx, aby = b[..., 0] - a[..., 0], b[..., 1] - a[..., 1]
+    apx, apy = p[..., 0] - a[..., 0], p[..., 1] - a[..., 1]
+    t = np.clip((apx * abx + apy * aby) / np.maximum(abx * abx + aby * aby, 1e-18), 0.0, 1.0)
+    return np.hypot(apx - t * abx, apy - t * aby)
 
 
 def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:

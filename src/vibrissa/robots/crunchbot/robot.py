@@ -29,6 +29,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Any
 
@@ -107,10 +108,11 @@ class _Loop:
         self.latency[name].append(time.perf_counter() - t)
         return out
 
-    def recent(self, n: int, cols: slice) -> np.ndarray:
-        """The latest ``n`` samples of the given whisker columns (fewer at the start)."""
+    def recent(self, n: int, cols: slice, chunks: int | None = None) -> np.ndarray:
+        """The latest ``n`` samples of the given whisker columns (fewer at the start),
+        of the first ``chunks`` steps' samples (default all)."""
         out, need = [], n
-        for chunk in reversed(self.hall):
+        for chunk in reversed(self.hall[:chunks]):
             if need <= 0:
                 break
             out.append(chunk[-need:, cols])
@@ -119,8 +121,77 @@ class _Loop:
 
     def since(self, index: int) -> np.ndarray:
         """Obstacle-whisker samples from sample ``index`` on, ``(m, 4, 2)``."""
-        allh = np.concatenate(self.hall) if self.hall else np.zeros((0, 6, 2))
-        return allh[index:, :4]
+        need = self.n - index
+        if need <= 0:
+            return np.zeros((0, 4, 2))
+        return self.recent(need, slice(0, 4))
+
+
+class _FloorInBackground:
+    """The floor whiskers of one step, simulated on a thread of their own while the
+    control loop goes on with the next step, then read by the floor classifier.
+
+    The floor whiskers carry their own state and noise streams and nothing the loop
+    decides depends on them, so the record is the same as simulating them in line;
+    one step's floor is finished before the next step's is started, in order.
+    """
+
+    def __init__(self, loop: _Loop, floor_sim: Any, clf: FloorTextureNB | None, n_obstacle: int,
+                 window_n: int, window_s: float | None) -> None:
+        self.loop, self.sim, self.clf = loop, floor_sim, clf
+        self.cols = slice(n_obstacle, n_obstacle + 2)
+        self.window_n, self.window_s = window_n, window_s
+        self.classes = tuple(clf.classes_) if clf is not None else ()
+        self._pending: tuple[Future, np.ndarray, int, int] | None = None
+        self._executor: ThreadPoolExecutor | None = None
+
+    def submit(self, t_s: np.ndarray, poses: np.ndarray, hall: np.ndarray, row: int) -> None:
+        """Start the floor of the step whose samples go to ``hall`` (log row ``row``)."""
+        if self.sim is None:
+            return
+        self._wait()
+        if self._executor is None:
+            self._executor = ThreadPoolExecutor(1, thread_name_prefix="crunchbot-floor")
+        future = self._executor.submit(self.sim.advance, t_s, poses, self.window_s)
+        self._pending = (future, hall, row, len(self.loop.hall))
+
+    def _wait(self) -> None:
+        if self._pending is None:
+            return
+        future, hall, row, chunks = self._pending
+        self._pending = None
+        hall[:, self.cols] = future.result()
+        if self.clf is None:
+            return
+        window = self.loop.recent(self.window_n, self.cols, chunks)
+        if len(window) == self.window_n and np.all(np.isfinite(window)):
+            loglik = np.stack([self.loop.timed("floor_texture", self.clf.loglik,
+                                               window[:, k].astype(float)) for k in range(2)])
+            self.loop.rows["floor"][row] = loglik
+            self.loop.rows["tex_pred"][row] = tuple(
+                self.classes[int(np.argmax(r))] for r in loglik)
+
+    def close(self) -> None:
+        """Let the thread go (a step still running is finished and dropped)."""
+        self._pending = None
+        if self._executor is not None:
+            self._executor.shutdown(wait=True)
+            self._executor = None
+
+    def finish(self, loglik0: np.ndarray, pred0: tuple[str, str]) -> None:
+        """Wait for the last step and give every row the latest report at its step
+        (``loglik0``, ``pred0`` before the first)."""
+        try:
+            self._wait()
+        finally:
+            self.close()
+        r = self.loop.rows
+        loglik, pred = loglik0, pred0
+        for j in range(len(r["floor"])):
+            if r["floor"][j] is None:
+                r["floor"][j], r["tex_pred"][j] = loglik.copy(), pred
+            else:
+                loglik, pred = r["floor"][j], r["tex_pred"][j]
 
 
 def run_crunchbot(arena: Arena, seconds: float = 360.0, seed: int = 0,
@@ -189,77 +260,77 @@ def run_crunchbot(arena: Arena, seconds: float = 360.0, seed: int = 0,
     window_n = int(round(FLOOR_WINDOW_S * sample_rate_hz))
     W = CRUNCHBOT_LAYOUT.n_whiskers
     loop = _Loop()
+    floor_bg = _FloorInBackground(loop, floor_sim, floor_clf, W, window_n,
+                                  FLOOR_WINDOW_S if floor == "window" else None)
     pose = arena.start.as_array()
     state = fsm.FsmState(fsm.FWD_1)
     command = fsm.command_for(fsm.FWD_1, s, rng_fsm)
     touching = np.zeros(W, bool)
     dist = np.full(W, np.nan)
     strain = np.zeros(W)
-    loglik = np.zeros((2, len(textures)))
-    pred = ("", "")
+    angle_clf = classifiers.angle if classifiers is not None else None
     hit1_sample = 0
     touch_steps = 0
     elapsed = 0.0
-    while elapsed < seconds:
-        start = pose.copy()
-        planned, bumped = plan_motion(arena, pose, command, sample_rate_hz)
-        forward = command.linear_m_s > 0
-        sig, m = whiskers.advance(start, planned, rng_noise,
-                                  s.strain_limit if forward else None,
-                                  stop_on_contact=state.name == fsm.FWD_1)
-        bumped = bumped and m == len(planned)
-        poses = planned[:m]
-        angle = math.nan
-        true_m = np.full(W, np.nan)
-        if m:
-            pose = poses[-1].copy()
-            t_s = (loop.n + 1 + np.arange(m)) / sample_rate_hz
-            hall = np.full((m, 6, 2), np.nan)
-            hall[:, :W] = sig.hall_v
-            if floor_sim is not None:
-                hall[:, W:] = floor_sim.advance(
-                    t_s, poses, FLOOR_WINDOW_S if floor == "window" else None)
-            loop.hall.append(hall)
-            loop.pose.append(poses)
-            loop.n += m
-            touching = sig.contact.any(axis=0)
-            strain = sig.strain.max(axis=0)
-            true_m = sig.first_contact_m.copy()
-            dist = _radial(loop, classifiers, sig, touching, true_m, offset, whiskers.length_m)
-            touch_steps += int(touching.any())
-            if floor_clf is not None:
-                window = loop.recent(window_n, slice(W, W + 2))
-                if len(window) == window_n and np.all(np.isfinite(window)):
-                    loglik = np.stack([loop.timed("floor_texture", floor_clf.loglik,
-                                                  window[:, k].astype(float))
-                                       for k in range(2)])
-                    pred = tuple(textures[int(np.argmax(r))] for r in loglik)
-        if state.name == fsm.HIT_2 and classifiers is not None and classifiers.angle is not None:
-            rec = deflection_volts(loop.since(hit1_sample), offset).reshape(-1, 2 * W)
-            if len(rec) >= 2:
-                angle = math.remainder(
-                    float(loop.timed("surface_angle", classifiers.angle.predict, rec)), math.pi)
-        if state.name == fsm.HIT_1:
-            hit1_sample = loop.n
-        fl = apply_motion(pose, np.c_[FLOOR_WHISKERS_M, np.zeros(2)])
-        r = loop.rows
-        r["state"].append(state.name)
-        r["odo"].append(odometry(start, pose, rng_odo, odometry_error, heading_drift_rad_m))
-        r["contact"].append(touching.copy())
-        r["dist"].append(np.where(touching, dist, np.nan))
-        r["angle"].append(angle)
-        r["pose"].append(start)
-        r["true_m"].append(true_m)
-        r["floor"].append(loglik.copy())
-        r["tex_true"].append(tuple(str(t) for t in arena.texture_at(fl[:, 0], fl[:, 1])))
-        r["tex_pred"].append(pred)
-        loop.step_start.append(loop.n)
-        elapsed += max(m, 1) / sample_rate_hz if command.duration_s > 0 else 0.0
-        obs = fsm.Observation(tuple(bool(x) for x in touching),
-                              tuple(float(x) for x in strain), bumped)
-        state, command = fsm.transition(state, obs, rng_fsm, s)
-        if progress is not None:
-            progress(min(elapsed / seconds, 1.0))
+    try:
+        while elapsed < seconds:
+            start = pose.copy()
+            planned, bumped = plan_motion(arena, pose, command, sample_rate_hz)
+            forward = command.linear_m_s > 0
+            sig, m = whiskers.advance(start, planned, rng_noise,
+                                      s.strain_limit if forward else None,
+                                      stop_on_contact=state.name == fsm.FWD_1)
+            bumped = bumped and m == len(planned)
+            poses = planned[:m]
+            angle = math.nan
+            true_m = np.full(W, np.nan)
+            if m:
+                pose = poses[-1].copy()
+                t_s = (loop.n + 1 + np.arange(m)) / sample_rate_hz
+                hall = np.full((m, 6, 2), np.nan)
+                hall[:, :W] = sig.hall_v
+                loop.hall.append(hall)
+                loop.pose.append(poses)
+                loop.n += m
+                # the floor whiskers of this step run beside the next step's obstacle
+                # whiskers (the FSM never reads them); their columns and the floor
+                # classifier's report for this step's row are filled in when they finish
+                floor_bg.submit(t_s, poses, hall, len(loop.rows["state"]))
+                touching = sig.contact.any(axis=0)
+                strain = sig.strain.max(axis=0)
+                true_m = sig.first_contact_m.copy()
+                dist = _radial(loop, classifiers, sig, touching, true_m, offset, whiskers.length_m)
+                touch_steps += int(touching.any())
+            if state.name == fsm.HIT_2 and angle_clf is not None:
+                rec = deflection_volts(loop.since(hit1_sample), offset).reshape(-1, 2 * W)
+                if len(rec) >= 2:
+                    angle = math.remainder(
+                        float(loop.timed("surface_angle", angle_clf.predict, rec)), math.pi)
+            if state.name == fsm.HIT_1:
+                hit1_sample = loop.n
+            fl = apply_motion(pose, np.c_[FLOOR_WHISKERS_M, np.zeros(2)])
+            r = loop.rows
+            r["state"].append(state.name)
+            r["odo"].append(odometry(start, pose, rng_odo, odometry_error, heading_drift_rad_m))
+            r["contact"].append(touching.copy())
+            r["dist"].append(np.where(touching, dist, np.nan))
+            r["angle"].append(angle)
+            r["pose"].append(start)
+            r["true_m"].append(true_m)
+            r["floor"].append(None)  # filled by floor_bg: the latest report at this step
+            r["tex_true"].append(tuple(str(t) for t in arena.texture_at(fl[:, 0], fl[:, 1])))
+            r["tex_pred"].append(None)
+            loop.step_start.append(loop.n)
+            elapsed += max(m, 1) / sample_rate_hz if command.duration_s > 0 else 0.0
+            obs = fsm.Observation(tuple(bool(x) for x in touching),
+                                  tuple(float(x) for x in strain), bumped)
+            state, command = fsm.transition(state, obs, rng_fsm, s)
+            if progress is not None:
+                progress(min(elapsed / seconds, 1.0))
+    except BaseException:
+        floor_bg.close()
+        raise
+    floor_bg.finish(np.zeros((2, len(textures))), ("", ""))
     if stats is not None:
         stats.update(steps=whiskers.steps, physics_steps=whiskers.physics_steps,
                      physics_whisker_steps=whiskers.physics_whisker_steps,
