@@ -125,6 +125,19 @@ def test_templates_classify_noisy_copies_of_themselves() -> None:
         assert tm.predict(rec[:1200]) == pytest.approx(a)  # shorter than the templates
 
 
+def test_template_scores_are_the_mean_squared_error_over_the_recordings_length() -> None:
+    rng = np.random.default_rng(5)
+    runs = _angle_runs(rng, np.array([0.3, 0.6, 0.9]), 2, 600)
+    tm = SurfaceAngleTemplates().fit(runs, np.repeat([0.3, 0.6, 0.9], 2), FS)
+    for m in (1, 37, 600, 900):
+        rec = rng.normal(2.5, 0.2, (m, 8))
+        k = min(m, 600)
+        d = tm.templates_[:, :k] - tm.preprocess(rec[:k])[None]
+        np.testing.assert_allclose(tm.scores(rec), np.mean(d * d, axis=(1, 2)), rtol=1e-9)
+    with pytest.raises(ValueError, match="empty"):
+        tm.scores(np.zeros((0, 8)))
+
+
 def test_template_filters_are_causal() -> None:
     """A recording's first m preprocessed samples do not depend on what follows."""
     rng = np.random.default_rng(3)

@@ -361,8 +361,25 @@ class SurfaceAngleTemplates:
             raise ValueError(f"recording must have {self.templates_.shape[2]} channels, "
                              f"got shape {x.shape}")
         m = min(x.shape[0], self.templates_.shape[1])
-        d = self.templates_[:, :m] - self.preprocess(x[:m])[None]
-        return np.mean(d * d, axis=(1, 2))
+        # sum (T - p)^2 = sum T^2 - 2 T.p + sum p^2, with the templates' running sums of
+        # squares made once: one dot product per template, no (templates, samples,
+        # channels) difference
+        p = self.preprocess(x[:m]).ravel()
+        cross = np.array([np.dot(t[:m].ravel(), p) for t in self.templates_])
+        sq = self._template_energy()[:, m] - 2.0 * cross + np.dot(p, p)
+        return np.maximum(sq, 0.0) / (m * x.shape[1])
+
+    def _template_energy(self) -> np.ndarray:
+        """``(n_angles, n_samples + 1)``: each template's sum of squares over its first
+        ``k`` samples, at column ``k``."""
+        cached = getattr(self, "_energy", None)
+        if cached is None or cached.shape != (self.templates_.shape[0],
+                                               self.templates_.shape[1] + 1):
+            per_sample = np.sum(self.templates_ * self.templates_, axis=2)
+            cached = np.concatenate([np.zeros((per_sample.shape[0], 1)),
+                                     np.cumsum(per_sample, axis=1)], axis=1)
+            self._energy = cached
+        return cached
 
     def predict(self, recording: np.ndarray, sample_rate_hz: float | None = None) -> float:
         """Angle (rad) of the nearest template.
