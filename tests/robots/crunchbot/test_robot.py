@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import pytest
 
@@ -162,4 +164,42 @@ def test_the_floor_report_of_each_step_reads_that_steps_latest_window() -> None:
     assert len({float(x) for x in rec.log.floor_loglik[:, 0, 0]}) > 5
     np.testing.assert_array_equal(rec.log.floor_loglik, np.array(expected))
     assert len(rec.latency_s["floor_texture"]) == 2 * sum(
-        e > s and e >= 200 for s, e in zip(rec.step_start[:-1], rec.step_start[1:]))
+        e > s and e >= 200 for s, e in zip(rec.step_start[:-1], rec.step_start[1:], strict=True))
+
+
+class _SlowFloor(_FakeFloor):
+    running = False
+
+    def advance(self, time_s, pose, window_s=None):
+        _SlowFloor.running = True
+        time.sleep(0.05)  # longer than an obstacle step near the wall
+        _SlowFloor.running = False
+        return super().advance(time_s, pose, window_s)
+
+
+class _Watching:
+    """Classifiers that note whether a floor simulation ran while they were called."""
+
+    overlaps = 0
+    calls = 0
+
+    def _check(self) -> None:
+        _Watching.calls += 1
+        _Watching.overlaps += int(_SlowFloor.running)
+
+    def loglik(self, window):
+        self._check()
+        return _Nb().loglik(window)
+
+    def predict(self, x):
+        self._check()
+        return 1.2 if np.ndim(x) == 2 else 0.1
+
+
+def test_no_floor_simulation_runs_while_a_classifier_is_timed() -> None:
+    _Watching.overlaps = _Watching.calls = 0
+    w = _Watching()
+    w.classes_ = _Nb.classes_
+    run_crunchbot(NEAR_WALL, 4.0, seed=2, floor="window", floor_factory=_SlowFloor,
+                  classifiers=RealtimeClassifiers(floor=w, radial=(w,) * 4, angle=w))
+    assert _Watching.calls > 10 and _Watching.overlaps == 0

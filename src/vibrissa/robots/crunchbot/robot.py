@@ -149,13 +149,14 @@ class _FloorInBackground:
         """Start the floor of the step whose samples go to ``hall`` (log row ``row``)."""
         if self.sim is None:
             return
-        self._wait()
+        self.wait()
         if self._executor is None:
             self._executor = ThreadPoolExecutor(1, thread_name_prefix="crunchbot-floor")
         future = self._executor.submit(self.sim.advance, t_s, poses, self.window_s)
         self._pending = (future, hall, row, len(self.loop.hall))
 
-    def _wait(self) -> None:
+    def wait(self) -> None:
+        """Finish the step started last (its floor columns and report) if there is one."""
         if self._pending is None:
             return
         future, hall, row, chunks = self._pending
@@ -182,7 +183,7 @@ class _FloorInBackground:
         """Wait for the last step and give every row the latest report at its step
         (``loglik0``, ``pred0`` before the first)."""
         try:
-            self._wait()
+            self.wait()
         finally:
             self.close()
         r = self.loop.rows
@@ -281,6 +282,10 @@ def run_crunchbot(arena: Arena, seconds: float = 360.0, seed: int = 0,
                                       s.strain_limit if forward else None,
                                       stop_on_contact=state.name == fsm.FWD_1)
             bumped = bumped and m == len(planned)
+            # the last step's floor whiskers ran beside this step's obstacle whiskers;
+            # they are finished before the classifiers run, so no simulation thread
+            # competes with the timed calls
+            floor_bg.wait()
             poses = planned[:m]
             angle = math.nan
             true_m = np.full(W, np.nan)
@@ -292,10 +297,6 @@ def run_crunchbot(arena: Arena, seconds: float = 360.0, seed: int = 0,
                 loop.hall.append(hall)
                 loop.pose.append(poses)
                 loop.n += m
-                # the floor whiskers of this step run beside the next step's obstacle
-                # whiskers (the FSM never reads them); their columns and the floor
-                # classifier's report for this step's row are filled in when they finish
-                floor_bg.submit(t_s, poses, hall, len(loop.rows["state"]))
                 touching = sig.contact.any(axis=0)
                 strain = sig.strain.max(axis=0)
                 true_m = sig.first_contact_m.copy()
@@ -321,6 +322,11 @@ def run_crunchbot(arena: Arena, seconds: float = 360.0, seed: int = 0,
             r["tex_true"].append(tuple(str(t) for t in arena.texture_at(fl[:, 0], fl[:, 1])))
             r["tex_pred"].append(None)
             loop.step_start.append(loop.n)
+            if m:
+                # this step's floor whiskers run beside the next step's obstacle
+                # whiskers (the FSM never reads them); their columns and the floor
+                # report of this step's row are filled in when they finish
+                floor_bg.submit(t_s, poses, hall, len(r["state"]) - 1)
             elapsed += max(m, 1) / sample_rate_hz if command.duration_s > 0 else 0.0
             obs = fsm.Observation(tuple(bool(x) for x in touching),
                                   tuple(float(x) for x in strain), bumped)
