@@ -83,6 +83,13 @@ def main() -> None:
             cases[f"wall {angle:.0f} deg, {label}"] = _count(
                 lambda wall=wall, motion=motion: simulate(crunch, wall, push, 0.5, DT_S,
                                                           base_motion=motion))
+    # the pushes above start with the tip inside the inclined wall (4.5 mm at 60 deg):
+    # an impulsive start; this one starts outside it, as a whisker meets a wall
+    outside = Trajectory(t, np.column_stack([np.zeros_like(t),
+                                             150.0 - 40.0 * np.minimum(t / 0.25, 1.0)]))
+    wall = SurfaceContact(flat, angle_deg=60.0, side=1, friction=0.3)
+    cases["wall 60 deg, still, from outside"] = _count(
+        lambda: simulate(crunch, wall, outside, 0.5, DT_S))
     out = {"what": __doc__.split("\n\n")[0], "dt_s": DT_S,
            "load_average_at_start": round(os.getloadavg()[0], 2), "cases": cases}
     atomic_write_text(Path(args.out), json.dumps(out, indent=2) + "\n")
