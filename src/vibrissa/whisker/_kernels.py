@@ -1252,7 +1252,8 @@ def _plane_entry_fraction(xa, dx, contact, tr, radius, af):
     n = xa.shape[0]
     alpha = 1.0
     for i in range(contact.first_node, n):
-        g = np.empty(2)
+        g0 = 0.0
+        g1 = 0.0
         for side in range(2):
             s = (1.0 - af) * side
             r0 = xa[i, 0] + s * dx[3 * i] - origin[0]
@@ -1262,9 +1263,14 @@ def _plane_entry_fraction(xa, dx, contact, tr, radius, af):
             W = r0 * tw[0] + r1 * tw[1] + r2 * tw[2]
             Z = r0 * nrm[0] + r1 * nrm[1] + r2 * nrm[2]
             h, _, _ = _height(H, contact.du, contact.dw, U, W)
-            g[side] = Z - h - radius[i]
-        if g[0] > PEN_SMOOTH_M and g[1] < 0.0:
-            f = g[0] / (g[0] - g[1])
+            if side == 0:
+                g0 = Z - h - radius[i]
+                if g0 <= PEN_SMOOTH_M:
+                    break  # already at or in the contact's smoothing zone: never limited
+            else:
+                g1 = Z - h - radius[i]
+        if g0 > PEN_SMOOTH_M and g1 < 0.0:
+            f = g0 / (g0 - g1)
             if f < alpha:
                 alpha = f
     return alpha
