@@ -180,3 +180,102 @@ def test_an_update_carrying_a_node_into_a_plane_stops_it_at_the_surface():
     assert _kernels._plane_entry_fraction(xa, dx, _flat_plane(3), tr, radius, af) == 1.0
     pole = _flat_plane()._replace(kind=POLE)
     assert _kernels._plane_entry_fraction(xa, dx, pole, tr, radius, af) == 1.0
+
+
+def _random_band_system(n_rows: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """A diagonally dominant band matrix (band storage and dense) of half bandwidth BW."""
+    rng = np.random.default_rng(seed)
+    bw = _kernels.BW
+    band = np.zeros((n_rows, 2 * bw + 1))
+    dense = np.zeros((n_rows, n_rows))
+    for i in range(n_rows):
+        for j in range(max(0, i - bw), min(n_rows, i + bw + 1)):
+            value = rng.standard_normal() + (4.0 * bw if i == j else 0.0)
+            band[i, bw + j - i] = value
+            dense[i, j] = value
+    return band, dense
+
+
+@pytest.mark.parametrize("n_rows", [3, 8, 9, 17, 48, 90])
+def test_band_factor_and_backsolve_solve_the_dense_system(n_rows):
+    # the full-band rows take unrolled paths, the first and last BW rows the general
+    # loops: sizes below, at and above the bandwidth exercise both
+    band, dense = _random_band_system(n_rows, seed=n_rows)
+    rhs = np.random.default_rng(1).standard_normal(n_rows)
+    x = rhs.copy()
+    assert _kernels.band_solve(band, x)
+    np.testing.assert_allclose(x, np.linalg.solve(dense, rhs), rtol=1e-12, atol=1e-12)
+
+
+@pytest.mark.parametrize("steps", [300, 600])
+def test_newton_stops_within_its_tolerance_of_the_converged_step(steps):
+    # one step of the standard contact, the whisker pressed on the pole: Newton
+    # stopped by its contraction estimate lands within tol of the same step solved to
+    # 1e-13. (Later in the push a step can end stuck or slipping depending on the last
+    # nanometre, and two tolerances may differ by micrometres there.)
+    from vibrissa.whisker import preset
+    from vibrissa.whisker.benchmark import standard_trajectory
+
+    m = RodModel(preset("xy-robot"))
+    c = PoleContact(radius_mm=0.5, friction=0.3)
+    tr = standard_trajectory(m)
+    dt = 2.5e-4
+    run = simulate(m, c, tr, steps * dt, dt, linear_free_flight=False, max_stride=1)
+    assert run.contact_force_n[-1] > 0
+    ends = []
+    for tol in (1e-8, 1e-13):
+        res = simulate(m, c, tr, (steps + 1) * dt, dt, initial_state=run.final_state.copy(),
+                       record_every=1, linear_free_flight=False, max_stride=1, tol_m=tol)
+        ends.append(res.states_m[-1])
+    assert np.abs(ends[0] - ends[1]).max() <= 1e-8
+
+
+def _first_touch_brute_force(kind, params, frame, h_max, traj, x_rest, radius, bound,
+                             margin, first_node):
+    """Every row and every segment or node: the definition first_possible_contact
+    skips its way through."""
+    n = x_rest.shape[0]
+    for t in range(traj.shape[0]):
+        if kind == POLE:
+            for j in range(1, n - 1):
+                a = x_rest[j, [0, 2]]
+                b = x_rest[j + 1, [0, 2]] - a
+                p = traj[t, 0:2]
+                u = min(1.0, max(0.0, float((p - a) @ b / (b @ b))))
+                clear = (np.hypot(*(a + u * b - p)) - params[0]
+                         - max(radius[j], radius[j + 1]) - max(bound[j], bound[j + 1]))
+                if clear <= margin:
+                    return t
+        else:
+            for i in range(first_node, n):
+                zc = frame[0] @ (x_rest[i] - traj[t, 0:3])
+                if zc - h_max - radius[i] - bound[i] <= margin:
+                    return t
+    return traj.shape[0]
+
+
+@pytest.mark.parametrize("kind", [POLE, _kernels.PLANE])
+@pytest.mark.parametrize("seed", range(6))
+def test_first_possible_contact_skips_only_rows_that_cannot_touch(kind, seed):
+    rng = np.random.default_rng(seed)
+    n = 12
+    x_rest = np.zeros((n, 3))
+    x_rest[1:, 2] = np.linspace(0.0, 0.1, n - 1)  # a straight shaft along z, 100 mm
+    radius = np.linspace(5e-4, 1e-4, n)
+    bound = np.linspace(0.0, 4e-3, n) * rng.uniform(0.2, 2.0)
+    # an object wandering toward the shaft in random steps, sometimes standing still
+    steps = rng.normal(0.0, 2e-4, (4000, 3)) * (rng.uniform(size=(4000, 1)) < 0.7)
+    steps[:, 0] -= rng.uniform(1.2e-5, 3e-5)  # drifting toward the shaft at x = 0
+    traj = np.zeros((4000, 6))
+    if kind == POLE:
+        traj[:, 0] = 0.03 + np.cumsum(steps[:, 0])
+        traj[:, 1] = 0.06 + np.cumsum(steps[:, 2])
+        params = np.array([5e-4, 0.0, 0.0, 0.0, 0.0])
+    else:
+        traj[:, 0:3] = np.array([0.03, 0.0, 0.0]) + np.cumsum(steps, axis=0)
+        params = np.zeros(5)
+    frame = np.array([[-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    args = (kind, params, frame, 1e-4, traj, x_rest, radius, bound, 5e-4, 2)
+    expected = _first_touch_brute_force(*args)
+    assert 0 < expected < traj.shape[0]  # the walk reaches the shaft, late
+    assert _kernels.first_possible_contact(*args) == expected

@@ -221,6 +221,25 @@ def test_long_steps_keep_the_standard_contact_accurate(model):
     assert abs(peak / peak_ref - 1) <= 5e-3
 
 
+def test_adaptive_long_steps_grow_in_a_steady_slide_and_keep_the_signal(model):
+    """Issue 14: while the whisker slides steadily along the pole the long steps grow
+    past two steps of dt (up to ``max_stride``), and the Hall signal stays within 1e-3
+    of its peak of the same run at fixed steps."""
+    c = PoleContact(radius_mm=0.5, friction=0.3)
+    tr = standard_trajectory(model)
+    res = simulate(model, c, tr, 1.5)
+    fixed = simulate(model, c, tr, 1.5, max_stride=1)
+    touching = res.contact_force_n > 0
+    interpolated = (res.newton_iterations == 0) & touching
+    # rows inside one long step carry no iterations of their own: runs of 3+ such rows
+    # mean steps of 4 dt or more
+    runs = np.diff(np.flatnonzero(np.diff(np.r_[0, interpolated.astype(int), 0])))[::2]
+    assert runs.max() >= 3
+    assert runs.max() <= 7  # max_stride = 8: at most 7 rows between solved ones
+    peak = np.abs(fixed.tan_xy).max()
+    assert np.abs(res.tan_xy - fixed.tan_xy).max() <= 1e-3 * peak
+
+
 # --------------------------------------------------------------- a turning housing
 def _whisk(freq_hz: float, amplitude_deg: float = 12.0, end_s: float = 1.6) -> BaseMotion:
     """A raised-cosine whisk, sampled finely so that angle and rate agree."""

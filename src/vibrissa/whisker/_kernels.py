@@ -64,11 +64,27 @@ import numpy as np
 from numba import njit
 
 BW = 8  # half bandwidth of the tangent matrices (3 DOF per node, 3-node stencil)
+assert BW == 8, "band_backsolve spells out a half bandwidth of eight"
 STEADY_STEPS = 8  # steps of unchanged contact state before long steps are tried
 #: A Newton update of a dynamic step is cut to this fraction of an element's length.
 STEP_CAP_FRACTION = 0.2
 #: Halvings of an exact Newton step that raised the residual before it is kept anyway.
 MAX_BACKTRACKS = 6
+#: Outcomes of a long step (:func:`_try_stride`).
+STRIDE_OK = 0
+STRIDE_DIVERGED = 1
+STRIDE_CONTACT = 2
+STRIDE_ERROR = 3
+#: A long step is doubled for the next try when the doubled step's error estimate
+#: (eight times this one's) would stay within this fraction of the tolerance.
+STRIDE_SAFETY = 0.5
+
+#: Newton has converged when its estimated remaining error is below this fraction of
+#: the tolerance (see :func:`_ga_step`).
+NEWTON_KAPPA = 0.3
+#: From the second iteration on, a reused factorisation is replaced as soon as two
+#: successive updates shrank by less than this factor.
+THETA_REFACTOR = 0.3
 
 #: Column of a trajectory row (``traj[k]``, ``tr``) holding the follicle housing's
 #: whisk angle (rad); the next column holds its rate (rad/s). Rows of only
@@ -252,6 +268,8 @@ class _StepWork(NamedTuple):
     info: np.ndarray
     newton: np.ndarray
     dx: np.ndarray
+    xb: np.ndarray
+    vb: np.ndarray
 
 
 # ----------------------------------------------------------------------------------
@@ -288,6 +306,17 @@ def band_factor(A):
         # non-aliasing loops
         for jj in range(1, m):
             rowk[jj] = A[k, BW + jj]
+        if m == BW + 1:
+            # a full band: fixed trip counts, which the compiler unrolls
+            for di in range(1, BW + 1):
+                i = k + di
+                base = BW - di
+                lik = A[i, base] * inv
+                if lik != 0.0:
+                    A[i, base] = lik
+                    for jj in range(1, BW + 1):
+                        A[i, base + jj] -= lik * rowk[jj]
+            continue
         for i in range(k + 1, iend):
             base = BW + k - i
             lik = A[i, base] * inv
@@ -302,16 +331,32 @@ def band_factor(A):
 def band_backsolve(A, rhs):
     """Solve in place with the factors left in ``A`` by :func:`band_factor`."""
     n = A.shape[0]
+    # a row's eight products are summed as a tree, not as a chain of dependent
+    # subtractions (whose latency bounded the loop); rows with a full band only
     for i in range(n):
-        s = rhs[i]
-        for k in range(max(0, i - BW), i):
-            s -= A[i, BW + k - i] * rhs[k]
-        rhs[i] = s
+        if i >= BW:
+            t0 = A[i, 0] * rhs[i - 8] + A[i, 1] * rhs[i - 7]
+            t1 = A[i, 2] * rhs[i - 6] + A[i, 3] * rhs[i - 5]
+            t2 = A[i, 4] * rhs[i - 4] + A[i, 5] * rhs[i - 3]
+            t3 = A[i, 6] * rhs[i - 2] + A[i, 7] * rhs[i - 1]
+            rhs[i] -= (t0 + t1) + (t2 + t3)
+        else:
+            s = rhs[i]
+            for k in range(i):
+                s -= A[i, BW + k - i] * rhs[k]
+            rhs[i] = s
     for i in range(n - 1, -1, -1):
-        s = rhs[i]
-        for j in range(i + 1, min(n, i + BW + 1)):
-            s -= A[i, BW + j - i] * rhs[j]
-        rhs[i] = s * A[i, BW]
+        if i + BW < n:
+            t0 = A[i, 9] * rhs[i + 1] + A[i, 10] * rhs[i + 2]
+            t1 = A[i, 11] * rhs[i + 3] + A[i, 12] * rhs[i + 4]
+            t2 = A[i, 13] * rhs[i + 5] + A[i, 14] * rhs[i + 6]
+            t3 = A[i, 15] * rhs[i + 7] + A[i, 16] * rhs[i + 8]
+            rhs[i] = (rhs[i] - ((t0 + t1) + (t2 + t3))) * A[i, BW]
+        else:
+            s = rhs[i]
+            for j in range(i + 1, n):
+                s -= A[i, BW + j - i] * rhs[j]
+            rhs[i] = s * A[i, BW]
 
 
 @njit(cache=True)
@@ -1282,7 +1327,19 @@ def _ga_step(state, work, rod, damping, contact, tr, anchors, h, settings):
 
     ``work.newton`` carries the modified-Newton bookkeeping between calls:
     [need_factor, steps since factorisation, step size of the factors,
-    iterations used]. Returns True on convergence.
+    iterations used, the last long step's error estimate]. Returns True on
+    convergence.
+
+    Newton has converged when its update is below ``settings.tol``, or when the
+    error left after it, estimated from the observed contraction
+    ``theta = |dx_k| / |dx_{k-1}|`` of two successive full updates as
+    ``theta / (1 - theta) |dx_k|`` (Hairer and Wanner, *Solving ODEs II*, IV.8), is
+    below :data:`NEWTON_KAPPA` times ``settings.tol``: the second saves the
+    iteration that would only confirm a fast contraction. The factorisation is
+    reused across iterations and steps (a modified Newton method) and replaced when a
+    step starts with another step size or after a step that needed more than two
+    iterations, and within a step once two successive updates shrank by less than
+    :data:`THETA_REFACTOR`.
 
     The Newton updates are globalised: one longer than :data:`STEP_CAP_FRACTION` of
     an element is shortened to that length, and when an update computed from a fresh
@@ -1329,10 +1386,19 @@ def _ga_step(state, work, rod, damping, contact, tr, anchors, h, settings):
     cM = (1.0 - am) / (beta * h * h)
     cD = (1.0 - af) * gam / (beta * h)
     cK = 1.0 - af
-    if newton[2] != h:
+    if newton[2] != h or newton[3] > 2.0:
+        # a new step size, or a last step that needed more than two iterations (its
+        # contact is changing fast): start from a fresh factorisation
         newton[0] = 1.0
+    # the step's fixed parts: a_new = (x - xb) / (beta h^2), v_new = vb + gam h a_new
+    xb = work.xb
+    vb = work.vb
+    inv_bh2 = 1.0 / (beta * h * h)
+    gh = gam * h
     for i in range(n):
         for c in range(3):
+            xb[i, c] = xn[i, c] + h * vn[i, c] + h * h * (0.5 - beta) * an[i, c]
+            vb[i, c] = vn[i, c] + h * (1.0 - gam) * an[i, c]
             if free[i]:
                 x[i, c] = xn[i, c] + h * vn[i, c] + 0.5 * h * h * an[i, c]
             else:
@@ -1340,18 +1406,15 @@ def _ga_step(state, work, rod, damping, contact, tr, anchors, h, settings):
     dx = work.dx
     step_cap = STEP_CAP_FRACTION * rod.L0[1]
     r_prev = np.inf  # squared residual where the last Newton direction was computed
+    mx_prev = 0.0  # the last full Newton update's largest component (0: none yet)
     exact_prev = False  # ... and whether that direction came from a fresh factorisation
     backtracks = 0
     for it in range(max_iter):
         for i in range(n):
+            fr = free[i]
             for c in range(3):
-                anew = (x[i, c] - xn[i, c] - h * vn[i, c] - h * h * (0.5 - beta) * an[i, c]) / (
-                    beta * h * h
-                )
-                vnew = vn[i, c] + h * ((1.0 - gam) * an[i, c] + gam * anew)
-                if not free[i]:
-                    anew = 0.0
-                    vnew = 0.0
+                anew = (x[i, c] - xb[i, c]) * inv_bh2 if fr else 0.0
+                vnew = vb[i, c] + gh * anew if fr else 0.0
                 a[i, c] = anew
                 v[i, c] = vnew
                 xa[i, c] = (1.0 - af) * x[i, c] + af * xn[i, c]
@@ -1411,19 +1474,20 @@ def _ga_step(state, work, rod, damping, contact, tr, anchors, h, settings):
                 x[i, c] += d
         r_prev = rr
         exact_prev = factor
-        if mx < tol:
+        theta = mx / mx_prev if frac == 1.0 and mx_prev > 0.0 else 1.0
+        mx_prev = mx if frac == 1.0 else 0.0
+        if mx < tol or (theta < 1.0 and theta / (1.0 - theta) * mx <= NEWTON_KAPPA * tol):
             newton[3] = it + 1
             for i in range(n):
-                for c in range(3):
-                    if free[i]:
-                        anew = (
-                            x[i, c] - xn[i, c] - h * vn[i, c] - h * h * (0.5 - beta) * an[i, c]
-                        ) / (beta * h * h)
+                if free[i]:
+                    for c in range(3):
+                        anew = (x[i, c] - xb[i, c]) * inv_bh2
                         a[i, c] = anew
-                        v[i, c] = vn[i, c] + h * ((1.0 - gam) * an[i, c] + gam * anew)
+                        v[i, c] = vb[i, c] + gh * anew
             newton[1] += 1.0
             return True
-        if it >= 1:
+        if it >= 1 and theta > THETA_REFACTOR:
+            # the reused factorisation contracts too slowly here: factorise afresh
             newton[0] = 1.0
     newton[0] = 1.0
     return False
@@ -1451,16 +1515,38 @@ def _write_tan(out, row, ex, ey, ez, traj, trow):
 
 
 @njit(cache=True)
+def _max_speed(v, vn):
+    """The largest node speed (m/s) in either of two velocity arrays."""
+    m = 0.0
+    for i in range(v.shape[0]):
+        a = v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1] + v[i, 2] * v[i, 2]
+        b = vn[i, 0] * vn[i, 0] + vn[i, 1] * vn[i, 1] + vn[i, 2] * vn[i, 2]
+        m = max(m, a, b)
+    return np.sqrt(m)
+
+
+@njit(cache=True)
+def _object_speed(kind, traj, row):
+    """The contact object's speed (m/s) at trajectory row ``row`` (see run_dynamics)."""
+    if kind == POLE:
+        return np.sqrt(traj[row, 2] ** 2 + traj[row, 3] ** 2 + traj[row, 5] ** 2)
+    return np.sqrt(traj[row, 3] ** 2 + traj[row, 4] ** 2 + traj[row, 5] ** 2)
+
+
+@njit(cache=True)
 def _try_stride(state, work, rod, damping, contact, traj, anchors, settings, k, K,
                 prev_contact, prev_slip, out):
     """Try one step of ``K * dt`` from step ``k``; keep it only if the contact state
     stayed the same and the local error estimate is within ``settings.stride_tol``.
 
     On success rows ``out[k + 1 .. k + K]`` are filled (the intermediate rows by
-    cubic Hermite interpolation of the magnet's motion, forces linearly) and True is
-    returned; otherwise the state and anchors are restored and False is returned.
-    The error estimate is Zienkiewicz and Xie's for the Newmark family,
-    ``(beta - 1/6) h^2 max |a_{n+1} - a_n|``.
+    cubic Hermite interpolation of the magnet's motion, forces linearly) and
+    :data:`STRIDE_OK` is returned; otherwise the state and anchors are restored and
+    the reason is returned: :data:`STRIDE_DIVERGED` (Newton did not converge),
+    :data:`STRIDE_CONTACT` (the contact state changed) or :data:`STRIDE_ERROR` (the
+    error estimate exceeded the tolerance). The error estimate is Zienkiewicz and
+    Xie's for the Newmark family, ``(beta - 1/6) h^2 max |a_{n+1} - a_n|``; it is
+    left in ``work.newton[4]`` whenever the step converged.
     """
     x = state.x
     v = state.v
@@ -1475,33 +1561,46 @@ def _try_stride(state, work, rod, damping, contact, traj, anchors, settings, k, 
     beta = 0.25 * (1.0 - am + af) ** 2
     h = K * dt
     pa_save = anchors.pole.copy()
-    pl_save = anchors.plane.copy()
+    pl_save = anchors.plane.copy() if contact.kind == PLANE else anchors.plane
     tf = k + (1.0 - af) * K  # the alpha point, in steps
     i0 = int(tf)
     w = tf - i0
     tr = np.empty(traj.shape[1])
     for c in range(traj.shape[1]):
         tr[c] = (1.0 - w) * traj[i0, c] + w * traj[i0 + 1, c]
-    ok = _ga_step(state, work, rod, damping, contact, tr, anchors, h, settings)
-    if ok:
-        contact_now = 1.0 if info[0] > 0.0 else 0.0
-        ok = contact_now == prev_contact and info[2] == prev_slip
-    if ok:
+    code = STRIDE_OK
+    if not _ga_step(state, work, rod, damping, contact, tr, anchors, h, settings):
+        code = STRIDE_DIVERGED
+    else:
         da = 0.0
         for i in range(x.shape[0]):
             for c in range(3):
                 d = abs(a[i, c] - an[i, c])
                 if d > da:
                     da = d
-        ok = (beta - 1.0 / 6.0) * h * h * da <= settings.stride_tol
-    if not ok:
+        est = (beta - 1.0 / 6.0) * h * h * da
+        work.newton[4] = est
+        contact_now = 1.0 if info[0] > 0.0 else 0.0
+        if contact_now != prev_contact or info[2] != prev_slip:
+            code = STRIDE_CONTACT
+        elif contact_now == 0.0 and contact.kind != NO_CONTACT and info[3] < h * (
+            _max_speed(v, vn) + _object_speed(contact.kind, traj, i0 + 1)
+        ):
+            # out of contact, and the object is closer than whisker and object could
+            # come together within one step this long: a touch could start (or
+            # start and end) inside it; leave the approach to single steps
+            code = STRIDE_CONTACT
+        elif est > settings.stride_tol:
+            code = STRIDE_ERROR
+    if code != STRIDE_OK:
         x[:, :] = xn
         v[:, :] = vn
         a[:, :] = an
         anchors.pole[:] = pa_save
-        anchors.plane[:, :] = pl_save
+        if contact.kind == PLANE:
+            anchors.plane[:, :] = pl_save
         work.newton[0] = 1.0
-        return False
+        return code
     commit_anchors(contact.kind, info, anchors)
     # outputs: the end of the step, and the rows in between interpolated
     p00 = xn[0, 0]
@@ -1517,13 +1616,13 @@ def _try_stride(state, work, rod, damping, contact, traj, anchors, settings, k, 
     else:
         end[5] = info[4]
         end[6] = info[5]
+    q = np.empty(3)
     for j in range(1, K + 1):
         sj = j / K
         h00 = (2.0 * sj - 3.0) * sj * sj + 1.0
         h10 = ((sj - 2.0) * sj + 1.0) * sj
         h01 = (3.0 - 2.0 * sj) * sj * sj
         h11 = (sj - 1.0) * sj * sj
-        q = np.empty(3)
         for c in range(3):
             q[c] = h00 * xn[1, c] + h10 * h * vn[1, c] + h01 * x[1, c] + h11 * h * v[1, c]
         if j == K:
@@ -1540,7 +1639,7 @@ def _try_stride(state, work, rod, damping, contact, traj, anchors, settings, k, 
     xn[:, :] = x
     vn[:, :] = v
     an[:, :] = a
-    return True
+    return STRIDE_OK
 
 
 @njit(cache=True, nogil=True)
@@ -1561,9 +1660,17 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
 
     Newton's method reuses the factorised iteration matrix across iterations and
     steps (a modified Newton method); it is refreshed every ``refactor_every``
-    steps, whenever the contact state changes, and whenever an iteration count
-    exceeds two. Convergence is always judged on the full update, so the reuse
-    changes the cost, not the solution (to within ``tol``). A step that does not
+    steps, whenever the contact state changes, and when it converges slowly (see
+    :func:`_ga_step`). Convergence is always judged on the full update (see
+    :func:`_ga_step`), so the reuse changes the cost, not the solution (to within
+    ``tol``).
+
+    While the contact state has not changed for :data:`STEADY_STEPS` steps, long
+    steps of ``K * dt`` are tried (:func:`_try_stride`), ``K`` adapted between 2 and
+    ``settings.max_stride``: doubled after a step whose error estimate leaves room
+    for it (:data:`STRIDE_SAFETY`), halved and tried again at once after one whose
+    estimate was too large, and back to single steps when the contact state
+    changed or Newton failed. A step that does not
     converge is retried as 2, 4, ... sub-steps (at most ``2**max_halvings``).
 
     If ``settings.stop_tan > 0`` the integration stops after the first step whose
@@ -1603,7 +1710,9 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
         np.zeros((3 * n, 2 * BW + 1)),
         np.zeros(3 * n),
         np.zeros(12),
-        np.array([1.0, 0.0, 0.0, 0.0]),
+        np.array([1.0, 0.0, 0.0, 0.0, 0.0]),
+        np.zeros_like(x),
+        np.zeros_like(x),
         np.zeros_like(x),
     )
     xn = work.xn
@@ -1627,17 +1736,22 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
     max_sub = 1 << max_halvings
     max_stride = settings.max_stride if state_every == 0 else 1
     steady = 0  # steps since the contact state last changed (or a long step failed)
+    stride = 2  # the next long step to try, in steps of dt
     k = np.int64(0)  # not a literal 0, which would compile _try_stride a second time
     while k < nsteps:
         if newton[1] >= refactor_every:
             newton[0] = 1.0
         # a long step while the contact state is steady
-        K = max_stride
-        while K > 1 and (steady < STEADY_STEPS or k + K > nsteps):
-            K //= 2
+        K = min(stride, max_stride, nsteps - k) if steady >= STEADY_STEPS else 1
         if K > 1:
-            if _try_stride(state, work, rod, damping, contact, traj, anchors, settings, k, K,
-                           prev_contact, prev_slip, out):
+            code = _try_stride(state, work, rod, damping, contact, traj, anchors, settings,
+                               k, K, prev_contact, prev_slip, out)
+            if code == STRIDE_OK:
+                # the error estimate grows like h^2 |a_{n+1} - a_n|, ~h^3 on smooth
+                # motion (~h^2 where |a_{n+1} - a_n| does not grow with h): double
+                # the stride while eight times this estimate keeps a margin
+                if 8.0 * newton[4] <= STRIDE_SAFETY * settings.stride_tol:
+                    stride = min(2 * K, max_stride)
                 stop = False
                 for j in range(k + 1, k + K + 1):
                     if stop_tan > 0.0 and abs(out[j, 0]) >= stop_tan:
@@ -1651,7 +1765,11 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
                     status[0] = 2
                     return k
                 continue
+            if code == STRIDE_ERROR and K // 2 > 1:
+                stride = K // 2  # try again at once, half as long
+                continue
             steady = 0
+            stride = 2
         sub = 1
         done = 0  # completed sub-steps, in units of 1/sub
         iters = 0
@@ -1661,11 +1779,13 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
             for c in range(traj.shape[1]):
                 tr[c] = (1.0 - fa) * traj[k, c] + fa * traj[k + 1, c]
             pa_save[:] = pole_anchor
-            pl_save[:, :] = plane_anchors
+            if kind == PLANE:  # only surfaces keep per-node anchors
+                pl_save[:, :] = plane_anchors
             ok = _ga_step(state, work, rod, damping, contact, tr, anchors, h, settings)
             if not ok:
                 pole_anchor[:] = pa_save
-                plane_anchors[:, :] = pl_save
+                if kind == PLANE:
+                    plane_anchors[:, :] = pl_save
                 if sub >= max_sub:
                     status[0] = -1
                     return k
@@ -1817,11 +1937,15 @@ def first_possible_contact(kind, params, frame, h_max, traj, x_rest, radius, bou
     """
     nt = traj.shape[0]
     n = x_rest.shape[0]
+    # the clearance is 1-Lipschitz in the object's position: rows until the object
+    # has moved by the clearance's excess over ``margin`` cannot touch and are skipped
+    t = 0
     if kind == POLE:
         rp = params[0]
-        for t in range(nt):
+        while t < nt:
             px = traj[t, 0]
             pz = traj[t, 1]
+            least = np.inf
             for j in range(1, n - 1):
                 ax = x_rest[j, 0]
                 az = x_rest[j, 2]
@@ -1838,17 +1962,40 @@ def first_possible_contact(kind, params, frame, h_max, traj, x_rest, radius, bou
                 )
                 if clear <= margin:
                     return t
+                least = min(least, clear)
+            slack = 0.5 * (least - margin)  # half: room for rounding
+            moved = 0.0
+            t += 1
+            while t < nt:
+                moved += np.sqrt((traj[t, 0] - traj[t - 1, 0]) ** 2
+                                 + (traj[t, 1] - traj[t - 1, 1]) ** 2)
+                if moved >= slack:
+                    break
+                t += 1
         return nt
     if kind == PLANE:
         nrm = frame[0]
-        for t in range(nt):
+        while t < nt:
+            least = np.inf
             for i in range(first_node, n):
                 zc = (
                     nrm[0] * (x_rest[i, 0] - traj[t, 0])
                     + nrm[1] * (x_rest[i, 1] - traj[t, 1])
                     + nrm[2] * (x_rest[i, 2] - traj[t, 2])
                 )
-                if zc - h_max - radius[i] - bound[i] <= margin:
+                clear = zc - h_max - radius[i] - bound[i]
+                if clear <= margin:
                     return t
+                least = min(least, clear)
+            slack = 0.5 * (least - margin)
+            moved = 0.0
+            t += 1
+            while t < nt:
+                moved += abs(nrm[0] * (traj[t, 0] - traj[t - 1, 0])
+                             + nrm[1] * (traj[t, 1] - traj[t - 1, 1])
+                             + nrm[2] * (traj[t, 2] - traj[t - 1, 2]))
+                if moved >= slack:
+                    break
+                t += 1
         return nt
     return nt
