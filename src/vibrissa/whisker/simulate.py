@@ -793,7 +793,10 @@ def simulate(
         changed for a few steps, try steps of up to this many ``dt_s``; one is kept
         only if the contact state stays the same and its local error estimate is
         within ``stride_tol_m``; rows inside it are interpolated (cubic Hermite for
-        the magnet, linear for forces). 1 takes every step at ``dt_s``.
+        the magnet, linear for forces). The length adapts from 2 ``dt_s`` up to this
+        to the error estimate; out of contact no long step is taken while the object
+        is within what whisker and object could close in it. 1 takes every step at
+        ``dt_s``.
     stride_tol_m
         Largest local error estimate (m) of a long step.
     base_motion
