@@ -179,6 +179,11 @@ def test_bad_simulation_input(model):
         PoleContact(friction=-1)
     with pytest.raises(ValueError, match="angle_deg"):
         SurfaceContact(make_surface("p80"), angle_deg=95)
+    for name, bad in (("max_stride", 0), ("max_stride", 2.5), ("max_iterations", 0),
+                      ("refactor_every", True), ("max_halvings", -1), ("tol_m", 0.0),
+                      ("stride_tol_m", float("nan"))):
+        with pytest.raises(ValueError, match=name):
+            simulate(model, None, None, 0.01, **{name: bad})
 
 
 def test_diverging_simulation_raises_instead_of_returning_nan(model):

@@ -819,6 +819,13 @@ def simulate(
     if dt > 1e-3:
         raise ValueError(f"dt_s must be at most 1 ms for this model, got {dt_s}")
     in_range("rho_inf", rho_inf, 0.0, 1.0)
+    positive("tol_m", tol_m)
+    positive("stride_tol_m", stride_tol_m)
+    for name, value, low in (("max_stride", max_stride, 1), ("max_iterations", max_iterations, 1),
+                             ("refactor_every", refactor_every, 1),
+                             ("max_halvings", max_halvings, 0)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+            raise ValueError(f"{name} must be an integer of at least {low}, got {value!r}")
     stop = (
         0.0
         if stop_when_tan_x_exceeds is None
