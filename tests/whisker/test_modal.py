@@ -72,6 +72,63 @@ def test_amplitudes_round_trip_a_state_of_the_kept_modes(model):
     np.testing.assert_allclose(x2[:, 2], x[:, 2], rtol=0, atol=2e-2 * scale_x)
 
 
+def _numpy_amplitudes(lm, x, v):
+    """LinearModes.amplitudes written out in NumPy, as the documentation states it."""
+    def transverse(u):
+        uu = u.reshape(-1, 3)
+        return (uu - np.sum(uu * lm.tangents, axis=1)[:, None] * lm.tangents).reshape(-1)
+
+    u = (x - lm.x_rest).reshape(-1)[lm.dofs]
+    w = v.reshape(-1)[lm.dofs]
+    q, qd = lm.shapes.T @ (lm.mass * u), lm.shapes.T @ (lm.mass * w)
+    ut, wt = transverse(u), transverse(w)
+    ru, rw = transverse(u - lm.shapes @ q), transverse(w - lm.shapes @ qd)
+    total = ut @ lm.stiffness @ ut + wt @ (lm.mass * wt)
+    lost = ru @ lm.stiffness @ ru + rw @ (lm.mass * rw)
+    return lm.inverse @ np.concatenate([q, qd]), max(lost, 0.0) / total
+
+
+def _numpy_state(lm, z):
+    """LinearModes.state written out in NumPy."""
+    qq = (lm.vectors @ z).real
+    m = lm.n_modes
+    x, v = lm.x_rest.copy(), np.zeros_like(lm.x_rest)
+    x.reshape(-1)[lm.dofs] += lm.shapes @ qq[:m]
+    v.reshape(-1)[lm.dofs] = lm.shapes @ qq[m:]
+    e = np.diff(x, axis=0)
+    t = e / np.linalg.norm(e, axis=1)[:, None]
+    dv = np.diff(v, axis=0)
+    dv -= t * np.sum(t * dv, axis=1)[:, None]
+    x[1:] = x[0] + np.cumsum(lm.edge_lengths[:, None] * t, axis=0)
+    v[1:] = v[0] + np.cumsum(dv, axis=0)
+    return x, v
+
+
+def test_the_compiled_mode_projections_agree_with_their_formulas(model):
+    """amplitudes, state and nonlinearity (numba kernels) against NumPy transcriptions,
+    on bent, moving states with energy outside the modes too."""
+    lm = linear_modes(model)
+    rng = np.random.default_rng(4)
+    for scale in (1e-7, 1e-4, 3e-3):
+        x = model.x_rest + rng.normal(size=model.x_rest.shape) * scale
+        x[0] = model.x_rest[0]
+        v = rng.normal(size=x.shape) * scale * 100.0
+        v[0] = 0.0
+        z, lost = lm.amplitudes(x, v)
+        z_ref, lost_ref = _numpy_amplitudes(lm, x, v)
+        np.testing.assert_allclose(z, z_ref, rtol=1e-10, atol=1e-12 * np.abs(z_ref).max())
+        assert lost == pytest.approx(lost_ref, rel=1e-9)
+        assert lost > 1e-6  # random states put energy outside the kept modes
+        xs, vs = lm.state(z)
+        xs_ref, vs_ref = _numpy_state(lm, z)
+        np.testing.assert_allclose(xs, xs_ref, rtol=0, atol=1e-15)
+        np.testing.assert_allclose(vs, vs_ref, rtol=0, atol=1e-12 * np.abs(vs_ref).max())
+        e = np.diff(x, axis=0)
+        e /= np.linalg.norm(e, axis=1)[:, None]
+        rot = np.arccos(np.clip(np.sum(e * lm.tangents, axis=1), -1.0, 1.0))
+        assert lm.nonlinearity(x) == pytest.approx(np.max(rot) ** 2, rel=1e-12)
+
+
 def test_hand_over_keeps_energy_and_base_signal(model):
     """Nonlinear ring-down states that pass the hand-over's gates, mapped into the modes
     and back, keep their energy to the order of the linearisation (the squared edge

@@ -1923,6 +1923,172 @@ def modal_advance(z, decay, out_modes, pivot, magnet_rest, steps, stop_tan, out,
 
 
 @njit(cache=True)
+def max_edge_rotation_sq(x, tangents):
+    """The largest squared angle (rad^2) between an edge of ``x`` and its rest tangent.
+
+    ``x`` (n, 3) are node positions, ``tangents`` (n - 1, 3) the edges' unit rest
+    directions: every edge normalised, its dot product with the rest direction
+    clipped to [-1, 1], the largest arc cosine squared
+    (:meth:`vibrissa.whisker.modal.LinearModes.nonlinearity`).
+    """
+    cmin = 1.0
+    for e in range(x.shape[0] - 1):
+        d0 = x[e + 1, 0] - x[e, 0]
+        d1 = x[e + 1, 1] - x[e, 1]
+        d2 = x[e + 1, 2] - x[e, 2]
+        ln = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        c = (d0 / ln) * tangents[e, 0] + (d1 / ln) * tangents[e, 1] + (d2 / ln) * tangents[e, 2]
+        if not c >= cmin:  # also takes a NaN, which then fails the caller's test
+            cmin = c
+    return np.arccos(max(cmin, -1.0)) ** 2
+
+
+@njit(cache=True)
+def _transverse_into(u, tangents, out):
+    """``u`` (flat, three per moving node) without its components along ``tangents``."""
+    for i in range(tangents.shape[0]):
+        t0 = tangents[i, 0]
+        t1 = tangents[i, 1]
+        t2 = tangents[i, 2]
+        a = u[3 * i] * t0 + u[3 * i + 1] * t1 + u[3 * i + 2] * t2
+        out[3 * i] = u[3 * i] - a * t0
+        out[3 * i + 1] = u[3 * i + 1] - a * t1
+        out[3 * i + 2] = u[3 * i + 2] - a * t2
+
+
+@njit(cache=True)
+def _energy(u, w, stiffness, mass):
+    """``u . (K u) + w . (M w)`` over the moving degrees of freedom."""
+    e = 0.0
+    nd = u.shape[0]
+    for i in range(nd):
+        ku = 0.0
+        for j in range(nd):
+            ku += stiffness[i, j] * u[j]
+        e += u[i] * ku + w[i] * mass[i] * w[i]
+    return e
+
+
+@njit(cache=True)
+def modal_amplitudes(x, v, x_rest, dofs, mass, shapes, stiffness, tangents, inv_re, inv_im,
+                     z_re, z_im):
+    """Complex modal amplitudes of a state, and the energy fraction outside the modes.
+
+    See :meth:`vibrissa.whisker.modal.LinearModes.amplitudes`: the displacement
+    ``u`` and velocity ``w`` from rest over the moving degrees of freedom ``dofs``
+    are projected on the mass-normalised ``shapes`` (``q = Phi^T M u``), the
+    first-order amplitudes are ``inverse @ [q, qd]`` (written to ``z_re``, ``z_im``),
+    and the transverse energy (bending, follicle, kinetic) of what the modes leave
+    out is returned as a fraction of the state's.
+    """
+    nd = dofs.shape[0]
+    m = shapes.shape[1]
+    u = np.empty(nd)
+    w = np.empty(nd)
+    for k in range(nd):
+        d = dofs[k]
+        u[k] = x[d // 3, d % 3] - x_rest[d // 3, d % 3]
+        w[k] = v[d // 3, d % 3]
+    qq = np.zeros(2 * m)
+    for k in range(nd):
+        mu = mass[k] * u[k]
+        mw = mass[k] * w[k]
+        for j in range(m):
+            qq[j] += shapes[k, j] * mu
+            qq[m + j] += shapes[k, j] * mw
+    ru = np.empty(nd)
+    rw = np.empty(nd)
+    for k in range(nd):
+        a = u[k]
+        b = w[k]
+        for j in range(m):
+            a -= shapes[k, j] * qq[j]
+            b -= shapes[k, j] * qq[m + j]
+        ru[k] = a
+        rw[k] = b
+    ut = np.empty(nd)
+    wt = np.empty(nd)
+    _transverse_into(u, tangents, ut)
+    _transverse_into(w, tangents, wt)
+    _transverse_into(ru, tangents, u)  # u, w reused for the transverse remainders
+    _transverse_into(rw, tangents, w)
+    total = _energy(ut, wt, stiffness, mass)
+    lost = _energy(u, w, stiffness, mass)
+    for i in range(2 * m):
+        a = 0.0
+        b = 0.0
+        for j in range(2 * m):
+            a += inv_re[i, j] * qq[j]
+            b += inv_im[i, j] * qq[j]
+        z_re[i] = a
+        z_im[i] = b
+    return 0.0 if total <= 0.0 else max(lost, 0.0) / total
+
+
+@njit(cache=True)
+def modal_state(z_re, z_im, vec_re, vec_im, x_rest, dofs, shapes, edge_lengths, x, v):
+    """Positions and velocities (into ``x``, ``v``) of the rod for complex amplitudes.
+
+    See :meth:`vibrissa.whisker.modal.LinearModes.state`: the modal displacements and
+    velocities ``Re(vectors @ z)`` are superposed on the rest shape, then the edges
+    keep the superposition's directions at their rest lengths, built out from the
+    pivot, and lose their relative velocities along themselves.
+    """
+    n2 = z_re.shape[0]
+    m = shapes.shape[1]
+    qq = np.empty(n2)
+    for i in range(n2):
+        a = 0.0
+        for j in range(n2):
+            a += vec_re[i, j] * z_re[j] - vec_im[i, j] * z_im[j]
+        qq[i] = a
+    n = x_rest.shape[0]
+    for i in range(n):
+        for c in range(3):
+            x[i, c] = x_rest[i, c]
+            v[i, c] = 0.0
+    for k in range(dofs.shape[0]):
+        d = dofs[k]
+        a = 0.0
+        b = 0.0
+        for j in range(m):
+            a += shapes[k, j] * qq[j]
+            b += shapes[k, j] * qq[m + j]
+        x[d // 3, d % 3] += a
+        v[d // 3, d % 3] = b
+    # edge directions of the superposition, at rest length, from the pivot outwards;
+    # relative velocities along each edge removed
+    step = np.empty((n - 1, 3))
+    dv = np.empty((n - 1, 3))
+    for e in range(n - 1):
+        t0 = x[e + 1, 0] - x[e, 0]
+        t1 = x[e + 1, 1] - x[e, 1]
+        t2 = x[e + 1, 2] - x[e, 2]
+        ln = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
+        t0 /= ln
+        t1 /= ln
+        t2 /= ln
+        d0 = v[e + 1, 0] - v[e, 0]
+        d1 = v[e + 1, 1] - v[e, 1]
+        d2 = v[e + 1, 2] - v[e, 2]
+        a = t0 * d0 + t1 * d1 + t2 * d2
+        step[e, 0] = edge_lengths[e] * t0
+        step[e, 1] = edge_lengths[e] * t1
+        step[e, 2] = edge_lengths[e] * t2
+        dv[e, 0] = d0 - t0 * a
+        dv[e, 1] = d1 - t1 * a
+        dv[e, 2] = d2 - t2 * a
+    for c in range(3):
+        sx = 0.0
+        sv = 0.0
+        for e in range(n - 1):
+            sx += step[e, c]
+            sv += dv[e, c]
+            x[e + 1, c] = x[0, c] + sx
+            v[e + 1, c] = v[0, c] + sv
+
+
+@njit(cache=True)
 def first_possible_contact(kind, params, frame, h_max, traj, x_rest, radius, bound, margin,
                            first_node):
     """First row of ``traj`` at which the object could touch the whisker, or len(traj).

@@ -40,11 +40,19 @@ from __future__ import annotations
 
 import weakref
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import scipy.linalg
 
-from vibrissa.whisker._kernels import BW, Damping, add_internal
+from vibrissa.whisker._kernels import (
+    BW,
+    Damping,
+    add_internal,
+    max_edge_rotation_sq,
+    modal_amplitudes,
+    modal_state,
+)
 from vibrissa.whisker.rod import RodModel
 
 __all__ = [
@@ -165,18 +173,27 @@ class LinearModes:
             out: there it is the second-order shortening of a bent rod of fixed
             length, not an axial vibration.
         """
-        u = (x - self.x_rest).reshape(-1)[self.dofs]
-        w = v.reshape(-1)[self.dofs]
-        q = _mv(self.shapes.T, self.mass * u)
-        qd = _mv(self.shapes.T, self.mass * w)
-        ut, wt = self._transverse(u), self._transverse(w)
-        ru = self._transverse(u - _mv(self.shapes, q))
-        rw = self._transverse(w - _mv(self.shapes, qd))
-        total = float(ut @ _mv(self.stiffness, ut) + wt @ (self.mass * wt))
-        lost = float(ru @ _mv(self.stiffness, ru) + rw @ (self.mass * rw))
-        frac = 0.0 if total <= 0.0 else max(lost, 0.0) / total
-        qq = np.concatenate([q, qd])
-        return _mv(self.inverse.real, qq) + 1j * _mv(self.inverse.imag, qq), frac
+        inv_re, inv_im = self._inverse_parts
+        z_re = np.empty(inv_re.shape[0])
+        z_im = np.empty(inv_re.shape[0])
+        frac = modal_amplitudes(
+            np.ascontiguousarray(x, dtype=float), np.ascontiguousarray(v, dtype=float),
+            self.x_rest, self.dofs, self.mass, self.shapes, self.stiffness, self.tangents,
+            inv_re, inv_im, z_re, z_im,
+        )
+        return z_re + 1j * z_im, float(frac)
+
+    @cached_property
+    def _inverse_parts(self) -> tuple[np.ndarray, np.ndarray]:
+        """Real and imaginary parts of :attr:`inverse`, contiguous, made once."""
+        return (np.ascontiguousarray(self.inverse.real),
+                np.ascontiguousarray(self.inverse.imag))
+
+    @cached_property
+    def _vector_parts(self) -> tuple[np.ndarray, np.ndarray]:
+        """Real and imaginary parts of :attr:`vectors`, contiguous, made once."""
+        return (np.ascontiguousarray(self.vectors.real),
+                np.ascontiguousarray(self.vectors.imag))
 
     def housing_load(self) -> np.ndarray:
         """Rates of the complex amplitudes per unit angular acceleration of a turning
@@ -206,11 +223,6 @@ class LinearModes:
         p = self.n_pairs
         return np.concatenate([zr[:p], np.conj(zr[:p]), zr[p:].real + 0j])
 
-    def _transverse(self, u: np.ndarray) -> np.ndarray:
-        """``u`` (over the moving dofs) without its components along the rest tangents."""
-        uu = u.reshape(-1, 3)
-        return (uu - np.sum(uu * self.tangents, axis=1)[:, None] * self.tangents).reshape(-1)
-
     def state(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Positions and velocities (n, 3) of the rod for complex amplitudes ``z``.
 
@@ -223,18 +235,11 @@ class LinearModes:
         carries no spurious axial energy. (The kept modes are all transverse; see
         :func:`linear_modes`.)
         """
-        qq = _mv(self.vectors.real, z.real) - _mv(self.vectors.imag, z.imag)
-        m = self.n_modes
-        x = self.x_rest.copy()
-        v = np.zeros_like(x)
-        x.reshape(-1)[self.dofs] += _mv(self.shapes, qq[:m])
-        v.reshape(-1)[self.dofs] = _mv(self.shapes, qq[m:])
-        e = np.diff(x, axis=0)
-        t = e / np.linalg.norm(e, axis=1)[:, None]
-        dv = np.diff(v, axis=0)
-        dv -= t * np.sum(t * dv, axis=1)[:, None]
-        x[1:] = x[0] + np.cumsum(self.edge_lengths[:, None] * t, axis=0)
-        v[1:] = v[0] + np.cumsum(dv, axis=0)
+        vec_re, vec_im = self._vector_parts
+        x = np.empty_like(self.x_rest)
+        v = np.empty_like(self.x_rest)
+        modal_state(np.ascontiguousarray(z.real), np.ascontiguousarray(z.imag), vec_re, vec_im,
+                    self.x_rest, self.dofs, self.shapes, self.edge_lengths, x, v)
         return x, v
 
     def nonlinearity(self, x: np.ndarray) -> float:
@@ -244,12 +249,8 @@ class LinearModes:
         The linearised elastic forces differ from the rod's by a relative amount of
         this order (the rotation's cosine and sine are linearised).
         """
-        e = np.diff(x, axis=0)
-        e /= np.linalg.norm(e, axis=1)[:, None]
-        e0 = np.diff(self.x_rest, axis=0)
-        e0 /= np.linalg.norm(e0, axis=1)[:, None]
-        c = np.clip(np.sum(e * e0, axis=1), -1.0, 1.0)
-        return float(np.max(np.arccos(c)) ** 2)
+        return float(max_edge_rotation_sq(np.ascontiguousarray(x, dtype=float),
+                                          self.tangents))
 
 
 _CACHE: weakref.WeakKeyDictionary[RodModel, LinearModes] = weakref.WeakKeyDictionary()
