@@ -6,9 +6,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from vibrissa.whisker import _kernels
-from vibrissa.whisker._kernels import NO_CONTACT, POLE, ContactSpec, RodArrays
+from vibrissa.whisker._kernels import NO_CONTACT, POLE, ContactSpec, RodArrays, interp_into
 from vibrissa.whisker.rod import RodModel, pole_contact_spec
 from vibrissa.whisker.simulate import (
     PoleContact,
@@ -279,3 +281,23 @@ def test_first_possible_contact_skips_only_rows_that_cannot_touch(kind, seed):
     expected = _first_touch_brute_force(*args)
     assert 0 < expected < traj.shape[0]  # the walk reaches the shaft, late
     assert _kernels.first_possible_contact(*args) == expected
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    knots=st.lists(st.floats(-1e3, 1e3, allow_nan=False), min_size=2, max_size=40, unique=True),
+    values=st.lists(st.floats(-1e6, 1e6, allow_nan=False), min_size=40, max_size=40),
+    points=st.lists(st.floats(-2e3, 2e3, allow_nan=False), min_size=1, max_size=60),
+    ordered=st.booleans(),
+)
+def test_interp_into_is_numpy_interp_bit_for_bit(knots, values, points, ordered):
+    """The trajectory's one-pass interpolation gives np.interp's bytes, knots and ends
+    included, for increasing and for unordered sample times."""
+    xp = np.sort(np.array(knots))
+    fp = np.array(values[: xp.size])
+    x = np.concatenate([np.array(points), xp, xp[[0, -1]]])
+    if ordered:
+        x = np.sort(x)
+    out = np.empty_like(x)
+    interp_into(x, xp, fp, out)
+    np.testing.assert_array_equal(out, np.interp(x, xp, fp))

@@ -2089,6 +2089,35 @@ def modal_state(z_re, z_im, vec_re, vec_im, x_rest, dofs, shapes, edge_lengths, 
 
 
 @njit(cache=True)
+def interp_into(x, xp, fp, out):
+    """``out[:] = np.interp(x, xp, fp)`` for finite data, bit for bit, in one pass.
+
+    ``xp`` must increase. NumPy searches every point afresh; the object's trajectory
+    is sampled at increasing times, so here the interval is carried from one point to
+    the next (and searched for afresh only where ``x`` goes back).
+    """
+    m = xp.shape[0]
+    j = 0
+    for i in range(x.shape[0]):
+        xi = x[i]
+        if xi < xp[0]:
+            out[i] = fp[0]
+            continue
+        if xi >= xp[m - 1]:
+            out[i] = fp[m - 1]
+            continue
+        if xi < xp[j]:
+            j = np.searchsorted(xp, xi, side="right") - 1
+        while xp[j + 1] <= xi:
+            j += 1
+        if xp[j] == xi:
+            out[i] = fp[j]
+        else:
+            slope = (fp[j + 1] - fp[j]) / (xp[j + 1] - xp[j])
+            out[i] = slope * (xi - xp[j]) + fp[j]
+
+
+@njit(cache=True)
 def first_possible_contact(kind, params, frame, h_max, traj, x_rest, radius, bound, margin,
                            first_node):
     """First row of ``traj`` at which the object could touch the whisker, or len(traj).

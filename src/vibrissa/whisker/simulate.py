@@ -32,6 +32,7 @@ from vibrissa.whisker._kernels import (
     add_internal_whisking,
     add_pole,
     first_possible_contact,
+    interp_into,
     modal_advance,
     run_dynamics,
 )
@@ -166,6 +167,14 @@ def _surface_frame(angle_deg: float, side: int) -> np.ndarray:
     return np.vstack([n, u, w])
 
 
+def _interp(x: np.ndarray, xp: np.ndarray, fp: np.ndarray) -> np.ndarray:
+    """``np.interp(x, xp, fp)`` (finite ``fp``, increasing ``xp``), by the one-pass kernel."""
+    out = np.empty(x.shape)
+    interp_into(x, np.ascontiguousarray(xp, dtype=float), np.ascontiguousarray(fp, dtype=float),
+                out)
+    return out
+
+
 def _sample_times(time_s: np.ndarray) -> np.ndarray:
     """``time_s`` checked: finite, 1-D, at least two samples, strictly increasing."""
     t = finite_array("time_s", time_s)
@@ -248,12 +257,12 @@ class Trajectory:
 
     def sample(self, times_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Positions and velocities (mm, mm/s) interpolated at ``times_s``."""
-        p = np.column_stack(
-            [np.interp(times_s, self.time_s, self.position_mm[:, i]) for i in range(2)]
-        )
-        v = np.column_stack(
-            [np.interp(times_s, self.time_s, self.velocity_mm_s[:, i]) for i in range(2)]
-        )
+        x = np.ascontiguousarray(times_s, dtype=float)
+        p = np.empty((x.size, 2))
+        v = np.empty((x.size, 2))
+        for i in range(2):  # np.interp, bit for bit, in one pass over increasing times
+            p[:, i] = _interp(x, self.time_s, self.position_mm[:, i])
+            v[:, i] = _interp(x, self.time_s, self.velocity_mm_s[:, i])
         return p, v
 
     def sample_lateral(self, times_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -262,8 +271,9 @@ class Trajectory:
         if self.lateral_mm is None:
             z = np.zeros(np.shape(times_s))
             return z, z.copy()
-        return (np.interp(times_s, self.time_s, self.lateral_mm),
-                np.interp(times_s, self.time_s, self.lateral_velocity_mm_s))
+        x = np.ascontiguousarray(times_s, dtype=float)
+        return (_interp(x, self.time_s, self.lateral_mm),
+                _interp(x, self.time_s, self.lateral_velocity_mm_s))
 
 
 @dataclass(frozen=True)
