@@ -129,6 +129,19 @@ def test_the_compiled_mode_projections_agree_with_their_formulas(model):
         assert lm.nonlinearity(x) == pytest.approx(np.max(rot) ** 2, rel=1e-12)
 
 
+def test_the_mode_projections_refuse_states_of_the_wrong_shape(model):
+    lm = linear_modes(model)
+    x = model.x_rest
+    with pytest.raises(ValueError, match="x must have shape"):
+        lm.amplitudes(x[:-1], np.zeros_like(x))
+    with pytest.raises(ValueError, match="v must have shape"):
+        lm.amplitudes(x, np.zeros((x.shape[0], 2)))
+    with pytest.raises(ValueError, match="x must have shape"):
+        lm.nonlinearity(x.T)
+    with pytest.raises(ValueError, match="z must have shape"):
+        lm.state(np.zeros(3, dtype=complex))
+
+
 def test_hand_over_keeps_energy_and_base_signal(model):
     """Nonlinear ring-down states that pass the hand-over's gates, mapped into the modes
     and back, keep their energy to the order of the linearisation (the squared edge

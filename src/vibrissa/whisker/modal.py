@@ -177,7 +177,7 @@ class LinearModes:
         z_re = np.empty(inv_re.shape[0])
         z_im = np.empty(inv_re.shape[0])
         frac = modal_amplitudes(
-            np.ascontiguousarray(x, dtype=float), np.ascontiguousarray(v, dtype=float),
+            self._nodes("x", x), self._nodes("v", v),
             self.x_rest, self.dofs, self.mass, self.shapes, self.stiffness, self.tangents,
             inv_re, inv_im, z_re, z_im,
         )
@@ -236,6 +236,9 @@ class LinearModes:
         :func:`linear_modes`.)
         """
         vec_re, vec_im = self._vector_parts
+        z = np.asarray(z)
+        if z.shape != (vec_re.shape[1],):
+            raise ValueError(f"z must have shape ({vec_re.shape[1]},), got {z.shape}")
         x = np.empty_like(self.x_rest)
         v = np.empty_like(self.x_rest)
         modal_state(np.ascontiguousarray(z.real), np.ascontiguousarray(z.imag), vec_re, vec_im,
@@ -249,8 +252,15 @@ class LinearModes:
         The linearised elastic forces differ from the rod's by a relative amount of
         this order (the rotation's cosine and sine are linearised).
         """
-        return float(max_edge_rotation_sq(np.ascontiguousarray(x, dtype=float),
-                                          self.tangents))
+        return float(max_edge_rotation_sq(self._nodes("x", x), self.tangents))
+
+    def _nodes(self, name: str, a: np.ndarray) -> np.ndarray:
+        """``a`` as a contiguous float array of one row per node, or ValueError (the
+        compiled kernels do not check shapes)."""
+        out = np.ascontiguousarray(a, dtype=float)
+        if out.shape != self.x_rest.shape:
+            raise ValueError(f"{name} must have shape {self.x_rest.shape}, got {out.shape}")
+        return out
 
 
 _CACHE: weakref.WeakKeyDictionary[RodModel, LinearModes] = weakref.WeakKeyDictionary()
