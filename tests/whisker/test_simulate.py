@@ -244,3 +244,22 @@ def test_a_whisker_driven_head_on_into_a_wall_presses_on_it_below_its_buckling_l
     assert res.contact_force_n.max() < 2 * euler_n
     iterations = res.newton_iterations[1:]
     assert iterations.sum() / iterations.size < 6
+
+
+@pytest.mark.parametrize("times", [np.linspace(-0.5, 2.5, 61), np.array(0.25), 0.75,
+                                   np.array([[0.1, 1.0, 1.9]]), np.array([1.5, 0.2, 2.0])])
+def test_trajectory_samples_as_numpy_interp_does(times):
+    """Sampling a trajectory gives np.interp's values and shapes, bytes included, at
+    increasing, unordered, scalar and 2-D times, knots and ends."""
+    t = Trajectory(np.array([0.0, 0.3, 1.0, 2.0]),
+                   np.array([[0.0, 1.0], [0.7, 3.0], [1.0, 2.5], [2.0, 2.0]]),
+                   lateral_mm=np.array([0.0, -1.0, 0.5, 0.25]))
+    p, v = t.sample(times)
+    y, vy = t.sample_lateral(times)
+    ref_p = np.column_stack([np.interp(times, t.time_s, t.position_mm[:, i]) for i in range(2)])
+    ref_v = np.column_stack([np.interp(times, t.time_s, t.velocity_mm_s[:, i])
+                             for i in range(2)])
+    np.testing.assert_array_equal(p, ref_p)
+    np.testing.assert_array_equal(v, ref_v)
+    np.testing.assert_array_equal(y, np.interp(times, t.time_s, t.lateral_mm))
+    np.testing.assert_array_equal(vy, np.interp(times, t.time_s, t.lateral_velocity_mm_s))

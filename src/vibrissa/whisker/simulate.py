@@ -169,10 +169,11 @@ def _surface_frame(angle_deg: float, side: int) -> np.ndarray:
 
 def _interp(x: np.ndarray, xp: np.ndarray, fp: np.ndarray) -> np.ndarray:
     """``np.interp(x, xp, fp)`` (finite ``fp``, increasing ``xp``), by the one-pass kernel."""
-    out = np.empty(x.shape)
-    interp_into(x, np.ascontiguousarray(xp, dtype=float), np.ascontiguousarray(fp, dtype=float),
-                out)
-    return out
+    flat = np.ascontiguousarray(x, dtype=float).reshape(-1)
+    out = np.empty(flat.shape)
+    interp_into(flat, np.ascontiguousarray(xp, dtype=float),
+                np.ascontiguousarray(fp, dtype=float), out)
+    return out.reshape(np.shape(x))
 
 
 def _sample_times(time_s: np.ndarray) -> np.ndarray:
@@ -257,12 +258,11 @@ class Trajectory:
 
     def sample(self, times_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Positions and velocities (mm, mm/s) interpolated at ``times_s``."""
-        x = np.ascontiguousarray(times_s, dtype=float)
-        p = np.empty((x.size, 2))
-        v = np.empty((x.size, 2))
-        for i in range(2):  # np.interp, bit for bit, in one pass over increasing times
-            p[:, i] = _interp(x, self.time_s, self.position_mm[:, i])
-            v[:, i] = _interp(x, self.time_s, self.velocity_mm_s[:, i])
+        # np.interp, bit for bit, in one pass over increasing times
+        p = np.column_stack([_interp(times_s, self.time_s, self.position_mm[:, i])
+                             for i in range(2)])
+        v = np.column_stack([_interp(times_s, self.time_s, self.velocity_mm_s[:, i])
+                             for i in range(2)])
         return p, v
 
     def sample_lateral(self, times_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -271,9 +271,8 @@ class Trajectory:
         if self.lateral_mm is None:
             z = np.zeros(np.shape(times_s))
             return z, z.copy()
-        x = np.ascontiguousarray(times_s, dtype=float)
-        return (_interp(x, self.time_s, self.lateral_mm),
-                _interp(x, self.time_s, self.lateral_velocity_mm_s))
+        return (_interp(times_s, self.time_s, self.lateral_mm),
+                _interp(times_s, self.time_s, self.lateral_velocity_mm_s))
 
 
 @dataclass(frozen=True)
