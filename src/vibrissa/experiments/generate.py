@@ -22,12 +22,11 @@ from __future__ import annotations
 
 import contextlib
 import fcntl
+import functools
 import json
-import multiprocessing
 import os
 import re
 import shutil
-import signal
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
@@ -37,6 +36,7 @@ import xarray as xr
 
 from vibrissa import __version__
 from vibrissa._atomic import atomic_path, atomic_write_text, check_writable
+from vibrissa._processes import imap_unordered
 from vibrissa.data.dataset import coordinate_attrs
 from vibrissa.experiments.protocols import Protocol
 from vibrissa.experiments.runner import (
@@ -230,20 +230,6 @@ def _run_chunk(protocol: Protocol, indices: np.ndarray) -> dict[str, np.ndarray]
     return own(indices) if own is not None else simulate_trials(protocol, indices)
 
 
-def _worker_signals() -> None:
-    """In a worker: an interrupt is the parent's to handle (Ctrl-C reaches the whole
-    process group), and termination by the parent is immediate."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)
-
-
-def _run_numbered_chunk(
-    job: tuple[Protocol, int, np.ndarray],
-) -> tuple[int, dict[str, np.ndarray]]:
-    protocol, k, indices = job
-    return k, _run_chunk(protocol, indices)
-
-
 def _local_results(
     protocol: Protocol, todo: list[tuple[int, np.ndarray]], workers: int
 ) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
@@ -251,12 +237,11 @@ def _local_results(
         for k, idx in todo:
             yield k, _run_chunk(protocol, idx)
         return
-    ctx = multiprocessing.get_context("fork" if os.name == "posix" else "spawn")
-    # leaving the pool (finished, failed or interrupted) terminates the workers at once:
-    # chunks still running are not waited for (their shards were never written)
-    with ctx.Pool(workers, initializer=_worker_signals) as pool:
-        jobs = [(protocol, k, idx) for k, idx in todo]
-        yield from pool.imap_unordered(_run_numbered_chunk, jobs)
+    # leaving this (finished, failed or interrupted) kills the workers at once: chunks
+    # still running are not waited for (their shards were never written)
+    run = functools.partial(_run_chunk, protocol)
+    for j, res in imap_unordered(run, [idx for _, idx in todo], workers):
+        yield todo[j][0], res
 
 
 def _dask_results(

@@ -35,6 +35,7 @@ import numpy as np
 import xarray as xr
 
 from vibrissa import __version__
+from vibrissa._processes import imap_unordered
 from vibrissa._validate import in_range, non_negative, positive
 from vibrissa.experiments.streams import stream
 from vibrissa.robots.whisking import (
@@ -266,13 +267,13 @@ class ScratchbotProtocol:
                 done.append(self._job(job))
                 tick()
         else:
-            import multiprocessing
-
-            ctx = multiprocessing.get_context("fork" if os.name == "posix" else "spawn")
-            with ctx.Pool(w) as pool:
-                for res in pool.imap(self._job, jobs):
-                    done.append(res)
-                    tick()
+            # in job order, as they finish: a job waits for the ones before it
+            arrived: dict[int, dict[str, np.ndarray]] = {}
+            for i, res in imap_unordered(self._job, jobs, w):
+                arrived[i] = res
+                while len(done) in arrived:
+                    done.append(arrived.pop(len(done)))
+                tick()
         n = len(self.conditions())
         ds = self.build_dataset(done[:n], done[n:])
         Path(path).parent.mkdir(parents=True, exist_ok=True)
