@@ -417,7 +417,8 @@ def extract_peers(results: Mapping[str, Any]) -> dict[str, Any]:
             "vibrissa_peak_follicle_moment_nm", "mujoco_peak_follicle_moment_nm",
             "mujoco_peak_moment_error_pct", "damping_ratio", "mujoco_first_mode_damping_ratio",
             "mujoco_version", "vibrissa_n_elements", "vibrissa_dt_s", "repeats", "duration_s",
-            "created_utc")
+            "created_utc", "mujoco_planar_rtf", "ratio_planar",
+            "mujoco_planar_peak_moment_error_pct")
     out: dict[str, Any] = {k: results[k] for k in keys}
     out["mujoco_dt_us"] = results["mujoco_dt_s"] * 1e6
     out["mujoco_max_penetration_um"] = results["mujoco_max_penetration_m"] * 1e6
@@ -425,6 +426,8 @@ def extract_peers(results: Mapping[str, Any]) -> dict[str, Any]:
     for who in ("vibrissa", "mujoco"):
         out[f"{who}_peak_follicle_moment_mnm"] = results[f"{who}_peak_follicle_moment_nm"] * 1e3
         out[f"{who}_wall_ms"] = [round(1e3 * w, 1) for w in results[f"{who}_wall_seconds_all"]]
+    out["mujoco_planar_wall_ms"] = [round(1e3 * w, 1)
+                                    for w in results["mujoco_planar_wall_seconds_all"]]
     out["machine"] = {k: results["machine"][k] for k in ("cpu", "cpu_count", "pinned_cpu")}
     out["machine"]["load_average_before"] = results["machine"]["load_average_before"][0]
     tol = results["criteria"]

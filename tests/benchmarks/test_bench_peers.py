@@ -126,6 +126,24 @@ def test_a_step_beyond_the_stability_limit_is_unstable(mujoco):
     assert ok and not bad
 
 
+def test_the_planar_chain_is_the_spatial_one_without_its_x_hinges(mujoco):
+    g = preset("xy-robot")
+    spatial = bench_peers.MujocoWhisker(mujoco, g, 8, 1e-4)
+    planar = bench_peers.MujocoWhisker(mujoco, g, 8, 1e-4, planar=True)
+    names = {planar.model.joint(i).name for i in range(planar.model.njnt)}
+    assert planar.model.nv == spatial.model.nv - 9  # the follicle's and 8 shaft x hinges
+    assert not any(n.startswith(("bend_x", "follicle_x")) for n in names)
+    # in the plane it is the same chain: mass matrix, springs and dampers
+    for a, b in zip(planar.plane_matrices(), spatial.plane_matrices(), strict=True):
+        np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-300)
+    assert planar.follicle_damping == pytest.approx(spatial.follicle_damping, rel=1e-9)
+    path = bench_peers.pole_path(0.4)
+    flat = bench_peers.contact_run(planar, 0.4, path)
+    full = bench_peers.contact_run(spatial, 0.4, path)
+    assert flat[1] and full[1]
+    assert flat[0] == pytest.approx(full[0], rel=1e-3)  # the contact stays in the plane
+
+
 # ---------------------------------------------------------------------- the command line
 def test_quick_json_has_the_comparison(mujoco, tmp_path, capsys):
     out = tmp_path / "results" / "peers.json"
@@ -134,9 +152,13 @@ def test_quick_json_has_the_comparison(mujoco, tmp_path, capsys):
     for key in ("vibrissa_rtf", "mujoco_rtf", "ratio", "mujoco_links", "mujoco_dt_s",
                 "mujoco_first_mode_error_pct", "reference_first_mode_hz", "mujoco_first_mode_hz",
                 "vibrissa_peak_follicle_moment_nm", "mujoco_peak_follicle_moment_nm",
-                "mujoco_peak_moment_error_pct", "mujoco_version", "search", "machine"):
+                "mujoco_peak_moment_error_pct", "mujoco_version", "search", "machine",
+                "mujoco_planar_rtf", "ratio_planar", "mujoco_planar_peak_follicle_moment_nm"):
         assert key in result, key
     assert result["ratio"] == pytest.approx(result["vibrissa_rtf"] / result["mujoco_rtf"])
+    assert result["ratio_planar"] == pytest.approx(
+        result["vibrissa_rtf"] / result["mujoco_planar_rtf"])
+    assert abs(result["mujoco_planar_peak_moment_error_pct"]) <= bench_peers.MOMENT_TOLERANCE_PCT
     assert abs(result["mujoco_first_mode_error_pct"]) <= bench_peers.FIRST_MODE_TOLERANCE_PCT
     assert abs(result["mujoco_peak_moment_error_pct"]) <= bench_peers.MOMENT_TOLERANCE_PCT
     accepted = [row for row in result["search"] if row["accepted"]]
