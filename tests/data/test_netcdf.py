@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import pickle
@@ -15,6 +16,7 @@ import pytest
 import xarray as xr
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
 
 from vibrissa.data import DatasetFileError, checksum, load_dataset, make_dataset, save_dataset
 from vibrissa.data.netcdf import (
@@ -22,6 +24,7 @@ from vibrissa.data.netcdf import (
     DatasetIntegrityWarning,
     DatasetModifiedError,
     DatasetSchemaError,
+    _values_digest,
 )
 
 
@@ -92,6 +95,31 @@ def test_checksum_covers_signal_and_labels() -> None:
     assert checksum(ds.assign_coords(set=ds["set"].astype(np.int32))) != c
     # the checksum attributes themselves are not covered
     assert checksum(ds.assign_attrs(vibrissa_checksum="x", vibrissa_checksum_parts="y")) == c
+
+
+_DTYPES = st.sampled_from(["<f8", ">f8", "<f4", "<i8", ">i4", "|u1", "|b1", "<c16",
+                           "<M8[ns]", "<m8[s]"])
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    arr=_DTYPES.flatmap(lambda dt: hnp.arrays(np.dtype(dt), hnp.array_shapes(min_dims=0,
+                                                                             max_side=5))),
+    transpose=st.booleans(),
+)
+def test_values_are_hashed_as_their_little_endian_bytes(arr, transpose) -> None:
+    """The digest reads the array's buffer, not a copy of it as bytes (a full grid's
+    signal is hundreds of MB); it stays the digest of those bytes, so files written
+    before verify the same (any dtype, byte order, shape, contiguity)."""
+    vals = arr.T if transpose else arr
+    var = xr.DataArray(vals, dims=[f"d{i}" for i in range(vals.ndim)])
+    little = vals.dtype.newbyteorder("<") if vals.dtype.byteorder != "|" else vals.dtype
+    h = hashlib.sha256()
+    h.update(json.dumps([[f"d{i}" for i in range(vals.ndim)], list(vals.shape)],
+                        sort_keys=True, separators=(",", ":")).encode())
+    h.update(little.str.encode())
+    h.update(np.ascontiguousarray(vals, dtype=little).tobytes())
+    assert _values_digest(var) == h.hexdigest()
 
 
 def test_save_is_atomic_and_keeps_old_file_on_failure(tmp_path) -> None:

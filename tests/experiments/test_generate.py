@@ -307,3 +307,33 @@ def test_kept_trials_counts_the_finished_shards_on_disk(tmp_path):
     for name in ("chunk-00000.npz", "chunk-00002.npz", ".chunk-00001.npz.tmp"):
         (parts / name).write_bytes(b"")
     assert kept_trials(out) == 4 + 2  # chunks 0 (4 trials) and 2 (the last, 2 trials)
+
+
+def test_shards_are_assembled_as_concatenate_joins_them_in_any_arrival_order():
+    from vibrissa.experiments.generate import _Assembly
+
+    rng = np.random.default_rng(3)
+    sizes = [4, 1, 3]
+    chunks = np.split(np.arange(8), np.cumsum(sizes)[:-1])
+    shards = [{"signal": rng.normal(size=(n, 2, 5)), "index": idx,
+               "label": np.array(["ab" * (k + 1)] * n)}  # a dtype the shards differ in
+              for k, (n, idx) in enumerate(zip(sizes, chunks, strict=True))]
+    expect = {key: np.concatenate([s[key] for s in shards]) for key in shards[0]}
+    done = _Assembly(chunks)
+    for k in (0, 2, 1):  # the label widens on the way
+        done.add(k, shards[k])
+    assert done.filled == {0, 1, 2}
+    for key, want in expect.items():
+        assert done.arrays[key].dtype == want.dtype
+        assert done.arrays[key].tobytes() == want.tobytes()
+
+
+def test_shards_of_another_trial_shape_are_refused_by_name():
+    from vibrissa.experiments.generate import _Assembly
+
+    done = _Assembly([np.arange(2), np.arange(2, 4)])
+    done.add(0, {"signal": np.zeros((2, 2, 5))})
+    with pytest.raises(GenerationError, match=r"shard 1: signal has shape \(2, 2, 6\)"):
+        done.add(1, {"signal": np.zeros((2, 2, 6))})
+    with pytest.raises(GenerationError, match=r"shard 1 has the arrays \['other'\]"):
+        done.add(1, {"other": np.zeros((2, 2, 5))})

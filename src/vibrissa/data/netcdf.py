@@ -181,7 +181,9 @@ def _values_digest(var: xr.DataArray) -> str:
     else:
         little = vals.dtype.newbyteorder("<") if vals.dtype.byteorder != "|" else vals.dtype
         h.update(little.str.encode())
-        h.update(np.ascontiguousarray(vals, dtype=little).tobytes())
+        # the array's own buffer (no copy of it as bytes: the signal of a full grid
+        # is hundreds of MB)
+        h.update(np.ascontiguousarray(vals, dtype=little).reshape(-1).view(np.uint8))
     return h.hexdigest()
 
 
@@ -221,7 +223,11 @@ def checksum(ds: xr.Dataset) -> str:
     str
         64 hexadecimal digits.
     """
-    return hashlib.sha256(_utf8(_json(_full_parts(ds)))).hexdigest()
+    return _checksum_of(_full_parts(ds))
+
+
+def _checksum_of(full: dict[str, Any]) -> str:
+    return hashlib.sha256(_utf8(_json(full))).hexdigest()
 
 
 def checksum_parts(ds: xr.Dataset) -> dict[str, Any]:
@@ -237,7 +243,10 @@ def checksum_parts(ds: xr.Dataset) -> dict[str, Any]:
         hash of the values, of the attributes), ``attrs`` (dataset attribute ->
         hash); hashes are the first 16 hex digits of SHA-256.
     """
-    full = _full_parts(ds)
+    return _parts_of(_full_parts(ds))
+
+
+def _parts_of(full: dict[str, Any]) -> dict[str, Any]:
     return {
         "sizes": full["sizes"],
         **{
@@ -384,8 +393,9 @@ def save_dataset(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
             out[name] = out[name].astype(str)
     for var in out.variables.values():
         var.attrs = {k: attr_value(v) for k, v in var.attrs.items() if v is not None}
-    out.attrs[_CHECKSUM_ATTR] = checksum(out)
-    out.attrs[_PARTS_ATTR] = _json(checksum_parts(out))
+    full = _full_parts(out)  # hashed once for both attributes
+    out.attrs[_CHECKSUM_ATTR] = _checksum_of(full)
+    out.attrs[_PARTS_ATTR] = _json(_parts_of(full))
     with atomic_path(path, suffix=".nc") as tmp:
         out.to_netcdf(tmp, engine=_ENGINE)
     return Path(path)

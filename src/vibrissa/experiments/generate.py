@@ -230,6 +230,42 @@ def _run_chunk(protocol: Protocol, indices: np.ndarray) -> dict[str, np.ndarray]
     return own(indices) if own is not None else simulate_trials(protocol, indices)
 
 
+class _Assembly:
+    """The trials' arrays, filled chunk by chunk as the shards come in.
+
+    Each shard is copied into place and let go, so the process holds the trials once
+    (a full grid's signal is hundreds of MB), not once in shards and again joined.
+    The result is what ``np.concatenate`` of the shards in chunk order gives, to the
+    byte (an array whose dtype differs between shards is promoted as it would).
+    """
+
+    def __init__(self, chunks: list[np.ndarray]) -> None:
+        self.starts = np.concatenate([[0], np.cumsum([len(c) for c in chunks])]).astype(int)
+        self.arrays: dict[str, np.ndarray] = {}
+        self.filled: set[int] = set()
+
+    def add(self, k: int, shard: dict[str, np.ndarray]) -> None:
+        """Copy chunk ``k``'s arrays into place."""
+        a, b = int(self.starts[k]), int(self.starts[k + 1])
+        if not self.arrays:
+            # zeros, not empty: the pages are only mapped as the rows are written
+            self.arrays = {key: np.zeros((int(self.starts[-1]), *part.shape[1:]), part.dtype)
+                           for key, part in shard.items()}
+        if set(shard) != set(self.arrays):
+            raise GenerationError(f"shard {k} has the arrays {sorted(shard)}, the others "
+                                  f"{sorted(self.arrays)}")
+        for key, part in shard.items():
+            out = self.arrays[key]
+            if part.shape != (b - a, *out.shape[1:]):
+                raise GenerationError(f"shard {k}: {key} has shape {part.shape}, expected "
+                                      f"{(b - a, *out.shape[1:])}")
+            dtype = np.result_type(out.dtype, part.dtype)
+            if dtype != out.dtype:
+                out = self.arrays[key] = out.astype(dtype)
+            out[a:b] = part
+        self.filled.add(k)
+
+
 def _local_results(
     protocol: Protocol, todo: list[tuple[int, np.ndarray]], workers: int
 ) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
@@ -400,17 +436,17 @@ def _generate_locked(
 
     parts = _prepare_parts(protocol, out, chunk_size, restart)
     chunks = _chunks(protocol.n_trials, chunk_size)
-    done: dict[int, dict[str, np.ndarray]] = {}
+    done = _Assembly(chunks)
     for k, idx in enumerate(chunks):
         p = _shard_path(parts, k)
         if p.exists():
             data = _read_shard(p, idx)
             if data is not None:
-                done[k] = data
-    todo = [(k, idx) for k, idx in enumerate(chunks) if k not in done]
+                done.add(k, data)
+    todo = [(k, idx) for k, idx in enumerate(chunks) if k not in done.filled]
     if max_chunks is not None:
         todo = todo[:max_chunks]
-    n_done = sum(len(chunks[k]) for k in done)
+    n_done = sum(len(chunks[k]) for k in done.filled)
     if progress:
         progress(n_done, protocol.n_trials)
     if todo:
@@ -421,16 +457,13 @@ def _generate_locked(
             it = _local_results(protocol, todo, min(w, len(todo)))
         for k, res in it:
             _write_shard(parts, k, res)
-            done[k] = res
+            done.add(k, res)
             n_done += len(chunks[k])
             if progress:
                 progress(n_done, protocol.n_trials)
-    if len(done) < len(chunks):
+    if len(done.filled) < len(chunks):
         return None
-    merged = {
-        key: np.concatenate([done[k][key] for k in range(len(chunks))])
-        for key in done[0]
-    }
+    merged = done.arrays
     if not np.array_equal(merged["index"], np.arange(protocol.n_trials)):
         raise GenerationError("shards do not cover every trial exactly once")
     own = getattr(protocol, "build_dataset", None)
