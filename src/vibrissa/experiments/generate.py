@@ -231,39 +231,61 @@ def _run_chunk(protocol: Protocol, indices: np.ndarray) -> dict[str, np.ndarray]
 
 
 class _Assembly:
-    """The trials' arrays, filled chunk by chunk as the shards come in.
+    """The shards' arrays joined as ``np.concatenate`` joins them in chunk order.
 
-    Each shard is copied into place and let go, so the process holds the trials once
-    (a full grid's signal is hundreds of MB), not once in shards and again joined.
-    The result is what ``np.concatenate`` of the shards in chunk order gives, to the
-    byte (an array whose dtype differs between shards is promoted as it would).
+    An array with a row per trial of its chunk (the signal, the labels) is copied into
+    place as its shard comes in and the shard's copy let go, so the process holds the
+    trials once (a full grid's signal is hundreds of MB), not once in shards and again
+    joined. Any other array (a protocol of another robot may keep, say, a run's
+    states of its own length) is kept per shard and joined at the end. Either way the
+    result is ``np.concatenate``'s, to the byte (dtypes promoted as it would).
     """
 
     def __init__(self, chunks: list[np.ndarray]) -> None:
         self.starts = np.concatenate([[0], np.cumsum([len(c) for c in chunks])]).astype(int)
-        self.arrays: dict[str, np.ndarray] = {}
+        self.keys: list[str] | None = None
+        self.rows: dict[str, np.ndarray] = {}
+        self.parts: dict[str, dict[int, np.ndarray]] = {}
         self.filled: set[int] = set()
 
     def add(self, k: int, shard: dict[str, np.ndarray]) -> None:
-        """Copy chunk ``k``'s arrays into place."""
-        a, b = int(self.starts[k]), int(self.starts[k + 1])
-        if not self.arrays:
-            # zeros, not empty: the pages are only mapped as the rows are written
-            self.arrays = {key: np.zeros((int(self.starts[-1]), *part.shape[1:]), part.dtype)
-                           for key, part in shard.items()}
-        if set(shard) != set(self.arrays):
+        """Take chunk ``k``'s arrays."""
+        if self.keys is None:
+            self.keys = list(shard)
+        elif set(shard) != set(self.keys):
             raise GenerationError(f"shard {k} has the arrays {sorted(shard)}, the others "
-                                  f"{sorted(self.arrays)}")
+                                  f"{sorted(self.keys)}")
+        a, b = int(self.starts[k]), int(self.starts[k + 1])
         for key, part in shard.items():
-            out = self.arrays[key]
-            if part.shape != (b - a, *out.shape[1:]):
-                raise GenerationError(f"shard {k}: {key} has shape {part.shape}, expected "
-                                      f"{(b - a, *out.shape[1:])}")
+            out = self.rows.get(key)
+            fits = part.ndim > 0 and part.shape[0] == b - a and (
+                out is None or part.shape[1:] == out.shape[1:])
+            if key in self.parts or not fits:
+                self._keep_per_shard(key)
+                self.parts[key][k] = part
+                continue
+            if out is None:
+                # zeros, not empty: the pages are only mapped as the rows are written
+                out = self.rows[key] = np.zeros((int(self.starts[-1]), *part.shape[1:]),
+                                                part.dtype)
             dtype = np.result_type(out.dtype, part.dtype)
             if dtype != out.dtype:
-                out = self.arrays[key] = out.astype(dtype)
+                out = self.rows[key] = out.astype(dtype)
             out[a:b] = part
         self.filled.add(k)
+
+    def _keep_per_shard(self, key: str) -> None:
+        if key in self.parts:
+            return
+        out = self.rows.pop(key, None)
+        self.parts[key] = {} if out is None else {
+            j: out[self.starts[j]:self.starts[j + 1]].copy() for j in self.filled}
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Every array joined (once every chunk is in)."""
+        return {key: self.rows[key] if key in self.rows else np.concatenate(
+                    [self.parts[key][j] for j in sorted(self.parts[key])])
+                for key in self.keys or []}
 
 
 def _local_results(
@@ -463,7 +485,7 @@ def _generate_locked(
                 progress(n_done, protocol.n_trials)
     if len(done.filled) < len(chunks):
         return None
-    merged = done.arrays
+    merged = done.arrays()
     if not np.array_equal(merged["index"], np.arange(protocol.n_trials)):
         raise GenerationError("shards do not cover every trial exactly once")
     own = getattr(protocol, "build_dataset", None)
