@@ -93,3 +93,27 @@ def test_an_exception_in_the_callers_loop_kills_the_workers(_others):
             raise RuntimeError("caller")
     assert time.monotonic() - start < 10
     assert _no_children_left(_others)
+
+
+def _exit_at_once(conn) -> None:
+    conn.close()
+    os._exit(5)
+
+
+@pytest.mark.skipif(os.name != "posix", reason="forks a process")
+@pytest.mark.parametrize("job", [0, None])
+def test_a_worker_gone_before_its_next_job_is_reported_and_one_gone_before_stop_is_not(job):
+    from vibrissa._processes import _hand_out
+
+    ctx = multiprocessing.get_context("fork")
+    parent, child = ctx.Pipe(duplex=True)
+    proc = ctx.Process(target=_exit_at_once, args=(child,))
+    proc.start()
+    child.close()
+    proc.join()
+    if job is None:
+        _hand_out(parent, proc, None, None)  # nothing lost: it was to stop
+    else:
+        with pytest.raises(WorkerDied, match="exit code 5 before it could take job 0"):
+            _hand_out(parent, proc, (0, "payload"), 0)
+    parent.close()

@@ -103,8 +103,8 @@ def imap_unordered(
             conns.append(parent)
         running: dict[int, int] = {}  # worker -> job it runs
         following = 0
-        for w, conn in enumerate(conns):
-            conn.send((following, jobs[following]))
+        for w in range(len(conns)):
+            _hand_out(conns[w], procs[w], (following, jobs[following]), following)
             running[w] = following
             following += 1
         while running:
@@ -119,11 +119,11 @@ def imap_unordered(
                         raise WorkerDied(_died(proc, running[w])) from None
                     del running[w]
                     if following < len(jobs):
-                        conn.send((following, jobs[following]))
+                        _hand_out(conn, proc, (following, jobs[following]), following)
                         running[w] = following
                         following += 1
                     else:
-                        conn.send(None)
+                        _hand_out(conn, proc, None, None)
                     if not ok:
                         raise payload
                     yield i, payload
@@ -137,6 +137,20 @@ def imap_unordered(
             proc.join()
         for conn in conns:
             conn.close()
+
+
+def _hand_out(conn: Connection, proc: multiprocessing.process.BaseProcess, msg: Any,
+              job: int | None) -> None:
+    """Send ``msg`` (job ``job``, or None: stop) to a worker; one that has died meanwhile
+    is reported as such if it was to take a job."""
+    try:
+        conn.send(msg)
+    except (BrokenPipeError, ConnectionResetError):
+        if job is None:  # it was to stop anyway, and all it ran has come back
+            return
+        proc.join(timeout=1.0)
+        raise WorkerDied(f"worker process {proc.pid} ended with exit code {proc.exitcode} "
+                         f"before it could take job {job}") from None
 
 
 def _died(proc: multiprocessing.process.BaseProcess, job: int) -> str:
