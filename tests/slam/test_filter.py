@@ -9,7 +9,10 @@ import pytest
 
 from vibrissa.robots.crunchbot.arena import PRESETS
 from vibrissa.robots.crunchbot.synthetic import synthetic_log, texture_grid
+from vibrissa.slam import filter as filter_module
+from vibrissa.slam.collectors import Collector, Frames, PoseEstimates, Progress
 from vibrissa.slam.filter import (
+    MODES,
     ParticleFilter,
     SlamSettings,
     apply_motion,
@@ -20,6 +23,7 @@ from vibrissa.slam.filter import (
 )
 from vibrissa.slam.grid import occupancy
 from vibrissa.slam.log import SensorLog, WhiskerLayout
+from vibrissa.slam.mappers import MAPPERS, BlobMapper, Mapper, register_mapper
 
 # two whiskers pointing straight ahead from the body's front, 0.1 m apart
 LAYOUT = WhiskerLayout(base_m=np.array([[0.15, 0.05], [0.15, -0.05]]),
@@ -242,3 +246,120 @@ def test_an_aborted_episode_leaves_a_blob_at_its_first_contact() -> None:
         hit = (int(1.25 / 0.05), int(1.05 / 0.05))
         assert m[hit] == pytest.approx(0.75, abs=0.02)
         assert m[hit[0], hit[1] + 5] == pytest.approx(0.5)  # no edge
+
+
+# -- the filter as an iterator, collectors, registered mappers ---------------------------
+class _Steps(Collector):
+    """Records ``pf.t`` at every call."""
+
+    name = "steps"
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.seen: list[int] = []
+
+    def collect(self, pf: ParticleFilter) -> None:
+        self.seen.append(pf.t)
+
+    def result(self) -> list[int]:
+        return self.seen
+
+
+# one contact at the end of the log: an episode still open when the log ends
+_OPEN = dict(states=["FWD_1", "HIT_1"], contact=[[True, False]] * 2, dist=[[0.1, np.nan]] * 2)
+_HIT = (int(1.25 / 0.05), int(1.05 / 0.05))
+
+
+def test_the_filter_iterates_one_step_per_next_and_collectors_see_every_frame() -> None:
+    log = synthetic_log(PRESETS["slam"], 15.0, seed=5)
+    settings = SlamSettings(n_particles=10, mode="geometric")
+    steps, frames = _Steps(), Frames()
+    pf = ParticleFilter(settings, log.start_pose, np.random.default_rng(3), log=log,
+                        collect=[steps, frames])
+    ess = list(pf)
+    assert len(ess) == log.n_steps and pf.t == log.n_steps
+    with pytest.raises(StopIteration):
+        next(pf)
+    assert steps.seen == list(range(log.n_steps + 1))  # the start, then after each step
+    rec = frames.result()
+    assert rec.particles.shape == (log.n_steps + 1, 10, 3) and rec.particles.dtype == np.float32
+    assert rec.maps.shape == (log.n_steps + 1, 50, 50) and rec.maps.dtype == np.uint8
+    run = run_slam(log, settings, seed=3)
+    np.testing.assert_array_equal(ess, run.ess)
+    np.testing.assert_array_equal(rec.estimate, run.pose_estimate)
+    np.testing.assert_array_equal(pf.logodds, run.logodds)
+
+
+def test_the_last_step_closes_an_open_episode_before_the_last_frame() -> None:
+    log = _log(**_OPEN)
+    settings = SlamSettings(n_particles=2, odometry_error=0.0, mode="geometric")
+    by_hand = ParticleFilter(settings, log.start_pose, np.random.default_rng(0))
+    for t in range(log.n_steps):
+        by_hand.step(log, t)
+    assert occupancy(by_hand.logodds[0])[_HIT] == pytest.approx(0.5)  # still pending
+    run = run_slam(log, settings, collect=[Frames()])
+    rec = run.collected["frames"]
+    assert occupancy(run.logodds[0])[_HIT] == pytest.approx(0.75, abs=0.02)
+    assert rec.maps[-1][_HIT] > 180 and rec.maps[-2][_HIT] == 128
+    assert rec.maps.shape[0] == log.n_steps + 1
+
+
+def test_run_slam_gives_every_collectors_result_by_name() -> None:
+    log = _log(**_OPEN)
+    calls: list[tuple[int, int]] = []
+    run = run_slam(log, SlamSettings(n_particles=3), seed=1,
+                   collect=[PoseEstimates(), Progress(lambda d, n: calls.append((d, n))),
+                            Frames(name="viewer")])
+    assert set(run.collected) == {"pose_estimate", "progress", "viewer"}
+    np.testing.assert_array_equal(run.collected["pose_estimate"], run.pose_estimate)
+    assert calls == [(1, 3), (2, 3), (3, 3)] and run.collected["progress"] == 3
+    with pytest.raises(ValueError, match="distinct names"):
+        run_slam(log, collect=[Frames(), Frames()])
+
+
+def test_a_filter_without_a_log_is_stepped_by_hand_and_cannot_be_iterated() -> None:
+    pf = ParticleFilter(SlamSettings(n_particles=2), np.zeros(3), np.random.default_rng(0))
+    with pytest.raises(TypeError, match="without a log cannot be iterated"):
+        iter(pf)
+    with pytest.raises(TypeError, match="without a log cannot be iterated"):
+        next(pf)
+
+
+def test_mapping_modes_are_the_registered_mappers(monkeypatch: pytest.MonkeyPatch) -> None:
+    assert MODES == ("blob", "geometric", "template") == tuple(MAPPERS)
+    for mode in MODES:
+        pf = ParticleFilter(SlamSettings(n_particles=2, mode=mode), np.zeros(3),
+                            np.random.default_rng(0))
+        assert type(pf.mapper) is MAPPERS[mode] and pf.mapper.name == mode
+    with pytest.raises(ValueError, match="already registered as 'blob'"):
+        register_mapper(type("Other", (BlobMapper,), {}))
+    with pytest.raises(ValueError, match="has no name"):
+        register_mapper(type("Nameless", (Mapper,), {}))
+
+    class Nothing(Mapper):
+        name = "nothing"  # contacts add no evidence; the free whiskers and body still do
+
+    monkeypatch.setitem(MAPPERS, "nothing", Nothing)
+    with pytest.raises(ValueError, match="choose one of blob, geometric, template, nothing"):
+        SlamSettings(mode="lidar")
+    log = _log(["FWD_1"], [[True, False]], [[0.1, np.nan]])
+    run = run_slam(log, SlamSettings(n_particles=2, odometry_error=0.0, mode="nothing"))
+    blob = run_slam(log, SlamSettings(n_particles=2, odometry_error=0.0))
+    assert occupancy(run.logodds[0])[_HIT] == pytest.approx(0.5)
+    assert occupancy(blob.logodds[0])[_HIT] > 0.7
+    np.testing.assert_array_equal(run.logodds[0, 20, 20], blob.logodds[0, 20, 20])
+
+
+@pytest.mark.parametrize("n_points", [1, 5, 9])
+def test_each_free_whisker_weighs_once_whatever_the_points_along_its_shaft(
+        n_points: int, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(filter_module, "SHAFT_POINTS", n_points)
+    prior = np.full((50, 50), 0.3)
+    prior[22:] = 0.6  # x >= 1.1 m: the free whiskers of particle 0, facing +x
+    settings = SlamSettings(n_particles=2, odometry_error=0.0, heading_drift_rad_m=0.0)
+    pf = ParticleFilter(settings, np.zeros(3), np.random.default_rng(0), prior_map=prior)
+    pf.poses = np.array([[1.0, 1.0, 0.0], [1.0, 1.0, math.pi]])  # the same body points
+    pf.step(_log(["FWD_1"], [[False, False]], [[np.nan, np.nan]]), 0)
+    f = settings.sensor_floor
+    per_whisker = math.log(f + (1 - 2 * f) * 0.7) - math.log(f + (1 - 2 * f) * 0.4)
+    assert pf.log_weights[1] - pf.log_weights[0] == pytest.approx(2 * per_whisker)

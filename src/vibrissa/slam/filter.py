@@ -13,13 +13,21 @@ log-weights. Each FSM step of a :class:`~vibrissa.slam.log.SensorLog`:
    body by their emptiness, the floor whiskers' texture log-likelihoods by a known tile
    map if one is given; all with the grid as it was before this step;
 3. **map** (same steps): negative evidence along free whiskers and under the body (eq.
-   6.1) in every mode, and the mode's evidence: ``blob`` a blob at every contact;
+   6.1) in every mode, and the mode's evidence, by the filter's mapper
+   (:mod:`vibrissa.slam.mappers`, one class per mode registered in
+   :data:`~vibrissa.slam.mappers.MAPPERS`): ``blob`` a blob at every contact;
    ``geometric`` one edge per contact episode (first contact to ``HIT_2``) through the
    first two whiskers' contacts; ``template`` one edge per episode at the surface angle
    the log reports (on ``HIT_2``); an episode ending (``ABORT``, ``BACK``, ``TURN``)
    without an edge leaves a blob at its first contact (6.5.5.2);
 4. **resampling**, systematic, when the effective sample size falls below
    ``resample_fraction * n_particles``.
+
+A filter built with a log is an iterator over it (the shape of ``particles``'
+``SMC.__next__``): each ``next`` is one FSM step and returns its ESS; the last one also
+closes a contact episode still open when the log ends. Collectors
+(:mod:`vibrissa.slam.collectors`) record the state before the first step and after each
+step; :func:`run_slam` runs the iterator to the end.
 
 Everything is vectorised over particles with numpy; a step costs a few small array
 operations per whisker.
@@ -28,16 +36,26 @@ operations per whisker.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from scipy.special import logsumexp
 
 from vibrissa import _validate as v
 from vibrissa.slam import grid
+from vibrissa.slam.collectors import Collector, PoseEstimates
 from vibrissa.slam.log import SensorLog, WhiskerLayout
+from vibrissa.slam.mappers import MAPPERS, MODES, Mapper
 
-MODES = ("blob", "geometric", "template")
+__all__ = ["MODES", "SHAFT_POINTS", "ParticleFilter", "SlamRun", "SlamSettings",
+           "apply_motion", "effective_sample_size", "noisy_increment", "run_slam",
+           "systematic_resample", "to_world"]
+
+SHAFT_POINTS = 5
+"""Points sampled along each free whisker's shaft to weigh its emptiness; the weighting
+divides by it so that each free whisker counts as one mean over its points."""
 _NO_EVIDENCE = ("BACK",)
 _EVENTS = ("HIT_1", "HIT_2", "ABORT")
 _EPISODE_END = ("ABORT", "BACK", "TURN")
@@ -53,7 +71,8 @@ class SlamSettings:
     about two pixels'. ``sigma_r_m`` and ``sigma_theta_rad`` are eq. 6.2's.
     ``heading_drift_rad_m`` adds heading noise per metre driven straight (ours).
     ``sensor_floor`` keeps every point likelihood in ``[sensor_floor, 1 - sensor_floor]``
-    so that one wrong contact cannot wipe out a particle.
+    so that one wrong contact cannot wipe out a particle. ``mode`` names a mapper of
+    :data:`~vibrissa.slam.mappers.MAPPERS`.
     """
 
     n_particles: int = 100
@@ -80,9 +99,9 @@ class SlamSettings:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int | np.integer) or value <= 0:
                 raise ValueError(f"{name} must be a positive integer, got {value!r}")
-        if self.mode not in MODES:
+        if self.mode not in MAPPERS:
             raise ValueError(f"unknown mapping mode {self.mode!r}; choose one of "
-                             f"{', '.join(MODES)}")
+                             f"{', '.join(MAPPERS)}")
         for name in ("cell_m", "blob_sigma_m", "free_sigma_m", "body_sigma_m", "sigma_r_m",
                      "sigma_theta_rad", "logodds_limit"):
             v.positive(name, getattr(self, name))
@@ -175,6 +194,9 @@ class SlamRun:
         ``(n_steps,)`` effective sample size after each step's weighting.
     n_resamples
         How often the particles were resampled.
+    collected
+        Collector name -> :meth:`Collector.result() <vibrissa.slam.collectors.Collector.result>`
+        of the collectors given to :func:`run_slam` in ``collect``.
     """
 
     pose_estimate: np.ndarray
@@ -183,6 +205,7 @@ class SlamRun:
     log_weights: np.ndarray
     ess: np.ndarray
     n_resamples: int
+    collected: dict[str, Any] = field(default_factory=dict)
 
     def best_map(self, unexplored: float = 0.3) -> np.ndarray:
         """The most probable particle's occupancy grid, ``unexplored`` where it saw nothing."""
@@ -199,6 +222,14 @@ def _weighted_pose(poses: np.ndarray, log_weights: np.ndarray) -> np.ndarray:
 class ParticleFilter:
     """Tactile SLAM over a sensor log; see the module's docstring for one step.
 
+    Built with ``log``, the filter is an iterator over it: each ``next(pf)`` runs the next
+    FSM step (:meth:`step`) and returns its ESS; the last one (step ``n_steps - 1``) then
+    closes a contact episode still open (its pending first contact becomes a blob, as at
+    an ``ABORT``); the next raises :class:`StopIteration`, so iterating yields exactly
+    ``log.n_steps`` values. The collectors are called on the state before the first step
+    (at the first ``next``) and after each step, the last call after the closing:
+    ``n_steps + 1`` calls.
+
     Parameters
     ----------
     settings
@@ -213,11 +244,35 @@ class ParticleFilter:
     prior_map
         Optional ``(n_cells, n_cells)`` occupancy probabilities every particle starts
         from (NaN: unexplored): localisation on a known map, or a map from an earlier run.
+    log
+        The sensor log to iterate over; without one the filter is stepped by hand
+        (:meth:`step`) and cannot be iterated.
+    collect
+        :class:`~vibrissa.slam.collectors.Collector` instances called while iterating.
+
+    Attributes
+    ----------
+    s
+        The settings.
+    poses, log_weights
+        ``(n_particles, 3)`` poses and ``(n_particles,)`` normalised log-weights.
+    logodds, visited
+        ``(n_particles, n_cells, n_cells)`` log-odds grids and where each particle has
+        seen anything.
+    mapper
+        The :class:`~vibrissa.slam.mappers.Mapper` of ``settings.mode``.
+    log, collectors
+        As given.
+    t
+        Steps the iterator has run.
+    n_resamples
+        How often the particles were resampled.
     """
 
     def __init__(self, settings: SlamSettings, start_pose: np.ndarray,
                  rng: np.random.Generator, floor_map: np.ndarray | None = None,
-                 prior_map: np.ndarray | None = None) -> None:
+                 prior_map: np.ndarray | None = None, *, log: SensorLog | None = None,
+                 collect: Sequence[Collector] = ()) -> None:
         s = settings
         self.s = s
         self.rng = rng
@@ -239,10 +294,48 @@ class ParticleFilter:
         if floor_map is not None and np.shape(floor_map) != (s.n_cells, s.n_cells):
             raise ValueError(f"floor_map must have shape {(s.n_cells, s.n_cells)}")
         self.floor_map = None if floor_map is None else np.asarray(floor_map, np.int64)
-        self.pending: np.ndarray | None = None  # (P, 2) first contact of an episode
-        self.pending_whiskers: frozenset[int] = frozenset()
-        self.episode_done = False
+        self.mapper: Mapper = MAPPERS[s.mode]()
         self.n_resamples = 0
+        self.log = log
+        self.collectors: tuple[Collector, ...] = tuple(collect)
+        self.t = 0
+        self._started = False
+
+    # -- iteration ----------------------------------------------------------------------
+    def __iter__(self) -> ParticleFilter:
+        self._iterated_log()
+        return self
+
+    def __next__(self) -> float:
+        """Run the next step of the log (see the class's docstring); its ESS.
+
+        Raises
+        ------
+        StopIteration
+            Every step of the log has run.
+        """
+        log = self._iterated_log()
+        if not self._started:
+            self._started = True
+            self._collect()
+        if self.t >= log.n_steps:
+            raise StopIteration
+        ess = self.step(log, self.t)
+        self.t += 1
+        if self.t == log.n_steps:
+            self.mapper.on_episode_end(self)  # the log ends: close an open episode
+        self._collect()
+        return ess
+
+    def _iterated_log(self) -> SensorLog:
+        if self.log is None:
+            raise TypeError("a ParticleFilter built without a log cannot be iterated; "
+                            "pass log=... or call step(log, t)")
+        return self.log
+
+    def _collect(self) -> None:
+        for c in self.collectors:
+            c.collect(self)
 
     # -- evidence -------------------------------------------------------------------
     def _point_loglik(self, points: np.ndarray, occupied: bool) -> np.ndarray:
@@ -257,7 +350,9 @@ class ParticleFilter:
         if hit_world.shape[1]:
             lw += self._point_loglik(hit_world, True).sum(axis=1)
         if free_world.shape[1]:
-            lw += self._point_loglik(free_world, False).mean(axis=1) * free_world.shape[1] / 5
+            # the mean over a free whisker's SHAFT_POINTS points, summed over free whiskers
+            lw += (self._point_loglik(free_world, False).mean(axis=1) * free_world.shape[1]
+                   / SHAFT_POINTS)
         body = to_world(self.poses, _body_points(log.layout.body_radius_m))
         lw += self._point_loglik(body, False).mean(axis=1)
         if self.floor_map is not None and log.floor_loglik is not None:
@@ -290,54 +385,13 @@ class ParticleFilter:
                       s.cell_m, radius_cells=int(np.ceil(2 * lay.body_radius_m / s.cell_m)),
                       limit=s.logodds_limit)
 
-    def _blob(self, centres: np.ndarray) -> None:
-        s = self.s
-        grid.add_blob(self.logodds, self.visited, centres, s.contact_p, s.blob_sigma_m, s.cell_m,
-                      limit=s.logodds_limit)
-
-    def _edge(self, centres: np.ndarray, angles: np.ndarray) -> None:
-        s = self.s
-        grid.add_edge(self.logodds, self.visited, centres, angles, s.edge_p, s.sigma_r_m,
-                      s.sigma_theta_rad, s.cell_m, limit=s.logodds_limit)
-
-    def _close_episode(self) -> None:
-        if self.pending is not None:
-            self._blob(self.pending)
-        self.pending, self.pending_whiskers, self.episode_done = None, frozenset(), False
-
-    def _episode(self, log: SensorLog, t: int, hit_idx: np.ndarray,
-                 hit_world: np.ndarray) -> None:
-        """Geometric and template modes: one oriented edge per contact episode (HIT_1 to
-        HIT_2), a blob at the first contact when the episode ends without one."""
-        if self.episode_done:
-            return
-        angle = float(log.surface_angle_rad[t])
-        if self.s.mode == "template" and math.isfinite(angle):
-            pts = [hit_world[:, k] for k in range(hit_world.shape[1])]
-            if self.pending is not None:
-                pts.append(self.pending)
-            if pts:
-                self._edge(np.mean(pts, axis=0), self.poses[:, 2] + angle)
-                self.pending, self.episode_done = None, True
-            return
-        new = [k for k, w in enumerate(hit_idx) if int(w) not in self.pending_whiskers]
-        if self.s.mode == "geometric" and self.pending is None and len(new) >= 2:
-            self._edge_between(hit_world[:, new[0]], hit_world[:, new[-1]])
-            self.episode_done = True
-        elif self.s.mode == "geometric" and self.pending is not None and new:
-            self._edge_between(self.pending, hit_world[:, new[0]])
-            self.pending, self.episode_done = None, True
-        elif self.pending is None and new:
-            self.pending = hit_world[:, new[0]].copy()
-            self.pending_whiskers = frozenset(int(w) for w in hit_idx)
-
-    def _edge_between(self, a: np.ndarray, b: np.ndarray) -> None:
-        d = b - a
-        self._edge((a + b) / 2, np.arctan2(d[:, 1], d[:, 0]))
-
     # -- one step ---------------------------------------------------------------------
     def step(self, log: SensorLog, t: int) -> float:
-        """Advance over step ``t`` of ``log``; returns the ESS after weighting."""
+        """Advance over step ``t`` of ``log``; returns the ESS after weighting.
+
+        This does not advance the iterator (:attr:`t`) nor call the collectors, and it
+        never closes an episode at the log's end; iterate the filter for that.
+        """
         s = self.s
         inc = noisy_increment(log.odometry[t], s.n_particles, s.odometry_error,
                               s.heading_drift_rad_m, self.rng)
@@ -353,13 +407,10 @@ class ParticleFilter:
                 free_world = to_world(self.poses, _shaft_points(lay)[~contact].reshape(-1, 2))
                 self._weigh(log, t, hit_world, free_world)
                 self._negative_evidence(log, ~contact)
-                if s.mode == "blob":
-                    for k in range(hit_world.shape[1]):
-                        self._blob(hit_world[:, k])
-            if s.mode != "blob":
-                self._episode(log, t, hit_idx, hit_world)
+                self.mapper.on_sensing(self, hit_world)
+            self.mapper.on_evidence(self, log, t, hit_idx, hit_world)
         if state in _EPISODE_END:
-            self._close_episode()
+            self.mapper.on_episode_end(self)
         ess = effective_sample_size(self.log_weights)
         if ess < s.resample_fraction * s.n_particles:
             self._resample()
@@ -370,8 +421,7 @@ class ParticleFilter:
         self.poses = self.poses[idx]
         self.logodds = self.logodds[idx]
         self.visited = self.visited[idx]
-        if self.pending is not None:
-            self.pending = self.pending[idx]
+        self.mapper.on_resample(idx)
         self.log_weights = np.full(self.s.n_particles, -math.log(self.s.n_particles))
         self.n_resamples += 1
 
@@ -380,8 +430,10 @@ class ParticleFilter:
         return _weighted_pose(self.poses, self.log_weights)
 
 
-def _shaft_points(layout: WhiskerLayout, n: int = 5) -> np.ndarray:
-    """``(n_whiskers, n, 2)`` robot-frame points spread along each whisker's shaft."""
+def _shaft_points(layout: WhiskerLayout) -> np.ndarray:
+    """``(n_whiskers, SHAFT_POINTS, 2)`` robot-frame points spread along each whisker's
+    shaft."""
+    n = SHAFT_POINTS
     frac = (np.arange(n) + 0.5) / n
     return np.stack([layout.points(np.asarray(layout.length_m) * f) for f in frac], axis=1)
 
@@ -394,9 +446,9 @@ def _body_points(radius_m: float) -> np.ndarray:
 
 
 def run_slam(log: SensorLog, settings: SlamSettings | None = None, seed: int = 0,
-             floor_map: np.ndarray | None = None,
-             prior_map: np.ndarray | None = None) -> SlamRun:
-    """Run the particle filter over a whole sensor log.
+             floor_map: np.ndarray | None = None, prior_map: np.ndarray | None = None, *,
+             collect: Sequence[Collector] = ()) -> SlamRun:
+    """Run the particle filter over a whole sensor log (iterate it to the end).
 
     Parameters
     ----------
@@ -410,14 +462,30 @@ def run_slam(log: SensorLog, settings: SlamSettings | None = None, seed: int = 0
         Optional known texture map (indices into ``log.textures``, ``-1`` unknown).
     prior_map
         Optional occupancy every particle starts from (:class:`ParticleFilter`).
+    collect
+        :class:`~vibrissa.slam.collectors.Collector` instances with distinct names, called
+        on the state before the first step and after each step (``log.n_steps + 1``
+        calls, the last after closing an open episode); their results are in
+        :attr:`SlamRun.collected` by name.
+
+    Returns
+    -------
+    SlamRun
+        The final particles' grids and weights, the pose estimate of every frame, the ESS
+        of every step and the collectors' results.
+
+    Raises
+    ------
+    ValueError
+        Two collectors share a name.
     """
+    names = [c.name for c in collect]
+    if len(set(names)) != len(names):
+        raise ValueError(f"collectors must have distinct names, got {names}")
     s = settings or SlamSettings()
-    pf = ParticleFilter(s, log.start_pose, np.random.default_rng(seed), floor_map, prior_map)
-    est = np.empty((log.n_steps + 1, 3))
-    ess = np.empty(log.n_steps)
-    est[0] = pf.pose_estimate()
-    for t in range(log.n_steps):
-        ess[t] = pf.step(log, t)
-        est[t + 1] = pf.pose_estimate()
-    pf._close_episode()
-    return SlamRun(est, pf.logodds, pf.visited, pf.log_weights, ess, pf.n_resamples)
+    est = PoseEstimates()
+    pf = ParticleFilter(s, log.start_pose, np.random.default_rng(seed), floor_map, prior_map,
+                        log=log, collect=[est, *collect])
+    ess = np.fromiter(pf, dtype=float)
+    return SlamRun(est.result(), pf.logodds, pf.visited, pf.log_weights, ess, pf.n_resamples,
+                   {c.name: c.result() for c in collect})
