@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from vibrissa.experiments.identify import (
+    SPECS,
     identify,
     ring_ratio,
     spectral_peak_hz,
@@ -96,3 +97,13 @@ def test_the_loop_latency_counted_from_first_contact_is_300_ms(observables):
     assert o.within
     lo, _, hi = o.detail["contact_to_threshold_ms_5_50_95"]
     assert 0.0 <= lo <= hi < 300.0  # the threshold comes after first contact
+
+
+def test_specs_name_the_observables_identify_returns_in_order(observables):
+    names = [s.name for s in SPECS]
+    assert len(set(names)) == len(names)
+    assert list(observables) == names  # the fixture keeps identify's order
+    for spec, o in zip(SPECS, observables.values(), strict=True):
+        assert o.tolerance == spec.tolerance.text()
+        assert o.within == spec.tolerance.holds(o.value)
+        assert o.thesis == spec.thesis and o.unit == spec.unit

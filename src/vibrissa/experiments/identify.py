@@ -17,9 +17,9 @@ identified from these observables.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import asdict, dataclass, field
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 import scipy.signal
@@ -32,7 +32,10 @@ from vibrissa.signal import contact_duration
 from vibrissa.whisker.rod import RodModel
 
 __all__ = [
+    "SPECS",
     "Observable",
+    "ObservableSpec",
+    "Tolerance",
     "identify",
     "ring_ratio",
     "spectral_peak_hz",
@@ -92,6 +95,240 @@ def _plain(x: Any) -> Any:
     if isinstance(x, float) and not math.isfinite(x):
         return None
     return x
+
+
+# --------------------------------------------------------------------------- specifications
+ToleranceKind = Literal["abs", "rel", "max", "min", "between"]
+
+
+@dataclass(frozen=True)
+class Tolerance:
+    """The agreement an observable must reach, as data.
+
+    Attributes
+    ----------
+    kind
+        ``"abs"``: ``|value - target| <= width``; ``"rel"``: ``|value - target| <=
+        |target| * width / 100`` (``width`` in percent); ``"max"``: ``value <= high``;
+        ``"min"``: ``value >= low``; ``"between"``: ``low <= value <= high``. Every bound
+        is inclusive; ``nan`` holds none of them. Bounds a kind does not use stay ``nan``.
+    target
+        Centre of an ``"abs"`` or ``"rel"`` tolerance.
+    width
+        Half-width of an ``"abs"`` tolerance (in ``unit``) or of a ``"rel"`` one (in %).
+    low
+        Lower bound of a ``"min"`` or ``"between"`` tolerance.
+    high
+        Upper bound of a ``"max"`` or ``"between"`` tolerance.
+    unit
+        Unit written after the numbers (``""``: none, as for fractions).
+    statistic
+        The statistic compared, written first (``"median"``; ``""``: the value itself).
+    scope
+        Words appended to the text (e.g. ``"at every speed up to 216 mm/s"``).
+    """
+
+    kind: ToleranceKind
+    target: float = math.nan
+    width: float = math.nan
+    low: float = math.nan
+    high: float = math.nan
+    unit: str = ""
+    statistic: str = ""
+    scope: str = ""
+
+    def __post_init__(self) -> None:
+        needs = {
+            "abs": ("target", "width"), "rel": ("target", "width"), "max": ("high",),
+            "min": ("low",), "between": ("low", "high"),
+        }
+        if self.kind not in needs:
+            raise ValueError(f"unknown tolerance kind {self.kind!r}")
+        missing = [f for f in needs[self.kind] if not math.isfinite(getattr(self, f))]
+        if missing:
+            raise ValueError(f"a {self.kind!r} tolerance needs {', '.join(missing)}")
+
+    def holds(self, value: float) -> bool:
+        """Whether ``value`` meets the tolerance.
+
+        Parameters
+        ----------
+        value
+            The measured value (``nan`` never holds).
+
+        Returns
+        -------
+        bool
+        """
+        if self.kind == "abs":
+            return bool(abs(value - self.target) <= self.width)
+        if self.kind == "rel":
+            return bool(abs(value - self.target) <= abs(self.target) * self.width / 100)
+        if self.kind == "max":
+            return bool(value <= self.high)
+        if self.kind == "min":
+            return bool(value >= self.low)
+        return bool(self.low <= value <= self.high)
+
+    def text(self) -> str:
+        """The tolerance in words, as printed and stored (e.g. ``"median at most 0.1"``).
+
+        ``"abs"`` reads ``"<target> +/- <width> <unit>"``, preceded by ``"<statistic>
+        within "`` when a statistic is named; ``"rel"`` reads ``"within <width> %"``.
+
+        Returns
+        -------
+        str
+        """
+        unit = f" {self.unit}" if self.unit else ""
+        if self.kind == "abs":
+            words = f"{self.target:g} +/- {self.width:g}{unit}"
+            if self.statistic:
+                words = f"within {words}"
+        elif self.kind == "rel":
+            words = f"within {self.width:g} %"
+        elif self.kind == "max":
+            words = f"at most {self.high:g}{unit}"
+        elif self.kind == "min":
+            words = f"at least {self.low:g}{unit}"
+        else:
+            words = f"between {self.low:g}{unit} and {self.high:g}{unit}"
+        return " ".join(w for w in (self.statistic, words, self.scope) if w)
+
+
+@dataclass(frozen=True)
+class ObservableSpec:
+    """Everything about one observable that is not measured: what, the thesis, the tolerance.
+
+    Attributes
+    ----------
+    name
+        Short machine name (:attr:`Observable.key`).
+    description
+        What is measured and how; a :meth:`str.format` template whose fields
+        (``near_speed_min``, ``near_speed_max``) come from the plan.
+    quote
+        The thesis' words.
+    section
+        Where the thesis says it (e.g. ``"4.2"``).
+    thesis_value
+        The thesis' number (``None`` for a qualitative statement).
+    unit
+        Unit of ``thesis_value`` and of the measured value.
+    tolerance
+        The agreement required.
+    """
+
+    name: str
+    description: str
+    quote: str
+    section: str
+    thesis_value: float | None
+    unit: str
+    tolerance: Tolerance
+
+    @property
+    def thesis(self) -> str:
+        """The thesis' statement with its section, ``"<quote> (<section>)"``."""
+        return f"{self.quote} ({self.section})"
+
+    def observable(
+        self, value: float, detail: dict[str, Any], fields: Mapping[str, Any]
+    ) -> Observable:
+        """The :class:`Observable` of a measured ``value``.
+
+        Parameters
+        ----------
+        value
+            The measured value, in ``unit``.
+        detail
+            The measurements behind ``value``.
+        fields
+            Values of the fields of the ``description`` template.
+
+        Returns
+        -------
+        Observable
+        """
+        return Observable(
+            self.name, self.description.format(**fields), self.thesis, self.thesis_value,
+            value, self.unit, self.tolerance.text(), self.tolerance.holds(value), detail,
+        )
+
+
+SPECS: tuple[ObservableSpec, ...] = (
+    ObservableSpec(
+        "resonance_hz",
+        "first bending mode of the whisker with its tip held by the surface (linearised, "
+        "follicle spring included); the chapter-5 stimulus holds the tip for most of each "
+        "recording",
+        "30 Hz, 'identified by inspection of the FFT' of the chapter-5 recordings, still "
+        "present after the 35 Hz high-pass",
+        "5.3.1", 30.0, "Hz", Tolerance("rel", target=30.0, width=10.0),
+    ),
+    ObservableSpec(
+        "mi_latency_ms",
+        "first contact to the start of the retraction, median over a radius x speed grid",
+        "'Temporal latency for the loop is ~300 ms from initial contact'",
+        "3.3.2, 5.2", 300.0, "ms",
+        Tolerance("abs", target=300.0, width=30.0, unit="ms", statistic="median"),
+    ),
+    ObservableSpec(
+        "duration_grows_with_speed",
+        "deflection duration as the thesis measured it (feature f2: time above 0.05 V, "
+        "4.3.4, the run above threshold holding the peak); fraction of neighbouring-speed "
+        "pairs at the same radius, both usable (no slip-off, no saturation), where it is "
+        "longer at the higher speed",
+        "deflection duration grows with contact speed and discriminates speed",
+        "4.3.4", None, "fraction", Tolerance("min", low=0.9),
+    ),
+    ObservableSpec(
+        "ringing_chapter4",
+        "first overshoot past rest after the object leaves the whisker, fraction of the "
+        "peak; median over the chapter-4 grid",
+        "MI keeps 'whisker ringing after contact to a minimum'",
+        "3.3", None, "fraction of peak", Tolerance("max", high=0.1, statistic="median"),
+    ),
+    ObservableSpec(
+        "ringing_chapter5",
+        "fraction of chapter-5 trials whose first overshoot exceeds 10 % of the peak",
+        "'oscillatory ringing after contact on some trials but not others'",
+        "5.4, fig. 5.2", None, "fraction of trials", Tolerance("between", low=0.1, high=0.9),
+    ),
+    ObservableSpec(
+        "contact_duration_chapter5_ms",
+        "first contact of the chapter-5 stimulus, onset to end, median",
+        "'Contact duration in this experiment is quite short (~300 ms)'",
+        "5.5", 300.0, "ms",
+        Tolerance("abs", target=300.0, width=60.0, unit="ms", statistic="median"),
+    ),
+    ObservableSpec(
+        "closest_usable_contact_mm",
+        "smallest radius from which on no contact at {near_speed_min:g}-{near_speed_max:g} "
+        "mm/s saturates the sensor",
+        "'the closest contact that could be made ... at any reasonable speed without "
+        "saturating the Hall effect sensor was ~80 mm'",
+        "4.2", 80.0, "mm", Tolerance("abs", target=80.0, width=10.0, unit="mm"),
+    ),
+    ObservableSpec(
+        "tip_zone_mm",
+        "distance from the tip within which the whisker slips past the object before the "
+        "retraction; largest over speeds in the grid",
+        "'Contacts at less than 5 mm from the tip did not deflect the base ... before "
+        "slipping past'",
+        "4.2", 5.0, "mm",
+        Tolerance("max", high=10.0, unit="mm", scope="at every speed up to 216 mm/s"),
+    ),
+    ObservableSpec(
+        "above_216_mm_s",
+        "fraction of contacts faster than 216 mm/s (over the chapter-4 radii) that slip past "
+        "or saturate",
+        "'Contact speeds above 216 mm/s either cause the whisker to slip past the object "
+        "before a retraction, or saturates the sensors'",
+        "4.2", None, "fraction", Tolerance("min", low=0.75),
+    ),
+)
+"""The nine observables, in the order :func:`identify` returns them."""
 
 
 # --------------------------------------------------------------------------- mechanics
@@ -238,72 +475,79 @@ def plan(quick: bool = False) -> _Plan:
     )
 
 
-# --------------------------------------------------------------------------- observables
-def identify(quick: bool = False, progress: Progress | None = None) -> list[Observable]:
-    """Measure every observable of the thesis on the simulated robot.
+# --------------------------------------------------------------------------- measurements
+Measured = dict[str, tuple[float, dict[str, Any]]]
+"""Observable name -> (value, the measurements behind it)."""
+
+# Random-stream group of each set of trials (part of the stream index: keep them fixed).
+_GROUP_GRID, _GROUP_NEAR, _GROUP_SURFACE, _GROUP_TIP, _GROUP_FAST = 1, 2, 3, 4, 5
+
+PoleTrials = list[tuple[float, float, TrialResult]]
+SurfaceTrials = list[tuple[str, float, float, TrialResult]]
+
+
+def _speed_major(radii: Iterable[float], speeds: Iterable[float]) -> list[tuple[float, float]]:
+    """``(radius, speed)`` points, all radii at the first speed first."""
+    radii = tuple(radii)
+    return [(r, v) for v in speeds for r in radii]
+
+
+def _measure_resonance(model: RodModel, surface: SurfaceTrials, fs: float) -> Measured:
+    """``resonance_hz``: tip-pinned first mode; free modes and the chapter-5 FFT beside it.
 
     Parameters
     ----------
-    quick
-        Coarser grids (about a tenth of the trials), for tests and a first look.
-    progress
-        Called with the number of trials just finished.
+    model
+        The chapter-4 whisker.
+    surface
+        The chapter-5 trials.
+    fs
+        Their sample rate (Hz).
 
     Returns
     -------
-    list of Observable
+    Measured
     """
-    p4 = get_protocol("radial-distance")
-    p5 = get_protocol("angle-texture")
-    pl = plan(quick)
-    fs4, fs5 = p4.sensor.sample_rate_hz, p5.sensor.sample_rate_hz
-    model = runner.whisker_model(p4.whisker, p4.n_elements, 0.0)
-    obs: list[Observable] = []
-
-    # -- resonance ------------------------------------------------------------
     free = float(model.natural_frequencies_hz[0])
     tip_modes = model.pinned_frequencies_hz(model.geometry.length_mm)
     tip = float(tip_modes[0])
     rigid = float(RodModel(model.geometry, model.n_elements, rigid_follicle=True)
                   .natural_frequencies_hz[0])
-    surf = _surface_trials(p5, pl.surface_points, 3, progress)
-    sig5 = np.stack([res.signal_v[0] for *_, res in surf])
-    fft_peak = spectral_peak_hz(sig5, fs5)
-    obs.append(Observable(
-        "resonance_hz",
-        "first bending mode of the whisker with its tip held by the surface (linearised, "
-        "follicle spring included); the chapter-5 stimulus holds the tip for most of each "
-        "recording",
-        "30 Hz, 'identified by inspection of the FFT' of the chapter-5 recordings, still "
-        "present after the 35 Hz high-pass (5.3.1)",
-        30.0, tip, "Hz", "within 10 %", abs(tip - 30.0) <= 3.0,
-        {"free_first_mode_hz": free, "rigid_follicle_free_first_mode_hz": rigid,
-         "tip_pinned_first_modes_hz": tip_modes.tolist(),
-         "pinned_first_mode_by_radius_hz": {
-             str(int(r)): float(model.pinned_frequencies_hz(r)[0])
-             for r in (80.0, 100.0, 130.0, 160.0, 180.0)},
-         "chapter5_fft_peak_hz": fft_peak, "n_chapter5_trials": len(surf)},
-    ))
+    sig5 = np.stack([res.signal_v[0] for *_, res in surface])
+    fft_peak = spectral_peak_hz(sig5, fs)
+    return {"resonance_hz": (tip, {
+        "free_first_mode_hz": free, "rigid_follicle_free_first_mode_hz": rigid,
+        "tip_pinned_first_modes_hz": tip_modes.tolist(),
+        "pinned_first_mode_by_radius_hz": {
+            str(int(r)): float(model.pinned_frequencies_hz(r)[0])
+            for r in (80.0, 100.0, 130.0, 160.0, 180.0)},
+        "chapter5_fft_peak_hz": fft_peak, "n_chapter5_trials": len(surface),
+    })}
 
-    # -- loop latency, durations, ringing on the chapter-4 grid ------------------
-    grid = [(r, v) for v in pl.grid_speeds for r in pl.grid_radii]
-    g4 = _pole_trials(p4, grid, 1, progress)
-    lat = np.array([res.mi_latency_s for *_, res in g4]) * 1e3
-    thr = np.array([res.threshold_time_s - res.contact_onset_s for *_, res in g4]) * 1e3
+
+def _measure_chapter4_grid(grid: PoleTrials, radii: tuple[float, ...], fs: float) -> Measured:
+    """``mi_latency_ms``, ``duration_grows_with_speed``, ``ringing_chapter4`` on the grid.
+
+    Parameters
+    ----------
+    grid
+        The chapter-4 radius x speed grid of pole trials.
+    radii
+        The grid's radii (mm).
+    fs
+        The sample rate (Hz).
+
+    Returns
+    -------
+    Measured
+    """
+    lat = np.array([res.mi_latency_s for *_, res in grid]) * 1e3
+    thr = np.array([res.threshold_time_s - res.contact_onset_s for *_, res in grid]) * 1e3
     med = float(np.nanmedian(lat))
-    obs.append(Observable(
-        "mi_latency_ms",
-        "first contact to the start of the retraction, median over a radius x speed grid",
-        "'Temporal latency for the loop is ~300 ms from initial contact' (3.3.2, 5.2)",
-        300.0, med, "ms", "median within 300 +/- 30 ms", abs(med - 300.0) <= 30.0,
-        {"percentiles_5_50_95_ms": np.nanpercentile(lat, [5, 50, 95]).tolist(),
-         "contact_to_threshold_ms_5_50_95": np.nanpercentile(thr, [5, 50, 95]).tolist(),
-         "n_trials": len(g4)},
-    ))
-    width = contact_duration(np.stack([res.signal_v[0] for *_, res in g4]), fs4, mode="peak")
+    width = contact_duration(np.stack([res.signal_v[0] for *_, res in grid]), fs, mode="peak")
     dur: dict[float, dict[float, float]] = {}
     usable: set[tuple[float, float]] = set()
-    for (r, v, res), w in zip(g4, width, strict=True):
+    for (r, v, res), w in zip(grid, width, strict=True):
         dur.setdefault(r, {})[v] = float(w)
         if not (res.slipped_off or res.saturated):
             usable.add((r, v))
@@ -316,110 +560,179 @@ def identify(quick: bool = False, progress: Progress | None = None) -> list[Obse
             pairs += 1
             wrong += by_v[b] < by_v[a]
     frac = 1.0 - wrong / max(pairs, 1)
-    obs.append(Observable(
-        "duration_grows_with_speed",
-        "deflection duration as the thesis measured it (feature f2: time above 0.05 V, "
-        "4.3.4, the run above threshold holding the peak); fraction of neighbouring-speed "
-        "pairs at the same radius, both usable (no slip-off, no saturation), where it is "
-        "longer at the higher speed",
-        "deflection duration grows with contact speed and discriminates speed (4.3.4)",
-        None, frac, "fraction", "at least 0.9", frac >= 0.9,
-        {"pairs": pairs, "wrong_way": int(wrong),
-         "f2_ms_by_radius": {str(r): {str(v): 1e3 * d for v, d in sorted(b.items())}
-                             for r, b in dur.items()},
-         "contact_ms_by_radius": {
-             str(r): {str(v): 1e3 * (res.contact_end_s - res.contact_onset_s)
-                      for rr, v, res in g4 if rr == r} for r in pl.grid_radii}},
-    ))
-    rings = np.array([ring_ratio(res, fs4) for *_, res in g4])
-    med_ring = float(np.nanmedian(rings))
-    obs.append(Observable(
-        "ringing_chapter4",
-        "first overshoot past rest after the object leaves the whisker, fraction of the "
-        "peak; median over the chapter-4 grid",
-        "MI keeps 'whisker ringing after contact to a minimum' (3.3)",
-        None, med_ring, "fraction of peak", "median at most 0.1", med_ring <= 0.1,
-        {"percentiles_5_50_95": np.nanpercentile(rings, [5, 50, 95]).tolist()},
-    ))
-    rings5 = np.array([ring_ratio(res, fs5) for *_, res in surf])
-    ringing5 = float(np.nanmean(rings5 > 0.1))
-    obs.append(Observable(
-        "ringing_chapter5",
-        "fraction of chapter-5 trials whose first overshoot exceeds 10 % of the peak",
-        "'oscillatory ringing after contact on some trials but not others' (5.4, fig. 5.2)",
-        None, ringing5, "fraction of trials", "between 0.1 and 0.9",
-        0.1 <= ringing5 <= 0.9,
-        {"ratio_percentiles_5_50_95": np.nanpercentile(rings5, [5, 50, 95]).tolist()},
-    ))
-    d5 = np.array([res.contact_end_s - res.contact_onset_s for *_, res in surf]) * 1e3
-    med5 = float(np.nanmedian(d5))
-    obs.append(Observable(
-        "contact_duration_chapter5_ms",
-        "first contact of the chapter-5 stimulus, onset to end, median",
-        "'Contact duration in this experiment is quite short (~300 ms)' (5.5)",
-        300.0, med5, "ms", "median within 300 +/- 60 ms", abs(med5 - 300.0) <= 60.0,
-        {"percentiles_5_50_95_ms": np.nanpercentile(d5, [5, 50, 95]).tolist()},
-    ))
+    rings = np.array([ring_ratio(res, fs) for *_, res in grid])
+    return {
+        "mi_latency_ms": (med, {
+            "percentiles_5_50_95_ms": np.nanpercentile(lat, [5, 50, 95]).tolist(),
+            "contact_to_threshold_ms_5_50_95": np.nanpercentile(thr, [5, 50, 95]).tolist(),
+            "n_trials": len(grid),
+        }),
+        "duration_grows_with_speed": (frac, {
+            "pairs": pairs, "wrong_way": int(wrong),
+            "f2_ms_by_radius": {str(r): {str(v): 1e3 * d for v, d in sorted(b.items())}
+                                for r, b in dur.items()},
+            "contact_ms_by_radius": {
+                str(r): {str(v): 1e3 * (res.contact_end_s - res.contact_onset_s)
+                         for rr, v, res in grid if rr == r} for r in radii},
+        }),
+        "ringing_chapter4": (float(np.nanmedian(rings)), {
+            "percentiles_5_50_95": np.nanpercentile(rings, [5, 50, 95]).tolist(),
+        }),
+    }
 
-    # -- closest usable contact -------------------------------------------------
-    near = [(r, v) for v in pl.near_speeds for r in pl.near_radii]
-    n4 = _pole_trials(p4, near, 2, progress)
+
+def _measure_chapter5(surface: SurfaceTrials, fs: float) -> Measured:
+    """``ringing_chapter5`` and ``contact_duration_chapter5_ms`` on the chapter-5 trials.
+
+    Parameters
+    ----------
+    surface
+        The chapter-5 trials.
+    fs
+        Their sample rate (Hz).
+
+    Returns
+    -------
+    Measured
+    """
+    rings5 = np.array([ring_ratio(res, fs) for *_, res in surface])
+    d5 = np.array([res.contact_end_s - res.contact_onset_s for *_, res in surface]) * 1e3
+    return {
+        "ringing_chapter5": (float(np.nanmean(rings5 > 0.1)), {
+            "ratio_percentiles_5_50_95": np.nanpercentile(rings5, [5, 50, 95]).tolist(),
+        }),
+        "contact_duration_chapter5_ms": (float(np.nanmedian(d5)), {
+            "percentiles_5_50_95_ms": np.nanpercentile(d5, [5, 50, 95]).tolist(),
+        }),
+    }
+
+
+def _measure_closest_contact(
+    near: PoleTrials, radii: tuple[float, ...], calibration_mm: list[float]
+) -> Measured:
+    """``closest_usable_contact_mm``: the smallest radius from which on nothing saturates.
+
+    Parameters
+    ----------
+    near
+        Pole trials near the base.
+    radii
+        Their radii (mm).
+    calibration_mm
+        The sensor's calibration point (reported beside the value).
+
+    Returns
+    -------
+    Measured
+    """
     sat: dict[float, list[float]] = {}
-    for r, v, res in n4:
+    for r, v, res in near:
         if res.saturated:
             sat.setdefault(r, []).append(v)
-    clean = [r for r in pl.near_radii if r not in sat]
+    clean = [r for r in radii if r not in sat]
     closest = float("nan")
-    for r in sorted(pl.near_radii):
-        if all(q in clean for q in pl.near_radii if q >= r):
+    for r in sorted(radii):
+        if all(q in clean for q in radii if q >= r):
             closest = r
             break
-    obs.append(Observable(
-        "closest_usable_contact_mm",
-        f"smallest radius from which on no contact at {min(pl.near_speeds):g}-"
-        f"{max(pl.near_speeds):g} mm/s saturates the sensor",
-        "'the closest contact that could be made ... at any reasonable speed without "
-        "saturating the Hall effect sensor was ~80 mm' (4.2)",
-        80.0, closest, "mm", "80 +/- 10 mm", abs(closest - 80.0) <= 10.0,
-        {"saturating_speeds_by_radius": {str(r): v for r, v in sorted(sat.items())},
-         "calibration_mm": list(p4.sensor.calibration_point(model.geometry))},
-    ))
+    return {"closest_usable_contact_mm": (closest, {
+        "saturating_speeds_by_radius": {str(r): v for r, v in sorted(sat.items())},
+        "calibration_mm": calibration_mm,
+    })}
 
-    # -- tip zone ------------------------------------------------------------------
-    tipg = [(r, v) for v in pl.tip_speeds for r in pl.tip_radii]
-    t4 = _pole_trials(p4, tipg, 4, progress)
-    L = model.geometry.length_mm
+
+def _measure_tip_zone(
+    tip: PoleTrials, radii: tuple[float, ...], speeds: tuple[float, ...], length_mm: float
+) -> Measured:
+    """``tip_zone_mm``: how far from the tip contacts slip past, largest over speeds.
+
+    Parameters
+    ----------
+    tip
+        Pole trials near the tip.
+    radii, speeds
+        Their radii (mm) and speeds (mm/s).
+    length_mm
+        The whisker's length.
+
+    Returns
+    -------
+    Measured
+    """
     zone: dict[float, float] = {}
-    for v in pl.tip_speeds:
-        slipped = [r for r, vv, res in t4 if vv == v and res.slipped_off]
-        zone[v] = L - min(slipped) if slipped else 0.0
-    worst = max(zone.values())
-    obs.append(Observable(
-        "tip_zone_mm",
-        "distance from the tip within which the whisker slips past the object before the "
-        "retraction; largest over speeds in the grid",
-        "'Contacts at less than 5 mm from the tip did not deflect the base ... before "
-        "slipping past' (4.2)",
-        5.0, worst, "mm", "at most 10 mm at every speed up to 216 mm/s", worst <= 10.0,
-        {"tip_zone_mm_by_speed": {str(v): z for v, z in zone.items()},
-         "radii_tested_mm": list(pl.tip_radii)},
-    ))
+    for v in speeds:
+        slipped = [r for r, vv, res in tip if vv == v and res.slipped_off]
+        zone[v] = length_mm - min(slipped) if slipped else 0.0
+    return {"tip_zone_mm": (max(zone.values()), {
+        "tip_zone_mm_by_speed": {str(v): z for v, z in zone.items()},
+        "radii_tested_mm": list(radii),
+    })}
 
-    # -- above 216 mm/s -----------------------------------------------------------------
-    fastg = [(r, v) for v in pl.fast_speeds for r in pl.fast_radii]
-    f4 = _pole_trials(p4, fastg, 5, progress)
-    fails = np.array([res.slipped_off or res.saturated for *_, res in f4])
-    frac_fail = float(fails.mean())
-    obs.append(Observable(
-        "above_216_mm_s",
-        "fraction of contacts faster than 216 mm/s (over the chapter-4 radii) that slip past "
-        "or saturate",
-        "'Contact speeds above 216 mm/s either cause the whisker to slip past the object "
-        "before a retraction, or saturates the sensors' (4.2)",
-        None, frac_fail, "fraction", "at least 0.75", frac_fail >= 0.75,
-        {"grid_fraction_slipped_or_saturated_up_to_216": float(np.mean(
-            [res.slipped_off or res.saturated for *_, res in g4])),
-         "trials": [{"radius_mm": r, "speed_mm_s": v, "slipped_off": res.slipped_off,
-                     "saturated": res.saturated} for r, v, res in f4]},
-    ))
-    return obs
+
+def _measure_above_216(fast: PoleTrials, grid: PoleTrials) -> Measured:
+    """``above_216_mm_s``: the fraction of fast contacts that slip past or saturate.
+
+    Parameters
+    ----------
+    fast
+        Pole trials faster than 216 mm/s.
+    grid
+        The chapter-4 grid (up to 216 mm/s), for comparison.
+
+    Returns
+    -------
+    Measured
+    """
+    fails = np.array([res.slipped_off or res.saturated for *_, res in fast])
+    return {"above_216_mm_s": (float(fails.mean()), {
+        "grid_fraction_slipped_or_saturated_up_to_216": float(np.mean(
+            [res.slipped_off or res.saturated for *_, res in grid])),
+        "trials": [{"radius_mm": r, "speed_mm_s": v, "slipped_off": res.slipped_off,
+                    "saturated": res.saturated} for r, v, res in fast],
+    })}
+
+
+# --------------------------------------------------------------------------- observables
+def identify(quick: bool = False, progress: Progress | None = None) -> list[Observable]:
+    """Measure every observable of the thesis on the simulated robot.
+
+    The trial groups are simulated in a fixed order (chapter-5 surfaces, chapter-4
+    grid, near the base, near the tip, above 216 mm/s), each on its own random streams;
+    the values are set beside :data:`SPECS`.
+
+    Parameters
+    ----------
+    quick
+        Coarser grids (about a tenth of the trials), for tests and a first look.
+    progress
+        Called with the number of trials just finished.
+
+    Returns
+    -------
+    list of Observable
+        One per :data:`SPECS` entry, in its order.
+    """
+    p4 = get_protocol("radial-distance")
+    p5 = get_protocol("angle-texture")
+    pl = plan(quick)
+    fs4, fs5 = p4.sensor.sample_rate_hz, p5.sensor.sample_rate_hz
+    model = runner.whisker_model(p4.whisker, p4.n_elements, 0.0)
+
+    surface = _surface_trials(p5, pl.surface_points, _GROUP_SURFACE, progress)
+    measured = _measure_resonance(model, surface, fs5)
+    grid = _pole_trials(p4, _speed_major(pl.grid_radii, pl.grid_speeds), _GROUP_GRID, progress)
+    measured |= _measure_chapter4_grid(grid, pl.grid_radii, fs4)
+    measured |= _measure_chapter5(surface, fs5)
+    near = _pole_trials(p4, _speed_major(pl.near_radii, pl.near_speeds), _GROUP_NEAR, progress)
+    measured |= _measure_closest_contact(
+        near, pl.near_radii, list(p4.sensor.calibration_point(model.geometry))
+    )
+    tip = _pole_trials(p4, _speed_major(pl.tip_radii, pl.tip_speeds), _GROUP_TIP, progress)
+    measured |= _measure_tip_zone(tip, pl.tip_radii, pl.tip_speeds, model.geometry.length_mm)
+    fast = _pole_trials(p4, _speed_major(pl.fast_radii, pl.fast_speeds), _GROUP_FAST, progress)
+    measured |= _measure_above_216(fast, grid)
+
+    if set(measured) != {s.name for s in SPECS}:
+        raise RuntimeError(f"measured {sorted(measured)}, specified {[s.name for s in SPECS]}")
+    fields = {"near_speed_min": min(pl.near_speeds), "near_speed_max": max(pl.near_speeds)}
+    return [spec.observable(*measured[spec.name], fields) for spec in SPECS]
