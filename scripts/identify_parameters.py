@@ -42,7 +42,7 @@ from vibrissa.whisker.hall import HallSensor, calibrated_gain
 from vibrissa.whisker.rod import RodModel
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from render_docs import run_meta, write_run  # noqa: E402
+from render_docs import run_meta, write_run
 
 RESONANCE_HZ = 30.0  # 5.3.1
 LATENCY_S = 0.300  # 3.3.2

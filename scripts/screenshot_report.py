@@ -20,7 +20,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-from browser import check_in_browser, find_chromium, playwright_available  # noqa: E402
+from browser import check_in_browser, find_chromium, playwright_available
 
 
 def main(argv: list[str] | None = None) -> int:

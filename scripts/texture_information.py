@@ -30,7 +30,7 @@ import scipy.stats
 from vibrissa.data import load_dataset
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from render_docs import run_meta, write_run  # noqa: E402
+from render_docs import run_meta, write_run
 
 KEYS = {
     "peak deflection (V)": "peak_deflection_v",

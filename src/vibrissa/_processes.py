@@ -49,12 +49,12 @@ def _serve(conn: Connection, fn: Callable[[Any], Any]) -> None:
         i, job = msg
         try:
             reply = (i, True, fn(job))
-        except Exception as exc:  # noqa: BLE001 - every failure goes back to the parent
+        except Exception as exc:  # every failure goes back to the parent
             exc.add_note("raised in a worker process:\n" + traceback.format_exc().rstrip())
             reply = (i, False, exc)
         try:
             conn.send(reply)
-        except Exception as exc:  # noqa: BLE001 - e.g. a result or exception that does not pickle
+        except Exception as exc:  # e.g. a result or exception that does not pickle
             conn.send((i, False, RuntimeError(f"a worker could not send its result back: {exc!r}")))
 
 
@@ -90,13 +90,19 @@ def imap_unordered(
         raise ValueError(f"workers must be a positive integer, got {workers!r}")
     if not jobs:
         return
-    ctx = multiprocessing.get_context("fork" if os.name == "posix" else "spawn")
+    ctx = (
+        multiprocessing.get_context("fork")
+        if os.name == "posix"
+        else multiprocessing.get_context("spawn")
+    )
     procs: list[multiprocessing.process.BaseProcess] = []
     conns: list[Connection] = []
     try:
         for _ in range(min(workers, len(jobs))):
             parent, child = ctx.Pipe(duplex=True)
-            proc = ctx.Process(target=_serve, args=(child, fn), daemon=True)
+            proc: multiprocessing.process.BaseProcess = ctx.Process(
+                target=_serve, args=(child, fn), daemon=True
+            )
             proc.start()
             child.close()
             procs.append(proc)

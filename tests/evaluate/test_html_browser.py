@@ -13,14 +13,14 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from PIL import Image  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+from PIL import Image
 
-from vibrissa.evaluate.html import write_html_report  # noqa: E402
+from vibrissa.evaluate.html import write_html_report
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tests/: the browser harness
-from browser import PHONE_WIDTH, PRINT_WIDTH, check_in_browser, chromium_or_skip  # noqa: E402
+from browser import PHONE_WIDTH, PRINT_WIDTH, check_in_browser, chromium_or_skip
 
 PNG_DPI = 200
 WIDE_COLUMNS = 14

@@ -13,8 +13,8 @@ from pathlib import Path
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tests/: the browser harness
-from browser import check_in_browser, chromium_or_skip  # noqa: E402
-from vibrissa.reproduce import experiments  # noqa: E402
+from browser import check_in_browser, chromium_or_skip
+from vibrissa.reproduce import experiments
 
 
 @pytest.mark.parametrize("name", list(experiments()))

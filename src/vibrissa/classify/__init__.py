@@ -83,7 +83,7 @@ __all__ = [
 ]
 
 # chapter 5 (angle, speed and texture; see docs/chapter5.md)
-from vibrissa.classify._chapter5 import (  # noqa: E402
+from vibrissa.classify._chapter5 import (
     CHAPTER5_KEYS,
     CHAPTER5_TARGETS,
     TEXTURE_CODES,
@@ -95,13 +95,13 @@ from vibrissa.classify._chapter5 import (  # noqa: E402
     encode_texture,
     resonance_hz,
 )
-from vibrissa.classify._rocket import MiniRocketClassifier  # noqa: E402
-from vibrissa.classify._sequential import (  # noqa: E402
+from vibrissa.classify._rocket import MiniRocketClassifier
+from vibrissa.classify._sequential import (
     SequentialEvidenceClassifier,
     accumulate_evidence,
     draw_sequences,
 )
-from vibrissa.classify._texture_features import (  # noqa: E402
+from vibrissa.classify._texture_features import (
     FeaturePolynomialClassifier,
     chapter5_features,
 )

@@ -613,7 +613,7 @@ class TrialClassifier(SampleRateMixin, ClassifierMixin, BaseEstimator):
             equal = equal.all(axis=1)
         return float(np.average(equal, weights=sample_weight))
 
-    def __sklearn_tags__(self):  # noqa: D105
+    def __sklearn_tags__(self):
         tags = super().__sklearn_tags__()
         tags.target_tags.multi_output = True
         tags.target_tags.single_output = True

@@ -252,7 +252,7 @@ class SignalTransform(SampleRateMixin, TransformerMixin, BaseEstimator):
             X = np.ascontiguousarray(X[..., :: int(self.downsample)])
         return X
 
-    def __sklearn_tags__(self):  # noqa: D105
+    def __sklearn_tags__(self):
         tags = super().__sklearn_tags__()
         tags.requires_fit = True
         return tags
@@ -336,7 +336,7 @@ class SpeedFirstClassifier(TrialClassifier):
         self.speed_column = speed_column
         self.sample_rate_hz = sample_rate_hz
 
-    def __sklearn_tags__(self):  # noqa: D105
+    def __sklearn_tags__(self):
         tags = super().__sklearn_tags__()
         tags.classifier_tags.poor_score = True
         return tags
@@ -467,7 +467,7 @@ class JointLikelihoodNaiveBayes(TrialClassifier):
         self.sample_rate_hz = sample_rate_hz
         self.variance_floor = variance_floor
 
-    def __sklearn_tags__(self):  # noqa: D105
+    def __sklearn_tags__(self):
         tags = super().__sklearn_tags__()
         tags.classifier_tags.poor_score = True
         return tags

@@ -178,7 +178,7 @@ class FeatureRegressionClassifier(TrialClassifier):
         self.duration_smoothing_span = duration_smoothing_span
         self.min_duration_s = min_duration_s
 
-    def __sklearn_tags__(self):  # noqa: D105
+    def __sklearn_tags__(self):
         tags = super().__sklearn_tags__()
         # Built for whisker time series: no accuracy promise on generic tabular data.
         tags.classifier_tags.poor_score = True

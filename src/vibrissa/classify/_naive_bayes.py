@@ -106,7 +106,7 @@ class StationaryNaiveBayes(TrialClassifier):
         self.sample_rate_hz = sample_rate_hz
         self.derivative_sigma_samples = derivative_sigma_samples
 
-    def __sklearn_tags__(self):  # noqa: D105
+    def __sklearn_tags__(self):
         tags = super().__sklearn_tags__()
         # Built for whisker time series: no accuracy promise on generic tabular data.
         tags.classifier_tags.poor_score = True

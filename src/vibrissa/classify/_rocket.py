@@ -150,7 +150,7 @@ class MiniRocketClassifier(TransformerMixin, TrialClassifier):
         self.chunk_size = chunk_size
         self.sample_rate_hz = sample_rate_hz
 
-    def __sklearn_tags__(self):  # noqa: D105
+    def __sklearn_tags__(self):
         tags = super().__sklearn_tags__()
         tags.classifier_tags.poor_score = True
         tags.transformer_tags.preserves_dtype = []  # features are float32 (PPV proportions)

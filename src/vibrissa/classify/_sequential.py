@@ -236,7 +236,7 @@ class SequentialEvidenceClassifier(SampleRateMixin, ClassifierMixin, BaseEstimat
             self.feature_names_in_ = names
         return self
 
-    def __sklearn_tags__(self):  # noqa: D105
+    def __sklearn_tags__(self):
         tags = super().__sklearn_tags__()
         # y may be joint label rows (n_trials, n_targets); one column is accumulated
         tags.target_tags.multi_output = True

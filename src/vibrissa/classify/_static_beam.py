@@ -254,7 +254,7 @@ class StaticBeamClassifier(TrialClassifier):
         """Radial distance only (column ``radius_column`` of ``y``; thesis 4.3.1)."""
         return EstimatorTags(estimated_targets=(int(self.radius_column),))
 
-    def __sklearn_tags__(self):  # noqa: D105
+    def __sklearn_tags__(self):
         tags = super().__sklearn_tags__()
         # Built for whisker time series: no accuracy promise on generic tabular data.
         tags.classifier_tags.poor_score = True

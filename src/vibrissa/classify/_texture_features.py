@@ -237,7 +237,7 @@ class FeaturePolynomialClassifier(TrialClassifier):
         self.rest_v = rest_v
         self.onset_fraction = onset_fraction
 
-    def __sklearn_tags__(self):  # noqa: D105
+    def __sklearn_tags__(self):
         tags = super().__sklearn_tags__()
         tags.classifier_tags.poor_score = True
         return tags

@@ -299,7 +299,7 @@ class RecordingWindow(SampleRateMixin, TransformerMixin, BaseEstimator):
             )
         return win
 
-    def __sklearn_tags__(self):  # noqa: D105
+    def __sklearn_tags__(self):
         tags = super().__sklearn_tags__()
         tags.requires_fit = True
         return tags

@@ -144,10 +144,10 @@ class OneLineUsageErrors(TyperGroup):
     of every subcommand (and nested group) in :meth:`invoke`.
     """
 
-    def make_context(self, *args: Any, **kwargs: Any) -> Any:  # noqa: D102
+    def make_context(self, *args: Any, **kwargs: Any) -> Any:
         with _one_line():
             return super().make_context(*args, **kwargs)
 
-    def invoke(self, ctx: Any) -> Any:  # noqa: D102
+    def invoke(self, ctx: Any) -> Any:
         with _one_line():
             return super().invoke(ctx)

@@ -29,7 +29,7 @@ import os
 import warnings
 from collections.abc import Iterable, Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, Final
 
 import numpy as np
 import xarray as xr
@@ -60,7 +60,7 @@ _PARTS_ATTR = "vibrissa_checksum_parts"
 _SCHEMA_ATTR = "vibrissa_schema"
 _UNCOVERED = frozenset({_CHECKSUM_ATTR, _PARTS_ATTR})
 _PART_HEX = 16  # hex digits kept per part in the parts attribute
-_ENGINE = "h5netcdf"
+_ENGINE: Final = "h5netcdf"
 
 
 class DatasetFileError(ValueError):
@@ -181,9 +181,9 @@ def _values_digest(var: xr.DataArray) -> str:
     else:
         little = vals.dtype.newbyteorder("<") if vals.dtype.byteorder != "|" else vals.dtype
         h.update(little.str.encode())
-        # the array's own buffer (no copy of it as bytes: the signal of a full grid
-        # is hundreds of MB)
-        h.update(np.ascontiguousarray(vals, dtype=little).reshape(-1).view(np.uint8))
+        # the array's own buffer as a memoryview (no copy of it as bytes: the signal
+        # of a full grid is hundreds of MB)
+        h.update(np.ascontiguousarray(vals, dtype=little).reshape(-1).view(np.uint8).data)
     return h.hexdigest()
 
 

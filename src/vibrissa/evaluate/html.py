@@ -213,7 +213,7 @@ class _ReportExtension(Extension):
         super().__init__()
         self.base_dir = base_dir
 
-    def extendMarkdown(self, md: markdown.Markdown) -> None:  # noqa: N802 (Markdown's API)
+    def extendMarkdown(self, md: markdown.Markdown) -> None:  # Markdown's API
         # Raw HTML is shown as text, not passed through.
         md.preprocessors.deregister("html_block")
         md.inlinePatterns.deregister("html")
