@@ -7,7 +7,7 @@ Usage::
         [--out benchmarks/results/crunchbot.json]
 
 Times, separately, (1) the robot: ``seconds`` of robot time in the ``slam`` arena with
-the experiment's default robot (``vibrissa.experiments.crunchbot.default_robot``: the
+the experiment's default robot (``vibrissa.thesis.crunchbot_slam.protocol.default_robot``: the
 simulated robot with its classifiers trained once beforehand and timed apart;
 ``--quick-training`` trains on the small set, which changes the classifiers' accuracy,
 not the robot's speed), and (2) ``run_slam`` over the run's sensor log with
@@ -27,10 +27,10 @@ import time
 from pathlib import Path
 
 from vibrissa._atomic import atomic_write_text
-from vibrissa.evaluate.crunchbot import json_ready, latency_stats, trajectory_error_mm
-from vibrissa.experiments.crunchbot import default_robot, robot_kind
 from vibrissa.robots.crunchbot import PRESETS
 from vibrissa.slam import MODES, SlamSettings, map_error, run_slam, smooth_ground_truth
+from vibrissa.thesis.crunchbot_slam.evaluation import json_ready, latency_stats, trajectory_error_mm
+from vibrissa.thesis.crunchbot_slam.protocol import default_robot, robot_kind
 
 BUDGET_S = 60.0
 AIM_S = 20.0

@@ -38,8 +38,8 @@ from vibrissa._atomic import atomic_write_text
 
 def _record(seconds: float, seed: int) -> tuple[list[dict], list[tuple], float]:
     import vibrissa.robots.crunchbot.obstacle_whiskers as ow
-    from vibrissa.experiments.crunchbot import default_robot
     from vibrissa.robots.crunchbot import PRESETS
+    from vibrissa.thesis.crunchbot_slam.protocol import default_robot
 
     rows: list[dict] = []
     args: list[tuple] = []

@@ -37,10 +37,10 @@ from vibrissa.classify import (
     peak_window,
 )
 from vibrissa.data import load_dataset
-from vibrissa.evaluate.chapter4 import dataset_arrays, fit_and_score
+from vibrissa.thesis.radial_distance.evaluation import dataset_arrays, fit_and_score
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from render_docs import run_meta, write_run  # noqa: E402
+from render_docs import run_meta, write_run
 
 FS = 1000.0
 

@@ -293,7 +293,7 @@ def extract_chapter5(results: Mapping[str, Any]) -> dict[str, Any]:
     thesis' methods, how many of them reach the thesis' kappa on angle and speed,
     and the largest kappa of the naive Bayes classifiers with the thesis' binning.
     """
-    from vibrissa.evaluate import THESIS_CHAPTER5
+    from vibrissa.thesis.angle_texture.values import THESIS_CHAPTER5
 
     meta = results.get("meta", {})
     clfs = results.get("classifiers", {})

@@ -11,6 +11,7 @@ import os
 import re
 import signal
 import subprocess
+import sys
 
 import pytest
 from console import console_script, interrupt_once_a_shard_exists
@@ -105,3 +106,21 @@ def test_an_interrupted_generation_says_what_it_kept_and_resumes_to_the_same_byt
                             speeds_mm_s=(60.0, 100.0, 140.0, 180.0), runs=1)
     ref = generate(protocol, tmp_path / "ref.nc", workers=1)
     assert load_dataset(out)["signal"].values.tobytes() == ref["signal"].values.tobytes()
+
+
+# ----------------------------------------------------- dask is the optional extra
+def without_dask(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Make ``dask`` and ``distributed`` unimportable, as in a plain ``pip install``."""
+    for name in ("dask", "distributed", "dask.distributed"):
+        monkeypatch.setitem(sys.modules, name, None)
+
+
+def test_a_scheduler_without_dask_is_refused_in_one_line_before_any_work(tmp_path,
+                                                                          monkeypatch):
+    without_dask(monkeypatch)
+    out = tmp_path / "x.nc"
+    res = runner.invoke(app, [*SMALL, "--scheduler", "tcp://127.0.0.1:1", "--out", str(out)])
+    assert res.exit_code == 2, res.output
+    assert res.output.strip() == ("error: --scheduler: needs the 'distributed' extra "
+                                  "(pip install 'vibrissa[distributed]')")
+    assert list(tmp_path.iterdir()) == []

@@ -9,6 +9,7 @@ from __future__ import annotations
 import json
 import re
 import signal
+import sys
 from pathlib import Path
 
 import pytest
@@ -183,3 +184,17 @@ def test_an_interrupted_reproduction_says_what_it_kept(tmp_path):
     kept = sorted(parts.glob("chunk-*.npz"))
     assert int(m.group(1)) == sum(min(32, 80 - 32 * int(p.stem[6:])) for p in kept) > 0
     assert not data.exists() and not (out / "results.json").exists()
+
+
+@pytest.mark.parametrize("name", ["radial-distance", "crunchbot-slam"])
+def test_a_scheduler_without_dask_is_refused_in_one_line_before_any_work(tmp_path, monkeypatch,
+                                                                          name):
+    for module in ("dask", "distributed", "dask.distributed"):  # as in a plain pip install
+        monkeypatch.setitem(sys.modules, module, None)
+    out = tmp_path / "out"
+    res = runner.invoke(app, ["reproduce", name, "--quick", "--no-figures", "--out", str(out),
+                              "--scheduler", "tcp://127.0.0.1:1"])
+    assert res.exit_code == 2, res.output
+    assert res.output.strip() == ("error: --scheduler: needs the 'distributed' extra "
+                                  "(pip install 'vibrissa[distributed]')")
+    assert not (out / "data").exists() and not (out / "results.json").exists()

@@ -5,8 +5,8 @@ import json
 import pytest
 
 from vibrissa.evaluate.baseline import compact_results, load_baseline
-from vibrissa.evaluate.chapter4_report import markdown_report
-from vibrissa.evaluate.chapter5_report import markdown_chapter5
+from vibrissa.thesis.angle_texture.report import markdown_chapter5
+from vibrissa.thesis.radial_distance.report import markdown_report
 
 CH4 = {
     "meta": {"n_trials": 8},

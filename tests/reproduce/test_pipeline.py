@@ -80,9 +80,9 @@ def test_option_flag():
 
 def test_the_dataset_is_simulated_on_the_dask_cluster_asked_for(tmp_path, monkeypatch):
     distributed = pytest.importorskip("dask.distributed")
-    from vibrissa.experiments.crunchbot import CrunchbotProtocol
     from vibrissa.reproduce import pipeline
     from vibrissa.robots.crunchbot import synthetic_record
+    from vibrissa.thesis.crunchbot_slam.protocol import CrunchbotProtocol
 
     p = CrunchbotProtocol(n_runs=1, seconds=5.0, texture_seconds=4.0, seed=2,
                           simulate_run=synthetic_record, train=None)

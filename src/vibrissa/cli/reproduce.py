@@ -67,6 +67,7 @@ def _run(exp: Experiment, quick: bool, json_out: bool, out: Path, seed: int,
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     from vibrissa.evaluate.baseline import load_baseline
+    from vibrissa.experiments.contract import SelfGenerating, chunk_size_of
     from vibrissa.experiments.generate import kept_trials, parts_dir
     from vibrissa.reproduce import check_job_arguments, dataset_path, run_experiment
     from vibrissa.reproduce.pipeline import check_scheduler
@@ -107,10 +108,10 @@ def _run(exp: Experiment, quick: bool, json_out: bool, out: Path, seed: int,
             work = f"simulated dataset reused from {data}"
         elif scheduler is not None:
             work = f"simulating on the Dask cluster at {scheduler}"
-        elif hasattr(protocol, "generate_dataset"):  # simulates itself, no XY estimate
+        elif isinstance(protocol, SelfGenerating):  # simulates itself, no XY estimate
             work = "simulating"
         else:
-            chunk = int(getattr(protocol, "chunk_size", 32))
+            chunk = chunk_size_of(protocol)
             work = f"simulating {work_statement(protocol, workers, chunk_size=chunk)}"
         console.print(f"{exp.name}: {protocol.n_trials} trials ({grid} grid), seed {seed}, "
                       f"{work}; then the evaluation -> {out}", highlight=False, soft_wrap=True)

@@ -39,7 +39,8 @@ def crunchbot_cmd(
     from rich.console import Console
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-    from vibrissa.experiments.crunchbot import check_watch, default_robot, robot_kind, watch_run
+    from vibrissa.thesis.crunchbot_slam.protocol import default_robot, robot_kind
+    from vibrissa.thesis.crunchbot_slam.viewer import check_watch, watch_run
 
     a = check_watch(arena, seconds, seed, particles, mode)
     try:

@@ -23,16 +23,13 @@ Every command that takes a whisker accepts the same geometry options
 
 from __future__ import annotations
 
-import math
 from typing import Annotated, Any
 
 import numpy as np
-import scipy.signal
 import typer
 
 from vibrissa._validate import finite, in_range, non_negative, positive
 from vibrissa.cli._common import echo_json, option_renamer, solver_limits, user_errors
-from vibrissa.signal import ring_down
 
 DEFAULT_PRESET = "xy-robot"
 
@@ -534,7 +531,7 @@ def ring_cmd(
     ratio and the model's first natural frequency (undamped, Hz) and damped
     frequency.
     """
-    from vibrissa.whisker.simulate import free_vibration
+    from vibrissa.experiments.ringdown import ring_down_test
 
     g = build_geometry(preset, length_mm, base_radius_mm, tip_radius_mm, youngs_modulus_gpa,
                        density_kg_m3, damping_ratio)
@@ -558,34 +555,19 @@ def ring_cmd(
             f"--duration-s must cover at least 100 steps of --dt-ms, got {duration_s:g}"
         )
     model = build_model(g, n_elements, rigid_follicle)
-    res = free_vibration(model, tip_deflection_mm=tip, duration_s=dur, dt_s=dt,
-                         record_every=1 if model.rigid_follicle else 0)
-    if model.rigid_follicle:
-        e = res.states_m[:, 2] - res.states_m[:, 1]
-        sig = e[:, 0] / e[:, 2]
-        signal_name = "base slope of the shaft (rigid follicle)"
-    else:
-        sig = res.tan_xy[:, 0]
-        signal_name = "magnet tan_x"
-    f_nat = model.natural_frequencies_hz
-    lowpass_hz: float | None = None
-    if not no_lowpass and f_nat.size > 1:
-        fc = float(math.sqrt(f_nat[0] * f_nat[1]))
-        if fc < 0.4 / res.dt_s:
-            sos = scipy.signal.butter(4, fc, fs=1.0 / res.dt_s, output="sos")
-            sig = scipy.signal.sosfiltfilt(sos, sig)
-            lowpass_hz = fc
-    meas = ring_down(sig, res.dt_s)
-    alpha, beta_s, beta_f = model.damping
-    _, fd = model.modal_damping(alpha, beta_s, beta_f, 1)
-    f_model = float(model.natural_frequencies_hz[0])
+    meas = ring_down_test(model, tip_deflection_mm=tip, duration_s=dur, dt_s=dt,
+                          lowpass=not no_lowpass)
+    f_model, lowpass_hz, signal_name = (meas["model_frequency_hz"], meas["lowpass_hz"],
+                                        meas["signal"])
+    fd = [meas["model_damped_frequency_hz"]]
+    meas["n_peaks"] = meas["n_peaks_fitted"]
     out: dict[str, Any] = {
         "frequency_hz": meas["frequency_hz"],
         "damping_ratio": meas["damping_ratio"],
         "configured_damping_ratio": g.damping_ratio,
         "model_frequency_hz": f_model,
-        "model_damped_frequency_hz": float(fd[0]),
-        "n_peaks_fitted": meas["n_peaks"],
+        "model_damped_frequency_hz": fd[0],
+        "n_peaks_fitted": meas["n_peaks_fitted"],
         "signal": signal_name,
         "lowpass_hz": lowpass_hz,
         "whisker": g.name,
@@ -593,7 +575,7 @@ def ring_cmd(
         "rigid_follicle": model.rigid_follicle,
         "tip_deflection_mm": tip,
         "duration_s": dur,
-        "dt_s": res.dt_s,
+        "dt_s": meas["dt_s"],
     }
     if json_out:
         echo_json(out)
@@ -601,7 +583,7 @@ def ring_cmd(
     con = _console()
     con.print(f"[bold]ring-down of whisker {g.name}[/bold] ({model.n_elements} elements"
               f"{', rigid follicle' if model.rigid_follicle else ''}): tip deflected "
-              f"{tip:g} mm, released, {dur:g} s simulated at dt = {res.dt_s * 1e3:g} ms")
+              f"{tip:g} mm, released, {dur:g} s simulated at dt = {meas['dt_s'] * 1e3:g} ms")
     filt = (f", low-passed at {lowpass_hz:.1f} Hz" if lowpass_hz else ", unfiltered")
     con.print(f"  model:    first natural frequency {f_model:.2f} Hz "
               f"(damped {fd[0]:.2f} Hz), configured damping ratio {g.damping_ratio:.3f}")

@@ -5,8 +5,8 @@
   dataset's sample rate to the estimator at fit and check it before classifying, so
   an estimator built for another rate is refused (:func:`check_rates` refuses it
   before any work). Chapter 4
-  (:mod:`~vibrissa.evaluate.chapter4`) and chapter 5
-  (:mod:`~vibrissa.evaluate.chapter5`) both go through it, so a classifier that fails
+  (:mod:`~vibrissa.thesis.radial_distance.evaluation`) and chapter 5
+  (:mod:`~vibrissa.thesis.angle_texture.evaluation`) both go through it, so a classifier that fails
   is named the same way and every ``fit_seconds`` / ``classify_seconds`` in a
   results file is measured the same way.
 - :class:`Progress` reports steps to a callable ``(done, total, description)`` or a

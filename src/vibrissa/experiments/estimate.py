@@ -16,6 +16,7 @@ import time
 
 import numpy as np
 
+from vibrissa.experiments.contract import ChunkedTrials
 from vibrissa.experiments.protocols import Protocol
 from vibrissa.experiments.runner import simulate_trials
 
@@ -44,9 +45,8 @@ def seconds_per_trial(protocol: Protocol, budget_s: float = 0.3, max_trials: int
     float
         Seconds per trial.
     """
-    own = getattr(protocol, "seconds_per_trial", None)
-    if own is not None:  # a protocol of another robot times itself
-        return float(own())
+    if isinstance(protocol, ChunkedTrials):  # a protocol of another robot times itself
+        return float(protocol.seconds_per_trial())
     n = protocol.n_trials
     order = np.unique(np.linspace(0, n - 1, max_trials + 1).round().astype(int))
     simulate_trials(protocol, [n // 2])  # loads the kernels (and the protocol's caches)

@@ -23,6 +23,7 @@ from __future__ import annotations
 import contextlib
 import fcntl
 import functools
+import importlib.util
 import json
 import os
 import re
@@ -38,6 +39,7 @@ from vibrissa import __version__
 from vibrissa._atomic import atomic_path, atomic_write_text, check_writable
 from vibrissa._processes import imap_unordered
 from vibrissa.data.dataset import coordinate_attrs
+from vibrissa.experiments.contract import ChunkedTrials
 from vibrissa.experiments.protocols import Protocol
 from vibrissa.experiments.runner import (
     TRIAL_DIAGNOSTICS,
@@ -49,6 +51,7 @@ from vibrissa.experiments.runner import (
 __all__ = [
     "GenerationError",
     "build_dataset",
+    "check_dask",
     "check_generation",
     "check_size",
     "dataset_bytes",
@@ -79,9 +82,8 @@ def parts_dir(out: str | os.PathLike[str]) -> Path:
 
 def dataset_bytes(protocol: Protocol) -> int:
     """Bytes of the finished dataset's signal (trials x 2 channels x samples, float64)."""
-    own = getattr(protocol, "signal_bytes", None)
-    if own is not None:
-        return int(own())
+    if isinstance(protocol, ChunkedTrials):
+        return int(protocol.signal_bytes())
     return int(protocol.n_trials) * 2 * int(n_samples(protocol)) * 8
 
 
@@ -154,7 +156,7 @@ def _read_shard(path: Path, expected: np.ndarray) -> dict[str, np.ndarray] | Non
     try:
         with np.load(path) as z:
             data = {k: z[k] for k in z.files}
-    except Exception:  # noqa: BLE001 - any unreadable shard (truncated zip, ...) is redone
+    except Exception:  # any unreadable shard (truncated zip, ...) is redone
         return None
     if "index" not in data or not np.array_equal(data["index"], expected):
         return None
@@ -224,10 +226,11 @@ def _remove_stale_temporaries(out: Path) -> list[Path]:
 
 
 def _run_chunk(protocol: Protocol, indices: np.ndarray) -> dict[str, np.ndarray]:
-    # a protocol of another robot (e.g. experiments.floor.FloorProtocol) brings its own
-    # simulate_trials and build_dataset; the XY-robot protocols use the runner's
-    own = getattr(protocol, "simulate_trials", None)
-    return own(indices) if own is not None else simulate_trials(protocol, indices)
+    # a protocol of another robot (ChunkedTrials, e.g. the Roomba's FloorProtocol) simulates
+    # its own trials; the XY-robot protocols use the runner's
+    if isinstance(protocol, ChunkedTrials):
+        return protocol.simulate_trials(indices)
+    return simulate_trials(protocol, indices)
 
 
 class _Assembly:
@@ -368,7 +371,8 @@ def check_generation(
         Naming the argument: ``chunk_size`` or ``workers`` not a positive integer,
         a dataset too large for this machine (:func:`check_size`), an output that
         cannot be written (:func:`vibrissa._atomic.check_writable`: a directory, a
-        file where a directory is needed, a place where nothing can be created).
+        file where a directory is needed, a place where nothing can be created), a
+        ``scheduler`` without Dask installed (:func:`check_dask`).
     """
     if isinstance(chunk_size, bool) or not isinstance(chunk_size, int) or chunk_size < 1:
         raise ValueError(f"chunk_size must be a positive integer, got {chunk_size!r}")
@@ -385,12 +389,35 @@ def check_generation(
         raise ValueError(
             f"scheduler must be a Dask address like tcp://host:8786, got {scheduler!r}"
         )
+    else:
+        check_dask()
     check_size(protocol)
     return check_writable(out)
 
 
 #: A Dask scheduler's address: ``tcp://host:port`` (the protocol may be left out).
 SCHEDULER_ADDRESS = re.compile(r"([a-z]+://)?[^\s:/]+:\d+")
+
+
+def check_dask() -> None:
+    """Refuse a ``scheduler`` when Dask's distributed scheduler is not installed.
+
+    Dask is the optional extra ``distributed``; this finds its modules without running
+    them (only the small ``dask`` package itself is imported).
+
+    Raises
+    ------
+    ValueError
+        ``scheduler: needs the 'distributed' extra (pip install 'vibrissa[distributed]')``.
+    """
+    for name in ("dask", "distributed", "dask.distributed"):
+        try:
+            found = importlib.util.find_spec(name) is not None
+        except (ImportError, ValueError):  # a parent missing, or a module without a spec
+            found = False
+        if not found:
+            raise ValueError("scheduler: needs the 'distributed' extra "
+                             "(pip install 'vibrissa[distributed]')")
 
 
 def max_workers() -> int:
@@ -488,8 +515,8 @@ def _generate_locked(
     merged = done.arrays()
     if not np.array_equal(merged["index"], np.arange(protocol.n_trials)):
         raise GenerationError("shards do not cover every trial exactly once")
-    own = getattr(protocol, "build_dataset", None)
-    ds = own(merged) if own is not None else build_dataset(protocol, merged)
+    ds = (protocol.build_dataset(merged) if isinstance(protocol, ChunkedTrials)
+          else build_dataset(protocol, merged))
     save_dataset(ds, out)
     shutil.rmtree(parts, ignore_errors=True)
     return ds

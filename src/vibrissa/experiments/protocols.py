@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from vibrissa._validate import in_range, positive
+from vibrissa.experiments.contract import SimulationProtocol
 from vibrissa.experiments.streams import ORDER, stream
 from vibrissa.robots.xy_stage import XYStage
 from vibrissa.whisker.geometry import PRESETS, preset
@@ -140,7 +141,7 @@ class TrialSpec:
 
 
 @dataclass(frozen=True)
-class Protocol:
+class Protocol(SimulationProtocol):
     """A declarative XY-robot experiment.
 
     Parameters

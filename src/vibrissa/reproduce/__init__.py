@@ -8,8 +8,7 @@ Nothing below this layer (``whisker``, ``robots``, ``experiments``, ``data``,
   :func:`experiments`, :func:`get_experiment`;
 - :mod:`~vibrissa.reproduce.pipeline`: :func:`run_experiment` (dataset cache ->
   evaluation -> results envelope -> Markdown and HTML report);
-- :mod:`vibrissa.reproduce.thesis`: one module per thesis experiment
-  (``radial_distance``: chapter 4; ``angle_texture``: chapter 5).
+- the experiments themselves: one package each in :mod:`vibrissa.thesis`.
 """
 
 from vibrissa.reproduce.pipeline import (
@@ -18,9 +17,17 @@ from vibrissa.reproduce.pipeline import (
     dataset_path,
     run_experiment,
 )
-from vibrissa.reproduce.registry import Experiment, Option, experiments, get_experiment, register
+from vibrissa.reproduce.registry import (
+    Evaluation,
+    Experiment,
+    Option,
+    experiments,
+    get_experiment,
+    register,
+)
 
 __all__ = [
+    "Evaluation",
     "Experiment",
     "Option",
     "cached_dataset",

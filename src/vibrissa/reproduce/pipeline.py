@@ -15,7 +15,6 @@ into its output directory:
 from __future__ import annotations
 
 import datetime as dt
-import inspect
 import os
 import shlex
 import sys
@@ -28,13 +27,15 @@ import numpy as np
 
 from vibrissa import __version__
 from vibrissa.data import DatasetFileError, load_dataset
+from vibrissa.experiments.contract import SelfGenerating, SimulationProtocol, chunk_size_of
 from vibrissa.experiments.generate import (
     SCHEDULER_ADDRESS,
     WORKERS_PER_CORE,
+    check_dask,
     generate,
     max_workers,
 )
-from vibrissa.reproduce.registry import Experiment, get_experiment
+from vibrissa.reproduce.registry import Evaluation, Experiment, get_experiment
 
 __all__ = [
     "Progress",
@@ -84,18 +85,19 @@ def check_job_arguments(out_dir: str | os.PathLike[str], seed: object,
     return out
 
 
-def check_scheduler(protocol: Any, scheduler: str | None) -> None:
+def check_scheduler(protocol: SimulationProtocol, scheduler: str | None) -> None:
     """Refuse ``scheduler`` for a protocol that simulates its dataset on local processes
-    only (its own ``generate_dataset`` takes no ``scheduler``)."""
+    only (its own ``generate_dataset`` takes no ``scheduler``), or when Dask is not
+    installed (:func:`~vibrissa.experiments.generate.check_dask`)."""
     if scheduler is None:
         return
-    own = getattr(protocol, "generate_dataset", None)
-    if own is not None and "scheduler" not in inspect.signature(own).parameters:
+    if isinstance(protocol, SelfGenerating) and not protocol.accepts_scheduler:
         raise ValueError(f"scheduler: the {protocol.name} session simulates on local "
                          "processes only; leave out the scheduler")
+    check_dask()
 
 
-def dataset_path(protocol: Any, out_dir: str | os.PathLike[str]) -> Path:
+def dataset_path(protocol: SimulationProtocol, out_dir: str | os.PathLike[str]) -> Path:
     """Where a run writing ``out_dir`` keeps the dataset of ``protocol``.
 
     ``<out_dir>/data/<protocol>-<fingerprint>.nc``: the fingerprint changes with any
@@ -104,11 +106,11 @@ def dataset_path(protocol: Any, out_dir: str | os.PathLike[str]) -> Path:
     return Path(out_dir) / "data" / _file_name(protocol)
 
 
-def _file_name(protocol: Any) -> str:
+def _file_name(protocol: SimulationProtocol) -> str:
     return f"{protocol.name}-{protocol.fingerprint()}.nc"
 
 
-def cached_dataset(protocol: Any, data_dir: Path, progress: Progress | None = None,
+def cached_dataset(protocol: SimulationProtocol, data_dir: Path, progress: Progress | None = None,
                    workers: int | None = None, scheduler: str | None = None):
     """Load the dataset of ``protocol`` from ``data_dir``, generating it if absent.
 
@@ -128,12 +130,12 @@ def cached_dataset(protocol: Any, data_dir: Path, progress: Progress | None = No
         except DatasetFileError:
             path.unlink()
     cb = (lambda d, t: progress("generate", d, t)) if progress else None
-    own = getattr(protocol, "generate_dataset", None)
-    if own is not None:  # a protocol that simulates its whole dataset itself
+    if isinstance(protocol, SelfGenerating):  # simulates its whole dataset itself
         extra = {"scheduler": scheduler} if scheduler is not None else {}
-        return own(path, workers=workers, progress=cb, **extra), path, False
+        return protocol.generate_dataset(path, workers=workers, progress=cb, **extra), path, \
+            False
     ds = generate(protocol, path, workers=workers, scheduler=scheduler, progress=cb,
-                  chunk_size=int(getattr(protocol, "chunk_size", 32)))
+                  chunk_size=chunk_size_of(protocol))
     return ds, path, False
 
 
@@ -211,7 +213,11 @@ def run_experiment(
     ds, path, reused = cached_dataset(protocol, out / "data", progress, workers, scheduler)
     t1 = time.perf_counter()
     cb = (lambda d, t, _desc: progress("evaluate", d, t)) if progress else None
-    results = exp.evaluate(ds, seed=int(seed), progress=cb, options=opts, workers=workers)
+    evaluation = exp.evaluate(ds, seed=int(seed), progress=cb, options=opts, workers=workers)
+    if not isinstance(evaluation, Evaluation):
+        raise TypeError(f"{exp.name}: evaluate() must return an Evaluation, got "
+                        f"{type(evaluation).__name__}")
+    results = evaluation.results
     t2 = time.perf_counter()
     evaluation_meta = dict(results.get("meta", {}))
     meta = {
@@ -240,7 +246,7 @@ def run_experiment(
     # the results are saved before the reports are drawn: a failing figure loses nothing
     write_json(envelope, out / "results.json")
     write_reports(exp, envelope, out, dataset=ds if figures else None, figures=figures,
-                  baseline=baseline, workers=workers)
+                  baseline=baseline, workers=workers, artifacts=evaluation.artifacts)
     meta["wall_seconds"]["report"] = round(time.perf_counter() - t2, 3)
     meta["wall_seconds"]["total"] = round(time.perf_counter() - t0, 3)
     write_json(envelope, out / "results.json")
@@ -250,14 +256,17 @@ def run_experiment(
 def write_reports(exp: Experiment, results: Mapping[str, Any], out: Path, *,
                   dataset: Any, figures: bool,
                   baseline: Mapping[str, Any] | None,
-                  workers: int | None = None) -> dict[str, Path]:
+                  workers: int | None = None,
+                  artifacts: Mapping[str, Any] | None = None) -> dict[str, Path]:
     """Figures, extra files, ``report.md`` and ``report.html`` of one run (``workers``
-    processes may draw the figures; ``None``: every core)."""
+    processes may draw the figures; ``None``: every core; ``artifacts``: the run's
+    :attr:`~vibrissa.reproduce.registry.Evaluation.artifacts`)."""
     from vibrissa._atomic import atomic_write_text
     from vibrissa.evaluate.html import write_html_report
     from vibrissa.evaluate.report_common import report_header
 
-    figs = exp.write_outputs(results, out, dataset=dataset, figures=figures, workers=workers)
+    figs = exp.write_outputs(results, out, dataset=dataset, figures=figures, workers=workers,
+                             artifacts=artifacts or {})
     rel = {k: p.relative_to(out) for k, p in figs.items()}
     text = report_header(results["meta"]) + exp.report_sections(results, rel, baseline)
     md = atomic_write_text(out / "report.md", text.rstrip() + "\n")

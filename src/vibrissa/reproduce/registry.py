@@ -1,14 +1,14 @@
 """The registry of thesis experiments behind ``vibrissa reproduce NAME``.
 
-An experiment is one :class:`Experiment` subclass in one module of
-:mod:`vibrissa.reproduce.thesis`, registered with :func:`register`. It owns
+An experiment is one :class:`Experiment` subclass in the ``experiment`` module of its
+package in :mod:`vibrissa.thesis`, registered with :func:`register`. It owns
 its protocol (grid, robot, sensor: :meth:`Experiment.protocol`), its classifiers
 and evaluation (:meth:`Experiment.evaluate`), its files and figures
 (:meth:`Experiment.write_outputs`), its report sections
 (:meth:`Experiment.report_sections`) and its command-line summary
 (:meth:`Experiment.summary`). :func:`vibrissa.reproduce.run_experiment` runs any of
 them the same way: dataset cache, evaluation, results envelope, Markdown and HTML
-report. Adding an experiment is adding a module (plus its protocol).
+report. Adding an experiment is adding a package to :mod:`vibrissa.thesis`.
 """
 
 from __future__ import annotations
@@ -18,13 +18,15 @@ import math
 import pkgutil
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, ClassVar
 
 import xarray as xr
 
-__all__ = ["Experiment", "Option", "experiments", "get_experiment", "register"]
+from vibrissa.experiments.contract import SimulationProtocol
+
+__all__ = ["Evaluation", "Experiment", "Option", "experiments", "get_experiment", "register"]
 
 _REGISTRY: dict[str, Experiment] = {}
 
@@ -118,6 +120,25 @@ class Option:
         return names
 
 
+@dataclass
+class Evaluation:
+    """What :meth:`Experiment.evaluate` returns.
+
+    Attributes
+    ----------
+    results : dict
+        The results envelope's sections: ``meta`` (merged into the run's meta),
+        ``parameters``, ``classifiers`` and the experiment's own; JSON-ready, written to
+        ``results.json`` as they are.
+    artifacts : dict
+        In-memory data for the figures (arrays, simulated runs), handed to
+        :meth:`Experiment.write_outputs` and never serialised.
+    """
+
+    results: dict[str, Any]
+    artifacts: dict[str, Any] = field(default_factory=dict)
+
+
 class Experiment(ABC):
     """One experiment of the thesis: protocol, classifiers, evaluation, report.
 
@@ -138,10 +159,12 @@ class Experiment(ABC):
 
     # ------------------------------------------------------------------ protocol
     @abstractmethod
-    def protocol(self, quick: bool, seed: int) -> Any:
-        """The :class:`vibrissa.experiments.protocols.Protocol` that simulates the data."""
+    def protocol(self, quick: bool, seed: int) -> SimulationProtocol:
+        """The protocol that simulates the session's data (see
+        :mod:`vibrissa.experiments.contract` for what one is)."""
 
-    def protocol_for(self, quick: bool, seed: int, options: Mapping[str, Any]) -> Any:
+    def protocol_for(self, quick: bool, seed: int,
+                     options: Mapping[str, Any]) -> SimulationProtocol:
         """The protocol of a run with the experiment's own (checked) ``options``; the
         default ignores them (they are evaluation options)."""
         return self.protocol(quick, seed)
@@ -153,17 +176,21 @@ class Experiment(ABC):
     # ------------------------------------------------------------------ evaluation
     @abstractmethod
     def evaluate(self, ds: xr.Dataset, *, seed: int, progress: Callable | None,
-                 options: Mapping[str, Any], workers: int | None = None) -> dict[str, Any]:
-        """Run the classifiers and the evaluation; return ``meta``, ``parameters``,
-        ``classifiers`` and the experiment's own sections. ``workers``: processes the
-        evaluation may use (``None``: every core); its results do not depend on it."""
+                 options: Mapping[str, Any], workers: int | None = None) -> Evaluation:
+        """Run the classifiers and the evaluation: the results (``meta``, ``parameters``,
+        ``classifiers`` and the experiment's own sections) and the figures' in-memory
+        artifacts. ``workers``: processes the evaluation may use (``None``: every core);
+        its results do not depend on it."""
 
     # ------------------------------------------------------------------ outputs
     def write_outputs(self, results: Mapping[str, Any], out_dir: Path, *,
                       dataset: xr.Dataset | None, figures: bool,
-                      workers: int | None = None) -> dict[str, Path]:
+                      workers: int | None = None,
+                      artifacts: Mapping[str, Any] | None = None) -> dict[str, Path]:
         """Write extra files (CSV) and figures; return figure key -> path. ``workers``:
-        processes that may draw the figures (``None``: every core)."""
+        processes that may draw the figures (``None``: every core); ``artifacts``: the
+        :attr:`Evaluation.artifacts` of the run (empty for a run drawn again from its
+        ``results.json``)."""
         return {}
 
     @abstractmethod
@@ -201,10 +228,11 @@ def register(cls: type[Experiment]) -> type[Experiment]:
 
 
 def _discover() -> None:
-    import vibrissa.reproduce.thesis as pkg
+    import vibrissa.thesis as pkg
 
     for mod in pkgutil.iter_modules(pkg.__path__):
-        importlib.import_module(f"{pkg.__name__}.{mod.name}")
+        if mod.ispkg:
+            importlib.import_module(f"{pkg.__name__}.{mod.name}.experiment")
 
 
 def experiments() -> dict[str, Experiment]:

@@ -38,7 +38,9 @@ at a fixed protraction angle; :func:`obstacle_whisk` does the same.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from scipy.signal import butter, sosfilt_zi
@@ -62,8 +64,11 @@ __all__ = [
     "WhiskPattern",
     "WhiskerSetup",
     "WhiskingResult",
+    "FIGURE_3_9_SETTINGS",
+    "Figure39Panel",
     "count_contacts",
     "check_pole_placement",
+    "figure_3_9",
     "motor_follow",
     "obstacle_whisk",
     "pole_position_mm",
@@ -613,6 +618,75 @@ def obstacle_whisk(
             z = _gate_step(z, pis[side, k], 1.0 - dt / tau, s)
             zs[side, k] = z
     return ObstacleWhisk(t, ang, pis, zs, (float(obstacle_deg[0]), float(obstacle_deg[1])))
+
+
+#: Figure 3.9's two panels (3.4.2): panel -> (sigma_z, tau_z as a fraction of T_w); (a)
+#: stops each protraction at the first contact, (b) the biphasic whisk.
+FIGURE_3_9_SETTINGS: dict[str, tuple[float, float]] = {"a": (0.7, 0.25), "b": (2.0, 0.1)}
+
+
+@dataclass(frozen=True)
+class Figure39Panel:
+    """One panel of figure 3.9: the run of :func:`obstacle_whisk` and what it shows.
+
+    Attributes
+    ----------
+    sigma_z, tau_z_periods : float
+        The gain and time constant (fraction of the whisk period) of eq. 3.3.
+    contacts_left, contacts_right : int
+        Contact episodes per side over the run (:func:`count_contacts`, release 2 deg
+        below the obstruction).
+    whisks : int
+        Whisks in the run.
+    z_max : float
+        Largest gating variable ``z`` (left side).
+    z_at_next_whisk : float or None
+        ``z`` at the left side's first contact of the second or a later whisk.
+    run : ObstacleWhisk
+        The simulated arrays.
+    """
+
+    sigma_z: float
+    tau_z_periods: float
+    contacts_left: int
+    contacts_right: int
+    whisks: int
+    z_max: float
+    z_at_next_whisk: float | None
+    run: ObstacleWhisk
+
+    def summary(self) -> dict[str, Any]:
+        """The panel's numbers, JSON-ready (everything but the arrays)."""
+        return {"sigma_z": self.sigma_z, "tau_z_periods": self.tau_z_periods,
+                "contacts_left": self.contacts_left, "contacts_right": self.contacts_right,
+                "whisks": self.whisks, "z_max": self.z_max,
+                "z_at_next_whisk": self.z_at_next_whisk}
+
+
+def figure_3_9(settings: Mapping[str, tuple[float, float]] | None = None, *,
+               frequency_hz: float = 8.0, n_whisks: int = 3) -> dict[str, Figure39Panel]:
+    """Figure 3.9 (rapid cessation of protraction): :func:`obstacle_whisk` at each panel's
+    ``(sigma_z, tau_z_periods)`` (default :data:`FIGURE_3_9_SETTINGS`), with its contacts
+    counted.
+
+    Returns
+    -------
+    dict of str to Figure39Panel
+        Panel name -> the run and its numbers.
+    """
+    out = {}
+    for key, (s, tau) in (FIGURE_3_9_SETTINGS if settings is None else settings).items():
+        r = obstacle_whisk(s, tau, frequency_hz=frequency_hz, n_whisks=n_whisks)
+        touching = r.angle_deg[0] > r.obstacle_deg[0]
+        onsets = np.flatnonzero(touching[1:] & ~touching[:-1]) + 1
+        later = onsets[r.time_s[onsets] >= 1.0 / frequency_hz]
+        out[key] = Figure39Panel(
+            sigma_z=s, tau_z_periods=tau,
+            contacts_left=count_contacts(r.angle_deg[0] - r.obstacle_deg[0], 0.0, -2.0),
+            contacts_right=count_contacts(r.angle_deg[1] - r.obstacle_deg[1], 0.0, -2.0),
+            whisks=int(n_whisks), z_max=float(r.gating[0].max()),
+            z_at_next_whisk=float(r.gating[0][later[0]]) if later.size else None, run=r)
+    return out
 
 
 def count_contacts(signal: np.ndarray, threshold: float, release: float | None = None) -> int:

@@ -2194,3 +2194,51 @@ def first_possible_contact(kind, params, frame, h_max, traj, x_rest, radius, bou
                 t += 1
         return nt
     return nt
+
+
+# ------------------------------------------------------------------ surfaces (surfaces.py)
+@njit(cache=True)
+def dilate_axis(h, dx, R, k):
+    """Grey dilation of a periodic height field ``h`` along axis 0 by a sphere of radius
+    ``R`` (sample spacing ``dx``, ``k`` samples each way): what a probe tip of radius ``R``
+    can reach (:meth:`vibrissa.whisker.surfaces.Surface.for_tip`)."""
+    n, m = h.shape
+    out = h.copy()
+    for off in range(1, k + 1):
+        drop = (off * dx) ** 2 / (2.0 * R)
+        for i in range(n):
+            ip = (i + off) % n
+            im = (i - off) % n
+            for j in range(m):
+                a = h[ip, j] - drop
+                b = h[im, j] - drop
+                if a > out[i, j]:
+                    out[i, j] = a
+                if b > out[i, j]:
+                    out[i, j] = b
+    return out
+
+
+@njit(cache=True)
+def stamp_grains(H, dx, cu, cw, rad, top):
+    """Raise the periodic height field ``H`` (spacing ``dx``) in place to the spherical caps
+    of grains centred at ``(cu, cw)`` with radii ``rad`` and tops ``top``
+    (:func:`vibrissa.whisker.surfaces.make_surface`)."""
+    n, m = H.shape
+    for g in range(cu.shape[0]):
+        r = rad[g]
+        ku = int(r / dx) + 1
+        iu0 = int(cu[g] / dx)
+        iw0 = int(cw[g] / dx)
+        for a in range(-ku, ku + 1):
+            for b in range(-ku, ku + 1):
+                du = (iu0 + a) * dx - cu[g]
+                dw = (iw0 + b) * dx - cw[g]
+                q = r * r - du * du - dw * dw
+                if q <= 0.0:
+                    continue
+                z = top[g] - r + np.sqrt(q)
+                i = (iu0 + a) % n
+                j = (iw0 + b) % m
+                if z > H[i, j]:
+                    H[i, j] = z

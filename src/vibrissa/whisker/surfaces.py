@@ -22,9 +22,9 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from numba import njit
 
 from vibrissa._validate import non_negative, positive
+from vibrissa.whisker import _kernels
 
 __all__ = ["TEXTURES", "Surface", "TextureSpec", "make_surface", "texture_names"]
 
@@ -120,50 +120,9 @@ class Surface:
             return h.copy()
         reach = math.sqrt(2.0 * R * max(float(np.ptp(h)), 1e-12))
         k = int(math.ceil(reach / self.spacing_m))
-        out = _dilate_axis(h, self.spacing_m, R, min(k, h.shape[0] - 1))
-        out = _dilate_axis(out.T.copy(), self.spacing_m, R, min(k, h.shape[1] - 1)).T
+        out = _kernels.dilate_axis(h, self.spacing_m, R, min(k, h.shape[0] - 1))
+        out = _kernels.dilate_axis(out.T.copy(), self.spacing_m, R, min(k, h.shape[1] - 1)).T
         return np.ascontiguousarray(out)
-
-
-@njit(cache=True)
-def _dilate_axis(h, dx, R, k):
-    n, m = h.shape
-    out = h.copy()
-    for off in range(1, k + 1):
-        drop = (off * dx) ** 2 / (2.0 * R)
-        for i in range(n):
-            ip = (i + off) % n
-            im = (i - off) % n
-            for j in range(m):
-                a = h[ip, j] - drop
-                b = h[im, j] - drop
-                if a > out[i, j]:
-                    out[i, j] = a
-                if b > out[i, j]:
-                    out[i, j] = b
-    return out
-
-
-@njit(cache=True)
-def _stamp_grains(H, dx, cu, cw, rad, top):
-    n, m = H.shape
-    for g in range(cu.shape[0]):
-        r = rad[g]
-        ku = int(r / dx) + 1
-        iu0 = int(cu[g] / dx)
-        iw0 = int(cw[g] / dx)
-        for a in range(-ku, ku + 1):
-            for b in range(-ku, ku + 1):
-                du = (iu0 + a) * dx - cu[g]
-                dw = (iw0 + b) * dx - cw[g]
-                q = r * r - du * du - dw * dw
-                if q <= 0.0:
-                    continue
-                z = top[g] - r + math.sqrt(q)
-                i = (iu0 + a) % n
-                j = (iw0 + b) % m
-                if z > H[i, j]:
-                    H[i, j] = z
 
 
 def make_surface(
@@ -211,7 +170,7 @@ def make_surface(
         cw = rng.uniform(0, Lw, n_grains)
         # grains sit in the resin at random depth: protrude 30-70 % of their diameter
         top = diam * rng.uniform(0.3, 0.7, n_grains)
-        _stamp_grains(H, dx, cu, cw, 0.5 * diam, top)
+        _kernels.stamp_grains(H, dx, cu, cw, 0.5 * diam, top)
     if spec.roughness_um > 0:
         from scipy.ndimage import gaussian_filter
 

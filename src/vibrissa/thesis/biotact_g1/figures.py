@@ -1,0 +1,35 @@
+"""Figures of the BIOTACT G1 (thesis 6.4): hit rate against training whisks (6.6, 6.7)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+from matplotlib.figure import Figure
+
+__all__ = ['hit_rate_figure']
+
+
+def hit_rate_figure(hit_rate: Mapping[str, Mapping[str, Sequence[float | None]]],
+                    title: str) -> Figure:
+    """Figures 6.6 / 6.7: hit rate against training whisks, one panel per task
+    (joint, texture, distance), one line per control strategy.
+
+    ``hit_rate[strategy][task]`` lists one rate per number of training whisks (1, 2,
+    ...); ``None`` (no validation whisk left) is not drawn.
+    """
+    styles = ("-", "--", ":", "-.")
+    tasks = ("joint", "texture", "distance")
+    fig = Figure(figsize=(10.0, 3.4), layout="constrained")
+    axes = fig.subplots(1, len(tasks), sharey=True)
+    for ax, (letter, task) in zip(axes, zip("ABC", tasks, strict=True), strict=True):
+        for k, (strategy, curves) in enumerate(hit_rate.items()):
+            rates = curves[task]
+            n = [i + 1 for i, r in enumerate(rates) if r is not None]
+            ax.plot(n, [r for r in rates if r is not None], styles[k % len(styles)],
+                    marker="o", ms=3, color="k", label=strategy)
+        ax.set(xlabel="training whisks", title=f"({letter}) {task}", ylim=(0, 1.05))
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("hit rate")
+    axes[0].legend(fontsize=8, loc="lower right")
+    fig.suptitle(title, fontsize=10)
+    return fig
