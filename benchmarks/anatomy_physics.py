@@ -62,9 +62,14 @@ def _setup() -> dict[str, Any]:
 
     model = RodModel(preset(STANDARD["preset"]))
     contact = PoleContact(radius_mm=STANDARD["pole_radius_mm"], friction=STANDARD["friction"])
-    return {"model": model, "contact": contact, "traj": standard_trajectory(model),
-            "T": STANDARD["duration_s"], "dt": STANDARD["dt_s"],
-            "retract_s": STANDARD["advance_s"]}
+    return {
+        "model": model,
+        "contact": contact,
+        "traj": standard_trajectory(model),
+        "T": STANDARD["duration_s"],
+        "dt": STANDARD["dt_s"],
+        "retract_s": STANDARD["advance_s"],
+    }
 
 
 def phases(s: dict[str, Any]) -> dict[str, Any]:
@@ -90,7 +95,7 @@ def phases(s: dict[str, Any]) -> dict[str, Any]:
     # rows inside a long step read 0 iterations too: mark them as covered by it
     covered = np.zeros(it.size, dtype=bool)
     for r, n in zip(solved, lengths, strict=True):
-        covered[r - n + 1:r + 1] = True
+        covered[r - n + 1 : r + 1] = True
     linear = ~covered
     linear[0] = False
     spans = {
@@ -99,8 +104,12 @@ def phases(s: dict[str, Any]) -> dict[str, Any]:
         "retraction_contact": (retract + 1, last + 1),
         "after_release": (last + 1, it.size),
     }
-    out: dict[str, Any] = {"rows": int(it.size - 1), "first_contact_row": first,
-                           "retraction_row": retract, "last_contact_row": last}
+    out: dict[str, Any] = {
+        "rows": int(it.size - 1),
+        "first_contact_row": first,
+        "retraction_row": retract,
+        "last_contact_row": last,
+    }
     for name, (a, b) in spans.items():
         sel = slice(a, b)
         lens = step_len[sel][it[sel] > 0]
@@ -110,11 +119,15 @@ def phases(s: dict[str, Any]) -> dict[str, Any]:
             "rows_linear_free_flight": int(linear[sel].sum()),
             "solved_steps": int((it[sel] > 0).sum()),
             "newton_iterations": int(it[sel].sum()),
-            "steps_by_length_dt": {str(k): int(v) for k, v in
-                                   zip(*np.unique(lens, return_counts=True), strict=True)},
+            "steps_by_length_dt": {
+                str(k): int(v) for k, v in zip(*np.unique(lens, return_counts=True), strict=True)
+            },
         }
-    out["total"] = {"solved_steps": int(solved.size), "newton_iterations": int(it.sum()),
-                    "rows_linear_free_flight": int(linear.sum())}
+    out["total"] = {
+        "solved_steps": int(solved.size),
+        "newton_iterations": int(it.sum()),
+        "rows_linear_free_flight": int(linear.sum()),
+    }
     return out
 
 
@@ -132,6 +145,7 @@ def wall_split(s: dict[str, Any], repeats: int) -> dict[str, float]:
                 return fn(*args, **kwargs)
             finally:
                 spent[name] += time.perf_counter() - t0
+
         return wrapper
 
     best: dict[str, float] | None = None
@@ -146,10 +160,12 @@ def wall_split(s: dict[str, Any], repeats: int) -> dict[str, float]:
             sim.simulate(s["model"], s["contact"], s["traj"], s["T"], s["dt"])
             total = time.perf_counter() - t0
             if best is None or total < best["total_ms"] * 1e-3:
-                best = {"total_ms": total * 1e3,
-                        "run_dynamics_ms": spent["run_dynamics"] * 1e3,
-                        "modal_advance_ms": spent["modal_advance"] * 1e3,
-                        "rest_ms": (total - sum(spent.values())) * 1e3}
+                best = {
+                    "total_ms": total * 1e3,
+                    "run_dynamics_ms": spent["run_dynamics"] * 1e3,
+                    "modal_advance_ms": spent["modal_advance"] * 1e3,
+                    "rest_ms": (total - sum(spent.values())) * 1e3,
+                }
     finally:
         for name, fn in originals.items():
             setattr(sim, name, fn)
@@ -213,8 +229,10 @@ def _backsolve_planar(A, rhs):
     n = A.shape[0]
     for i in range(n):
         if i >= 5:
-            rhs[i] -= ((A[i, 0] * rhs[i - 5] + A[i, 1] * rhs[i - 4])
-                       + (A[i, 2] * rhs[i - 3] + A[i, 3] * rhs[i - 2])) + A[i, 4] * rhs[i - 1]
+            rhs[i] -= (
+                (A[i, 0] * rhs[i - 5] + A[i, 1] * rhs[i - 4])
+                + (A[i, 2] * rhs[i - 3] + A[i, 3] * rhs[i - 2])
+            ) + A[i, 4] * rhs[i - 1]
         else:
             acc = rhs[i]
             for k in range(i):
@@ -222,9 +240,16 @@ def _backsolve_planar(A, rhs):
             rhs[i] = acc
     for i in range(n - 1, -1, -1):
         if i + 5 < n:
-            rhs[i] = (rhs[i] - (((A[i, 6] * rhs[i + 1] + A[i, 7] * rhs[i + 2])
-                                 + (A[i, 8] * rhs[i + 3] + A[i, 9] * rhs[i + 4]))
-                                + A[i, 10] * rhs[i + 5])) * A[i, 5]
+            rhs[i] = (
+                rhs[i]
+                - (
+                    (
+                        (A[i, 6] * rhs[i + 1] + A[i, 7] * rhs[i + 2])
+                        + (A[i, 8] * rhs[i + 3] + A[i, 9] * rhs[i + 4])
+                    )
+                    + A[i, 10] * rhs[i + 5]
+                )
+            ) * A[i, 5]
         else:
             acc = rhs[i]
             for j in range(i + 1, n):
@@ -241,8 +266,9 @@ def _loop_backsolve(n_calls, A, rhs, bw):
             _backsolve_planar(A, rhs)
 
 
-def _per_call_us(loop: Callable[..., Any], args: tuple[Any, ...], repeats: int,
-                 n_calls: int = 20000) -> float:
+def _per_call_us(
+    loop: Callable[..., Any], args: tuple[Any, ...], repeats: int, n_calls: int = 20000
+) -> float:
     loop(10, *args)  # compile
     best = np.inf
     for _ in range(repeats):
@@ -260,8 +286,9 @@ def kernels(s: dict[str, Any], repeats: int) -> dict[str, Any]:
 
     model, dt = s["model"], s["dt"]
     row = int(round(0.15 / dt))
-    res = simulate(model, s["contact"], s["traj"], row * dt, dt, record_every=1,
-                   linear_free_flight=False)
+    res = simulate(
+        model, s["contact"], s["traj"], row * dt, dt, record_every=1, linear_free_flight=False
+    )
     x = res.states_m[-1].copy()
     v = res.velocities_m_s[-1].copy()
     rod = model.rod_arrays()
@@ -277,8 +304,9 @@ def kernels(s: dict[str, Any], repeats: int) -> dict[str, Any]:
     out: dict[str, Any] = {"state_row": row, "unknowns": 3 * n, "half_bandwidth": BW}
     args = (x, v, rod, damping, spec, tr, anchors, F, S)
     out["assemble_forces_us"] = _per_call_us(_loop_assemble, (*args, False, info), repeats)
-    out["assemble_forces_and_matrix_us"] = _per_call_us(_loop_assemble, (*args, True, info),
-                                                        repeats)
+    out["assemble_forces_and_matrix_us"] = _per_call_us(
+        _loop_assemble, (*args, True, info), repeats
+    )
     out["contact_force_n"] = float(info[0])
     # the iteration matrix of a 0.25 ms step: mass term on the diagonal, fixed rows
     for i in range(n):
@@ -295,15 +323,24 @@ def kernels(s: dict[str, Any], repeats: int) -> dict[str, Any]:
     lm = linear_modes(model)
     z, _ = lm.amplitudes(x, v)
     out["python_us"] = {
-        "nonlinearity": min(timeit.repeat(lambda: lm.nonlinearity(x), number=500,
-                                          repeat=repeats)) / 500 * 1e6,
-        "amplitudes": min(timeit.repeat(lambda: lm.amplitudes(x, v), number=500,
-                                        repeat=repeats)) / 500 * 1e6,
+        "nonlinearity": min(timeit.repeat(lambda: lm.nonlinearity(x), number=500, repeat=repeats))
+        / 500
+        * 1e6,
+        "amplitudes": min(timeit.repeat(lambda: lm.amplitudes(x, v), number=500, repeat=repeats))
+        / 500
+        * 1e6,
         "state": min(timeit.repeat(lambda: lm.state(z), number=500, repeat=repeats)) / 500 * 1e6,
-        "contact_spec_full_trial": min(timeit.repeat(
-            lambda: _contact_spec(model, s["contact"], s["traj"],
-                                  np.arange(int(round(s["T"] / dt)) + 1) * dt),
-            number=20, repeat=repeats)) / 20 * 1e6,
+        "contact_spec_full_trial": min(
+            timeit.repeat(
+                lambda: _contact_spec(
+                    model, s["contact"], s["traj"], np.arange(int(round(s["T"] / dt)) + 1) * dt
+                ),
+                number=20,
+                repeat=repeats,
+            )
+        )
+        / 20
+        * 1e6,
     }
     return out
 
@@ -357,34 +394,49 @@ def summary(result: dict[str, Any]) -> str:
     ph = result["phases"]
     w = result["wall_split_ms"]
     k = result["kernels"]
-    lines = [f"standard contact: {w['total_ms']:.2f} ms ({w['real_time_factor']:.1f} x real "
-             f"time): run_dynamics {w['run_dynamics_ms']:.2f}, modal_advance "
-             f"{w['modal_advance_ms']:.2f}, rest {w['rest_ms']:.2f} ms"]
+    lines = [
+        f"standard contact: {w['total_ms']:.2f} ms ({w['real_time_factor']:.1f} x real "
+        f"time): run_dynamics {w['run_dynamics_ms']:.2f}, modal_advance "
+        f"{w['modal_advance_ms']:.2f}, rest {w['rest_ms']:.2f} ms"
+    ]
     for name in ("approach", "push", "retraction_contact", "after_release"):
         p = ph[name]
-        lines.append(f"  {name:19s} rows {p['rows']:5d}  solved {p['solved_steps']:4d}  "
-                     f"iterations {p['newton_iterations']:5d}  linear rows "
-                     f"{p['rows_linear_free_flight']:5d}  "
-                     f"steps by length {p['steps_by_length_dt']}")
-    lines.append(f"kernels (us): forces {k['assemble_forces_us']:.2f}, forces+matrix "
-                 f"{k['assemble_forces_and_matrix_us']:.2f}, factor "
-                 f"{k['band_factor_with_copy_us']:.2f}, back-substitution "
-                 f"{k['band_backsolve_us']:.2f}")
+        lines.append(
+            f"  {name:19s} rows {p['rows']:5d}  solved {p['solved_steps']:4d}  "
+            f"iterations {p['newton_iterations']:5d}  linear rows "
+            f"{p['rows_linear_free_flight']:5d}  "
+            f"steps by length {p['steps_by_length_dt']}"
+        )
+    lines.append(
+        f"kernels (us): forces {k['assemble_forces_us']:.2f}, forces+matrix "
+        f"{k['assemble_forces_and_matrix_us']:.2f}, factor "
+        f"{k['band_factor_with_copy_us']:.2f}, back-substitution "
+        f"{k['band_backsolve_us']:.2f}"
+    )
     pw = result["planar_what_if"]
-    lines.append("planar what-if (us): factor {:.2f} -> {:.2f}, back-substitution {:.2f} -> {:.2f}"
-                 .format(pw["spatial"]["band_factor_with_copy_us"],
-                         pw["planar"]["band_factor_with_copy_us"],
-                         pw["spatial"]["band_backsolve_us"], pw["planar"]["band_backsolve_us"]))
+    lines.append(
+        "planar what-if (us): factor {:.2f} -> {:.2f}, back-substitution {:.2f} -> {:.2f}".format(
+            pw["spatial"]["band_factor_with_copy_us"],
+            pw["planar"]["band_factor_with_copy_us"],
+            pw["spatial"]["band_backsolve_us"],
+            pw["planar"]["band_backsolve_us"],
+        )
+    )
     return "\n".join(lines)
 
 
 def main(argv: list[str] | None = None) -> int:
     """Command-line entry point; returns the exit status."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT,
-                        help=f"JSON file to write (default {DEFAULT_OUT}).")
-    parser.add_argument("--repeats", type=int, default=5,
-                        help="Timed repeats of each measurement; the best counts (default 5).")
+    parser.add_argument(
+        "--out", type=Path, default=DEFAULT_OUT, help=f"JSON file to write (default {DEFAULT_OUT})."
+    )
+    parser.add_argument(
+        "--repeats",
+        type=int,
+        default=5,
+        help="Timed repeats of each measurement; the best counts (default 5).",
+    )
     args = parser.parse_args(argv)
     if args.repeats < 1:
         parser.error("--repeats must be at least 1")

@@ -18,5 +18,9 @@ from __future__ import annotations
 from reproduce_budget import bench_main
 
 if __name__ == "__main__":
-    bench_main("biotact-g1", "benchmarks/results/biotact_g1.json", __doc__,
-               lambda res: {"checks": res["checks"]})
+    bench_main(
+        "biotact-g1",
+        "benchmarks/results/biotact_g1.json",
+        __doc__,
+        lambda res: {"checks": res["checks"]},
+    )

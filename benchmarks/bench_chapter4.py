@@ -59,8 +59,10 @@ def classifier_times(results: dict[str, Any]) -> dict[str, dict[str, Any]]:
             "fit_seconds": round(fit, 3),
             "classify_seconds": round(classify, 3),
             "total_seconds": round(fit + classify, 3),
-            "full_training_set": {"fit_seconds": round(full["fit_seconds"], 3),
-                                  "classify_seconds": round(full["classify_seconds"], 3)},
+            "full_training_set": {
+                "fit_seconds": round(full["fit_seconds"], 3),
+                "classify_seconds": round(full["classify_seconds"], 3),
+            },
         }
     return out
 

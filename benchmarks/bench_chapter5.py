@@ -39,8 +39,9 @@ REPRODUCTION_BUDGET_S = 600.0
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     ap.add_argument("--quick", action="store_true", help="the small grid (3 x 3 x 4 x 4)")
     ap.add_argument("--workers", type=int, default=None, help="generation processes")
     ap.add_argument("--out", default="benchmarks/results/chapter5.json")
@@ -57,8 +58,9 @@ def main() -> None:
         name: {
             "classify_seconds": round(e["classify_seconds"], 3),
             "fit_seconds": round(e["fit_seconds"], 3),
-            "texture_alone_seconds": (None if e["texture_alone_seconds"] is None
-                                      else round(e["texture_alone_seconds"], 3)),
+            "texture_alone_seconds": (
+                None if e["texture_alone_seconds"] is None else round(e["texture_alone_seconds"], 3)
+            ),
         }
         for name, e in res["classifiers"].items()
     }
@@ -75,15 +77,18 @@ def main() -> None:
         "evaluate_seconds": res["meta"]["wall_seconds"]["evaluate"],
         "slowest_classifier": slowest,
         "slowest_classify_seconds": classifiers[slowest]["classify_seconds"],
-        "budgets": {"classify_seconds": CLASSIFY_BUDGET_S,
-                    "reproduction_wall_seconds": REPRODUCTION_BUDGET_S},
+        "budgets": {
+            "classify_seconds": CLASSIFY_BUDGET_S,
+            "reproduction_wall_seconds": REPRODUCTION_BUDGET_S,
+        },
         "within_budgets": {
             "classify_seconds": classifiers[slowest]["classify_seconds"] <= CLASSIFY_BUDGET_S,
             "reproduction_wall_seconds": wall <= REPRODUCTION_BUDGET_S,
         },
         "peak_rss_parent_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
         "peak_rss_largest_worker_mb": round(
-            resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024, 1),
+            resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024, 1
+        ),
         "classifiers": classifiers,
         "machine": {
             "cpus": os.cpu_count(),

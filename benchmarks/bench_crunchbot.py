@@ -37,14 +37,18 @@ AIM_S = 20.0
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     ap.add_argument("--seconds", type=float, default=360.0, help="robot seconds (6 min)")
     ap.add_argument("--particles", type=int, default=100)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--mode", default="all", choices=(*MODES, "all"))
-    ap.add_argument("--quick-training", action="store_true",
-                    help="train the classifiers on the small (quick) set")
+    ap.add_argument(
+        "--quick-training",
+        action="store_true",
+        help="train the classifiers on the small (quick) set",
+    )
     ap.add_argument("--out", default="benchmarks/results/crunchbot.json")
     args = ap.parse_args()
     if not args.seconds > 0 or args.particles <= 0:
@@ -64,34 +68,58 @@ def main() -> None:
     kind = robot_kind(run)
     truth = smooth_ground_truth(arena.occupancy_grid())
     modes = {}
-    for mode in (MODES if args.mode == "all" else (args.mode,)):
+    for mode in MODES if args.mode == "all" else (args.mode,):
         t0 = time.perf_counter()
-        slam = run_slam(rec.log, SlamSettings(n_particles=args.particles, mode=mode),
-                        seed=args.seed)
+        slam = run_slam(
+            rec.log, SlamSettings(n_particles=args.particles, mode=mode), seed=args.seed
+        )
         wall = time.perf_counter() - t0
         total = robot_s + wall
-        modes[mode] = {"slam_wall_seconds": round(wall, 3),
-                       "robot_plus_slam_seconds": round(total, 3),
-                       "within_budget": total <= BUDGET_S, "within_aim": total <= AIM_S,
-                       "map_error": round(map_error(slam.best_map(), truth), 4),
-                       "trajectory_error_mm": round(trajectory_error_mm(
-                           slam.pose_estimate, rec.log.true_pose), 1)}
-    out = {"machine": {"cores": os.cpu_count(), "python": platform.python_version(),
-                       "platform": platform.platform()},
-           "load_average_at_start": round(load, 2),
-           "command": "benchmarks/bench_crunchbot.py " + " ".join(
-               f"--{k.replace('_', '-')}" + ("" if isinstance(v, bool) else f" {v}")
-               for k, v in vars(args).items() if k != "out" and v is not False),
-           "robot": kind, "seconds": rec.seconds, "n_steps": rec.log.n_steps,
-           "n_particles": args.particles, "training_seconds": round(train_s, 3),
-           "quick_training": args.quick_training,
-           "robot_wall_seconds": round(robot_s, 3),
-           "real_time_factor": round(rec.seconds / robot_s, 2),
-           "classifier_latency_ms": latency_stats(rec.latency_s),
-           "budget_seconds": BUDGET_S, "aim_seconds": AIM_S, "modes": modes}
+        modes[mode] = {
+            "slam_wall_seconds": round(wall, 3),
+            "robot_plus_slam_seconds": round(total, 3),
+            "within_budget": total <= BUDGET_S,
+            "within_aim": total <= AIM_S,
+            "map_error": round(map_error(slam.best_map(), truth), 4),
+            "trajectory_error_mm": round(
+                trajectory_error_mm(slam.pose_estimate, rec.log.true_pose), 1
+            ),
+        }
+    out = {
+        "machine": {
+            "cores": os.cpu_count(),
+            "python": platform.python_version(),
+            "platform": platform.platform(),
+        },
+        "load_average_at_start": round(load, 2),
+        "command": "benchmarks/bench_crunchbot.py "
+        + " ".join(
+            f"--{k.replace('_', '-')}" + ("" if isinstance(v, bool) else f" {v}")
+            for k, v in vars(args).items()
+            if k != "out" and v is not False
+        ),
+        "robot": kind,
+        "seconds": rec.seconds,
+        "n_steps": rec.log.n_steps,
+        "n_particles": args.particles,
+        "training_seconds": round(train_s, 3),
+        "quick_training": args.quick_training,
+        "robot_wall_seconds": round(robot_s, 3),
+        "real_time_factor": round(rec.seconds / robot_s, 2),
+        "classifier_latency_ms": latency_stats(rec.latency_s),
+        "budget_seconds": BUDGET_S,
+        "aim_seconds": AIM_S,
+        "modes": modes,
+    }
     atomic_write_text(Path(args.out), json.dumps(json_ready(out), indent=2) + "\n")
-    print(json.dumps({"robot_wall_seconds": out["robot_wall_seconds"],
-                      **{k: v["robot_plus_slam_seconds"] for k, v in modes.items()}}))
+    print(
+        json.dumps(
+            {
+                "robot_wall_seconds": out["robot_wall_seconds"],
+                **{k: v["robot_plus_slam_seconds"] for k, v in modes.items()},
+            }
+        )
+    )
 
 
 if __name__ == "__main__":

@@ -48,14 +48,18 @@ def _run(quick: bool, workers: int | None) -> dict:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     ap.add_argument("--workers", type=int, default=None, help="generation processes")
     ap.add_argument("--out", default="benchmarks/results/floor_texture.json")
     args = ap.parse_args()
     out = {
-        "machine": {"cores": os.cpu_count(), "python": platform.python_version(),
-                    "platform": platform.platform()},
+        "machine": {
+            "cores": os.cpu_count(),
+            "python": platform.python_version(),
+            "platform": platform.platform(),
+        },
         "quick": _run(True, args.workers),
         "full": _run(False, args.workers),
     }

@@ -30,9 +30,12 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--workers", type=int, default=None)
     ap.add_argument("--out", default="benchmarks/results/generation.json")
-    ap.add_argument("--keep", default=None,
-                    help="directory to keep the dataset in, named as `vibrissa reproduce` "
-                    "caches it (e.g. vibrissa-out/radial-distance/data)")
+    ap.add_argument(
+        "--keep",
+        default=None,
+        help="directory to keep the dataset in, named as `vibrissa reproduce` "
+        "caches it (e.g. vibrissa-out/radial-distance/data)",
+    )
     args = ap.parse_args()
     proto = get_protocol(args.protocol, quick=args.quick)
     with tempfile.TemporaryDirectory() as tmp:

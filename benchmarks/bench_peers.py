@@ -161,8 +161,9 @@ def reference_frequencies_hz(
     h = L / n_elements
     xg, wg = np.polynomial.legendre.leggauss(6)
     t = (xg + 1.0) / 2.0
-    N = np.stack([1 - 3 * t**2 + 2 * t**3, h * (t - 2 * t**2 + t**3), 3 * t**2 - 2 * t**3,
-                  h * (t**3 - t**2)])
+    N = np.stack(
+        [1 - 3 * t**2 + 2 * t**3, h * (t - 2 * t**2 + t**3), 3 * t**2 - 2 * t**3, h * (t**3 - t**2)]
+    )
     B = np.stack([12 * t - 6, h * (6 * t - 4), 6 - 12 * t, h * (6 * t - 2)]) / h**2
     n_dof = 2 * (n_elements + 1)
     K = np.zeros((n_dof, n_dof))
@@ -287,9 +288,14 @@ def mjcf(
         f'    <body name="follicle" pos="0 0 {-d!r}">',
         f'      <joint name="follicle_y" type="hinge" axis="0 1 0" stiffness="{kf!r}" '
         f'damping="{follicle_damping!r}"/>',
-        *([] if planar else [
-            f'      <joint name="follicle_x" type="hinge" axis="1 0 0" stiffness="{kf!r}" '
-            f'damping="{follicle_damping!r}"/>']),
+        *(
+            []
+            if planar
+            else [
+                f'      <joint name="follicle_x" type="hinge" axis="1 0 0" stiffness="{kf!r}" '
+                f'damping="{follicle_damping!r}"/>'
+            ]
+        ),
         f'      <inertial pos="0 0 {d!r}" mass="{m_fol!r}" diaginertia="{tiny} {tiny} {tiny}"/>',
     ]
     foot = -d
@@ -302,9 +308,14 @@ def mjcf(
             f'{"  " * (j + 3)}<body name="link{j}" pos="0 0 {a - foot!r}">',
             f'{"  " * (j + 4)}<joint name="bend_y{j}" type="hinge" axis="0 1 0" '
             f'stiffness="{k!r}" damping="{damp!r}"/>',
-            *([] if planar else [
-                f'{"  " * (j + 4)}<joint name="bend_x{j}" type="hinge" axis="1 0 0" '
-                f'stiffness="{k!r}" damping="{damp!r}"/>']),
+            *(
+                []
+                if planar
+                else [
+                    f'{"  " * (j + 4)}<joint name="bend_x{j}" type="hinge" axis="1 0 0" '
+                    f'stiffness="{k!r}" damping="{damp!r}"/>'
+                ]
+            ),
             f'{"  " * (j + 4)}<inertial pos="0 0 {float(c.com_m[j])!r}" '
             f'mass="{float(c.mass_kg[j])!r}" diaginertia="{it!r} {it!r} {ia!r}"/>',
             f'{"  " * (j + 4)}<geom name="shaft{j}" type="capsule" fromto="0 0 0 0 0 {b - a!r}" '
@@ -368,8 +379,9 @@ class MujocoWhisker:
         self.qpos_follicle = int(self.model.jnt_qposadr[jnt["follicle_y"]])
         self.qpos_pole = int(self.model.jnt_qposadr[jnt["pole_x"]])
         self.dof_pole = int(self.model.jnt_dofadr[jnt["pole_x"]])
-        self.dof_follicle = [int(self.model.jnt_dofadr[jnt[f"follicle_{a}"]])
-                             for a in ("y" if planar else "yx")]
+        self.dof_follicle = [
+            int(self.model.jnt_dofadr[jnt[f"follicle_{a}"]]) for a in ("y" if planar else "yx")
+        ]
         # one bending plane (x-z): the follicle's and the shaft's y hinges
         self.plane_dofs = np.array(
             [int(self.model.jnt_dofadr[jnt["follicle_y"]])]
@@ -458,8 +470,9 @@ class MujocoWhisker:
         L = g.length_m
         d = g.follicle_depth_mm * 1e-3
         s = self.design.edges_m[:-1]
-        q = np.concatenate([[(L + d) / g.follicle_stiffness_nm_per_rad],
-                            (L - s) / self.design.stiffness_nm])
+        q = np.concatenate(
+            [[(L + d) / g.follicle_stiffness_nm_per_rad], (L - s) / self.design.stiffness_nm]
+        )
         arm = np.concatenate([[L + d], L - s])
         return q * tip_deflection_m / float(np.dot(q, arm))
 
@@ -503,8 +516,11 @@ class MujocoWhisker:
             reads = np.arange(0, n_steps + 1, every)
         else:
             n_samples = int(math.floor(duration_s * sample_rate_hz + 1e-9)) + 1
-            reads = np.unique(np.minimum(
-                np.rint(np.arange(n_samples) / (sample_rate_hz * dt)).astype(np.int64), n_steps))
+            reads = np.unique(
+                np.minimum(
+                    np.rint(np.arange(n_samples) / (sample_rate_hz * dt)).astype(np.int64), n_steps
+                )
+            )
         changes = np.zeros(0, dtype=np.int64)
         vel = np.zeros(0)
         if pole is not None:
@@ -645,7 +661,9 @@ def pole_path(duration_s: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def contact_run(
-    whisker: MujocoWhisker, duration_s: float, path: tuple[np.ndarray, np.ndarray],
+    whisker: MujocoWhisker,
+    duration_s: float,
+    path: tuple[np.ndarray, np.ndarray],
     check: bool = True,
 ) -> tuple[float, bool, float]:
     """The standard contact: peak follicle moment (N m), stability, deepest penetration (m).
@@ -655,8 +673,9 @@ def contact_run(
     penetration is read at every sample (0 without ``check``).
     """
     whisker.reset()
-    run = whisker.run(duration_s, STANDARD["sample_rate_hz"], pole=path,
-                      check_every=20 if check else 0)
+    run = whisker.run(
+        duration_s, STANDARD["sample_rate_hz"], pole=path, check_every=20 if check else 0
+    )
     peak = whisker.geometry.follicle_stiffness_nm_per_rad * float(np.max(np.abs(run.angle_rad)))
     stable = run.stable and bool(np.all(np.isfinite(run.angle_rad)))
     if check and stable:
@@ -700,14 +719,18 @@ def search(setup: Setup, links: tuple[int, ...], steps: tuple[float, ...]) -> di
     rows: list[dict[str, Any]] = []
     for n in links:
         for dt in steps:
-            w = MujocoWhisker(setup.mujoco, setup.geometry, n, dt,
-                              beta_shaft_s=setup.beta_shaft_s)
+            w = MujocoWhisker(setup.mujoco, setup.geometry, n, dt, beta_shaft_s=setup.beta_shaft_s)
             row: dict[str, Any] = {
-                "links": n, "dt_s": dt,
+                "links": n,
+                "dt_s": dt,
                 "linear_first_mode_hz": float(w.linear_frequencies_hz()[0]),
-                "first_mode_hz": None, "first_mode_error_pct": None,
-                "peak_follicle_moment_nm": None, "peak_moment_error_pct": None,
-                "max_penetration_m": None, "stable": False, "accepted": False,
+                "first_mode_hz": None,
+                "first_mode_error_pct": None,
+                "peak_follicle_moment_nm": None,
+                "peak_moment_error_pct": None,
+                "max_penetration_m": None,
+                "stable": False,
+                "accepted": False,
             }
             rows.append(row)
             f, _, stable = ring_down(w, setup.ring_down_s)
@@ -735,10 +758,12 @@ def _progress(row: dict[str, Any]) -> None:
     if not row["stable"]:
         what = "unstable"
     else:
-        what = (f"first mode {row['first_mode_hz']:.4f} Hz ({row['first_mode_error_pct']:+.3f} %)")
+        what = f"first mode {row['first_mode_hz']:.4f} Hz ({row['first_mode_error_pct']:+.3f} %)"
         if row["peak_moment_error_pct"] is not None:
-            what += (f", peak moment {row['peak_follicle_moment_nm'] * 1e3:.4f} mN m "
-                     f"({row['peak_moment_error_pct']:+.2f} %)")
+            what += (
+                f", peak moment {row['peak_follicle_moment_nm'] * 1e3:.4f} mN m "
+                f"({row['peak_moment_error_pct']:+.2f} %)"
+            )
     print(f"  {row['links']:3d} links, dt {row['dt_s'] * 1e6:6.1f} us: {what}", file=sys.stderr)
 
 
@@ -758,7 +783,10 @@ def quick_candidates(setup: Setup) -> tuple[tuple[int, ...], tuple[float, ...]]:
 
 
 def time_interleaved(
-    setup: Setup, whisker: MujocoWhisker, repeats: int, planar: MujocoWhisker | None = None,
+    setup: Setup,
+    whisker: MujocoWhisker,
+    repeats: int,
+    planar: MujocoWhisker | None = None,
 ) -> dict[str, Any]:
     """Wall times of the standard trial, ours and MuJoCo's in turn, ``repeats`` each.
 
@@ -769,14 +797,15 @@ def time_interleaved(
     theirs: list[float] = []
     flat: list[float] = []
     for r in range(repeats):
-        ours.append(physics_benchmark(duration_s=setup.duration_s, repeats=1,
-                                      measure_memory=False))
+        ours.append(physics_benchmark(duration_s=setup.duration_s, repeats=1, measure_memory=False))
         gc.collect()
         t0 = time.perf_counter()
         contact_run(whisker, setup.duration_s, setup.path, check=False)
         theirs.append(time.perf_counter() - t0)
-        line = (f"  run {r + 1}/{repeats}: ours {ours[-1]['wall_seconds']:.4f} s, "
-                f"MuJoCo {theirs[-1]:.4f} s")
+        line = (
+            f"  run {r + 1}/{repeats}: ours {ours[-1]['wall_seconds']:.4f} s, "
+            f"MuJoCo {theirs[-1]:.4f} s"
+        )
         if planar is not None:
             gc.collect()
             t0 = time.perf_counter()
@@ -786,11 +815,16 @@ def time_interleaved(
         print(line, file=sys.stderr)
     best = min(ours, key=lambda o: o["wall_seconds"])
     steps_s = round(setup.duration_s / whisker.dt_s) * whisker.dt_s
-    planar_keys = {} if planar is None else {
-        "mujoco_planar_wall_seconds_all": flat,
-        "mujoco_planar_rtf": steps_s / min(flat),
-    }
-    return {**planar_keys,
+    planar_keys = (
+        {}
+        if planar is None
+        else {
+            "mujoco_planar_wall_seconds_all": flat,
+            "mujoco_planar_rtf": steps_s / min(flat),
+        }
+    )
+    return {
+        **planar_keys,
         "vibrissa_wall_seconds_all": [o["wall_seconds"] for o in ours],
         "mujoco_wall_seconds_all": theirs,
         "vibrissa_rtf": best["real_time_factor"],
@@ -814,16 +848,31 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     """Parse and check every option (one-line error and exit 2 on a bad one)."""
     ap = _Parser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--json", action="store_true", help="print the result as JSON")
-    ap.add_argument("--out", type=Path, default=None,
-                    help="also write the JSON to this file (e.g. benchmarks/results/peers.json)")
-    ap.add_argument("--quick", action="store_true",
-                    help="narrow search from MuJoCo's linearisation, 1 s ring-down, one timing")
-    ap.add_argument("--repeats", type=int, default=None,
-                    help="timed runs of each simulator, interleaved; the best counts "
-                    "(default 3, 1 with --quick)")
-    ap.add_argument("--duration-s", type=float, default=STANDARD["duration_s"],
-                    help="simulated time of the standard trial, s (default 1.5; shorter "
-                    "truncates the scenario, for tests)")
+    ap.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        help="also write the JSON to this file (e.g. benchmarks/results/peers.json)",
+    )
+    ap.add_argument(
+        "--quick",
+        action="store_true",
+        help="narrow search from MuJoCo's linearisation, 1 s ring-down, one timing",
+    )
+    ap.add_argument(
+        "--repeats",
+        type=int,
+        default=None,
+        help="timed runs of each simulator, interleaved; the best counts "
+        "(default 3, 1 with --quick)",
+    )
+    ap.add_argument(
+        "--duration-s",
+        type=float,
+        default=STANDARD["duration_s"],
+        help="simulated time of the standard trial, s (default 1.5; shorter "
+        "truncates the scenario, for tests)",
+    )
     args = ap.parse_args(argv)
     args.argv = list(sys.argv[1:] if argv is None else argv)
     if args.repeats is None:
@@ -894,19 +943,31 @@ def run(args: argparse.Namespace, mujoco: Any) -> dict[str, Any]:
         our_model = RodModel(g, ours["n_elements"])
         alpha, beta_s, _ = our_model.damping
         if alpha != 0.0:
-            raise SystemExit(f"error: {g.name} needs mass-proportional damping, which the "
-                             "MuJoCo chain does not model")
+            raise SystemExit(
+                f"error: {g.name} needs mass-proportional damping, which the "
+                "MuJoCo chain does not model"
+            )
         setup = Setup(
-            mujoco=mujoco, geometry=g, beta_shaft_s=beta_s, duration_s=T, path=pole_path(T),
+            mujoco=mujoco,
+            geometry=g,
+            beta_shaft_s=beta_s,
+            duration_s=T,
+            path=pole_path(T),
             reference_hz=reference_first_mode_hz(g),
             our_peak_nm=ours["peak_follicle_moment_nm"],
             ring_down_s=1.0 if args.quick else 2.0,
         )
-        print(f"reference first mode {setup.reference_hz:.4f} Hz; our peak follicle moment "
-              f"{setup.our_peak_nm * 1e3:.4f} mN m", file=sys.stderr)
+        print(
+            f"reference first mode {setup.reference_hz:.4f} Hz; our peak follicle moment "
+            f"{setup.our_peak_nm * 1e3:.4f} mN m",
+            file=sys.stderr,
+        )
         links, steps = quick_candidates(setup) if args.quick else (LINKS, TIME_STEPS_S)
-        print(f"searching {links[0]}-{links[-1]} links, steps {steps[0] * 1e6:g}-"
-              f"{steps[-1] * 1e6:g} us ...", file=sys.stderr)
+        print(
+            f"searching {links[0]}-{links[-1]} links, steps {steps[0] * 1e6:g}-"
+            f"{steps[-1] * 1e6:g} us ...",
+            file=sys.stderr,
+        )
         t0 = time.perf_counter()
         found = search(setup, links, steps)
         search_s = time.perf_counter() - t0
@@ -915,8 +976,9 @@ def run(args: argparse.Namespace, mujoco: Any) -> dict[str, Any]:
             raise SystemExit("error: no MuJoCo configuration met both accuracy criteria")
         whisker = MujocoWhisker(mujoco, g, best["links"], best["dt_s"], beta_shaft_s=beta_s)
         _, zeta, _ = ring_down(whisker, 2.0, damped=True)
-        planar = MujocoWhisker(mujoco, g, best["links"], best["dt_s"], beta_shaft_s=beta_s,
-                               planar=True)
+        planar = MujocoWhisker(
+            mujoco, g, best["links"], best["dt_s"], beta_shaft_s=beta_s, planar=True
+        )
         planar_peak, planar_stable, _ = contact_run(planar, T, setup.path)
         if not planar_stable:
             raise SystemExit("error: the planar MuJoCo chain is unstable at the accepted step")
@@ -962,22 +1024,28 @@ def run(args: argparse.Namespace, mujoco: Any) -> dict[str, Any]:
             "first_mode_tolerance_pct": FIRST_MODE_TOLERANCE_PCT,
             "moment_tolerance_pct": MOMENT_TOLERANCE_PCT,
             "reference": "Hermite finite elements of the tapered Euler-Bernoulli beam "
-                         f"({REFERENCE_ELEMENTS} elements) on the follicle's spring and inertia",
+            f"({REFERENCE_ELEMENTS} elements) on the follicle's spring and inertia",
         },
         "mujoco_settings": {
             "integrator": "Euler (semi-implicit; joint damping implicit)",
-            "cone": "elliptic", "condim": 3, "solref": [2 * best["dt_s"], 1.0],
-            "solimp": "default (0.9, 0.95, 0.001, 0.5, 2)", "friction": STANDARD["friction"],
+            "cone": "elliptic",
+            "condim": 3,
+            "solref": [2 * best["dt_s"], 1.0],
+            "solimp": "default (0.9, 0.95, 0.001, 0.5, 2)",
+            "friction": STANDARD["friction"],
             "pole": f"capsule on a slide joint, {POLE_MASS_KG:g} kg, velocity set to the "
-                    "trajectory's",
+            "trajectory's",
             "threads": 1,
         },
         "scenario": dict(STANDARD, duration_s=T),
         "machine": {
-            "python": platform.python_version(), "machine": platform.machine(),
-            "cpu": _cpu_model(), "cpu_count": os.cpu_count(), "pinned_cpu": cpu,
-            "load_average_before": list(load_before), "load_average_after":
-                list(os.getloadavg()),
+            "python": platform.python_version(),
+            "machine": platform.machine(),
+            "cpu": _cpu_model(),
+            "cpu_count": os.cpu_count(),
+            "pinned_cpu": cpu,
+            "load_average_before": list(load_before),
+            "load_average_after": list(os.getloadavg()),
         },
         "command": " ".join(["python benchmarks/bench_peers.py", *args.argv]),
         "created_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
@@ -999,8 +1067,11 @@ def table(result: dict[str, Any]) -> str:
         lines.append(
             f"  {row['links']:>5} {row['dt_s'] * 1e6:>8.1f} "
             + (f"{f:>16.4f} {row['first_mode_error_pct']:>+8.3f} " if f else f"{'-':>16} {'-':>8} ")
-            + (f"{p * 1e3:>12.4f} {row['peak_moment_error_pct']:>+8.2f}" if p else
-               f"{'-':>12} {'-':>8}")
+            + (
+                f"{p * 1e3:>12.4f} {row['peak_moment_error_pct']:>+8.2f}"
+                if p
+                else f"{'-':>12} {'-':>8}"
+            )
             + f"  {'yes' if row['stable'] else 'no':>6} {'yes' if row['accepted'] else '':>8}"
         )
     lines += [
@@ -1037,8 +1108,10 @@ def main(argv: list[str] | None = None) -> int:
         print(INSTALL_HINT, file=sys.stderr)
         return 2
     except ImportError as exc:  # e.g. a 3.x install upgraded in place to 4.x
-        print(f"error: mujoco is installed but cannot be imported: "
-              f"{' '.join(str(exc).split())}", file=sys.stderr)
+        print(
+            f"error: mujoco is installed but cannot be imported: {' '.join(str(exc).split())}",
+            file=sys.stderr,
+        )
         return 2
     result = run(args, mujoco)
     text = json.dumps(result, indent=1) + "\n"

@@ -50,16 +50,24 @@ def _atomic_write(path: Path, text: str) -> None:
 
 
 def main() -> int:
-    ap = argparse.ArgumentParser(description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     ap.add_argument("--repo", default=".", help="repository to clone (default: here)")
-    ap.add_argument("--keep", default=None, help="clone here and keep it (default: a "
-                    "temporary directory, removed afterwards)")
+    ap.add_argument(
+        "--keep",
+        default=None,
+        help="clone here and keep it (default: a temporary directory, removed afterwards)",
+    )
     ap.add_argument("--out", default="benchmarks/results/readme_first_command.json")
     args = ap.parse_args()
     repo = Path(args.repo).resolve()
-    commit = subprocess.run(["git", "-C", str(repo), "rev-parse", "--short", "HEAD"],
-                            check=True, capture_output=True, text=True).stdout.strip()
+    commit = subprocess.run(
+        ["git", "-C", str(repo), "rev-parse", "--short", "HEAD"],
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout.strip()
     work = Path(args.keep) if args.keep else Path(tempfile.mkdtemp(prefix="readme-"))
     if work.exists() and any(work.iterdir()):
         print(f"error: --keep {work}: directory is not empty", file=sys.stderr)
@@ -81,8 +89,8 @@ def main() -> int:
     stages = meta.get("wall_seconds", {})
     out = {
         "what": "README's first command in a fresh clone of the committed HEAD, timed by "
-                "benchmarks/bench_readme_first_command.py; stage times from the "
-                "reproduction's results.json meta.wall_seconds",
+        "benchmarks/bench_readme_first_command.py; stage times from the "
+        "reproduction's results.json meta.wall_seconds",
         "command": command,
         "commit": commit,
         "started_at": started,
@@ -91,12 +99,14 @@ def main() -> int:
         "setup_seconds": round(wall - stages["total"], 1) if "total" in stages else None,
         "reproduction_wall_seconds": stages,
         "cores": meta.get("cores"),
-        "dataset": {k: meta.get("dataset", {}).get(k)
-                    for k in ("fingerprint", "n_trials", "reused")},
+        "dataset": {
+            k: meta.get("dataset", {}).get(k) for k in ("fingerprint", "n_trials", "reused")
+        },
         "budget_seconds": BUDGET_S,
-        "within_budget": {"total": wall <= BUDGET_S["total"],
-                          "generate": stages.get("generate", float("inf"))
-                          <= BUDGET_S["generate"]},
+        "within_budget": {
+            "total": wall <= BUDGET_S["total"],
+            "generate": stages.get("generate", float("inf")) <= BUDGET_S["generate"],
+        },
     }
     _atomic_write(Path(args.out), json.dumps(out, indent=2) + "\n")
     print(json.dumps(out, indent=2))

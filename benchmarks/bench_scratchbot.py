@@ -17,5 +17,9 @@ from __future__ import annotations
 from reproduce_budget import bench_main
 
 if __name__ == "__main__":
-    bench_main("scratchbot", "benchmarks/results/scratchbot.json", __doc__,
-               lambda res: {"relations": res["relations"]})
+    bench_main(
+        "scratchbot",
+        "benchmarks/results/scratchbot.json",
+        __doc__,
+        lambda res: {"relations": res["relations"]},
+    )

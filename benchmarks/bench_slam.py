@@ -44,8 +44,9 @@ def _log(steps: int, seed: int):
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     ap.add_argument("--steps", type=int, default=720, help="FSM steps of 0.5 s (720 = 6 min)")
     ap.add_argument("--particles", type=int, default=100)
     ap.add_argument("--seed", type=int, default=0)
@@ -69,21 +70,33 @@ def main() -> None:
             walls.append(time.perf_counter() - t0)
         err = np.hypot(*(run.pose_estimate[:, :2] - log.true_pose[:, :2]).T)
         wall = min(walls)
-        modes[mode] = {"wall_seconds": round(wall, 3),
-                       "ms_per_step": round(1000 * wall / log.n_steps, 3),
-                       "within_budget": wall <= BUDGET_S, "within_aim": wall <= AIM_S,
-                       "map_error": round(map_error(run.best_map(), truth), 4),
-                       "trajectory_error_mm_mean": round(1000 * float(err.mean()), 1),
-                       "n_resamples": run.n_resamples}
-    machine = {"cores": os.cpu_count(), "python": platform.python_version(),
-               "platform": platform.platform()}
-    out = {"machine": machine, "load_average_at_start": round(load, 2),
-           "command": "benchmarks/bench_slam.py " + " ".join(
-               f"--{k} {v}" for k, v in vars(args).items() if k != "out"),
-           "n_steps": log.n_steps, "n_particles": args.particles,
-           "nominal_seconds": float(0.5 * log.n_steps),
-           "log_generation_seconds": round(log_s, 3), "budget_seconds": BUDGET_S,
-           "aim_seconds": AIM_S, "modes": modes}
+        modes[mode] = {
+            "wall_seconds": round(wall, 3),
+            "ms_per_step": round(1000 * wall / log.n_steps, 3),
+            "within_budget": wall <= BUDGET_S,
+            "within_aim": wall <= AIM_S,
+            "map_error": round(map_error(run.best_map(), truth), 4),
+            "trajectory_error_mm_mean": round(1000 * float(err.mean()), 1),
+            "n_resamples": run.n_resamples,
+        }
+    machine = {
+        "cores": os.cpu_count(),
+        "python": platform.python_version(),
+        "platform": platform.platform(),
+    }
+    out = {
+        "machine": machine,
+        "load_average_at_start": round(load, 2),
+        "command": "benchmarks/bench_slam.py "
+        + " ".join(f"--{k} {v}" for k, v in vars(args).items() if k != "out"),
+        "n_steps": log.n_steps,
+        "n_particles": args.particles,
+        "nominal_seconds": float(0.5 * log.n_steps),
+        "log_generation_seconds": round(log_s, 3),
+        "budget_seconds": BUDGET_S,
+        "aim_seconds": AIM_S,
+        "modes": modes,
+    }
     atomic_write_text(Path(args.out), json.dumps(out, indent=2) + "\n")
     print(json.dumps({k: v["wall_seconds"] for k, v in modes.items()}))
 

@@ -47,10 +47,14 @@ def _record(seconds: float, seed: int) -> tuple[list[dict], list[tuple], float]:
 
     def timed(model, contact, traj, duration, *a, **kw):
         t0 = time.perf_counter()
-        row = {"contact": type(contact).__name__ if contact is not None else "none",
-               "turning": kw.get("base_motion") is not None,
-               "simulated_s": float(duration), "dt_s": kw.get("dt_s"), "failed": True,
-               "newton_iterations": 0}
+        row = {
+            "contact": type(contact).__name__ if contact is not None else "none",
+            "turning": kw.get("base_motion") is not None,
+            "simulated_s": float(duration),
+            "dt_s": kw.get("dt_s"),
+            "failed": True,
+            "newton_iterations": 0,
+        }
         try:
             res = original(model, contact, traj, duration, *a, **kw)
             row["failed"] = False
@@ -76,12 +80,15 @@ def _record(seconds: float, seed: int) -> tuple[list[dict], list[tuple], float]:
 
 
 def _summary(rows: list[dict]) -> dict:
-    groups: dict[str, dict] = defaultdict(lambda: {"calls": 0, "wall_s": 0.0,
-                                                   "simulated_s": 0.0,
-                                                   "newton_iterations": 0})
+    groups: dict[str, dict] = defaultdict(
+        lambda: {"calls": 0, "wall_s": 0.0, "simulated_s": 0.0, "newton_iterations": 0}
+    )
     for r in rows:
-        key = "failed" if r["failed"] else f"{r['contact']}, " + (
-            "housing turning" if r["turning"] else "housing still")
+        key = (
+            "failed"
+            if r["failed"]
+            else f"{r['contact']}, " + ("housing turning" if r["turning"] else "housing still")
+        )
         g = groups[key]
         g["calls"] += 1
         g["wall_s"] += r["wall_s"]
@@ -90,8 +97,9 @@ def _summary(rows: list[dict]) -> dict:
     for g in groups.values():
         g["wall_s"] = round(g["wall_s"], 3)
         g["simulated_s"] = round(g["simulated_s"], 3)
-        g["real_time_factor"] = (round(g["simulated_s"] / g["wall_s"], 2)
-                                 if g["wall_s"] > 0 else None)
+        g["real_time_factor"] = (
+            round(g["simulated_s"] / g["wall_s"], 2) if g["wall_s"] > 0 else None
+        )
     return dict(sorted(groups.items(), key=lambda kv: -kv[1]["wall_s"]))
 
 
@@ -101,27 +109,30 @@ def _replay(path: Path, top: int) -> None:
 
     with path.open("rb") as fh:
         saved = pickle.load(fh)
-    calls = sorted((c for c in saved if isinstance(c[1][1], SurfaceContact)),
-                   key=lambda c: -c[0]["wall_s"])[:top]
+    calls = sorted(
+        (c for c in saved if isinstance(c[1][1], SurfaceContact)), key=lambda c: -c[0]["wall_s"]
+    )[:top]
     wall = 0.0
     iters = 0
     fails = 0
     for _, (model, contact, traj, duration, a, kw) in calls:
         t0 = time.perf_counter()
         try:
-            iters += int(simulate(model, contact, traj, duration, *a, **kw)
-                         .newton_iterations.sum())
+            iters += int(simulate(model, contact, traj, duration, *a, **kw).newton_iterations.sum())
         except SimulationError:
             fails += 1
         wall += time.perf_counter() - t0
     recorded = sum(c[0]["wall_s"] for c in calls)
-    print(f"{len(calls)} plane-contact calls: {wall:.2f} s wall (recorded {recorded:.2f} s), "
-          f"{iters} Newton iterations, {fails} failed")
+    print(
+        f"{len(calls)} plane-contact calls: {wall:.2f} s wall (recorded {recorded:.2f} s), "
+        f"{iters} Newton iterations, {fails} failed"
+    )
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     ap.add_argument("--seconds", type=float, default=60.0, help="robot seconds")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--save-calls", type=Path, default=None)
@@ -153,15 +164,20 @@ def main() -> None:
         "simulate_wall_seconds": round(sum(r["wall_s"] for r in rows), 3),
         "failed_calls": sum(r["failed"] for r in rows),
         "groups": _summary(rows),
-        "slowest_calls": [{k: (round(v, 4) if isinstance(v, float) else v)
-                           for k, v in r.items()} for r in slowest],
+        "slowest_calls": [
+            {k: (round(v, 4) if isinstance(v, float) else v) for k, v in r.items()} for r in slowest
+        ],
     }
     atomic_write_text(args.out, json.dumps(out, indent=2) + "\n")
-    print(f"robot {wall:.1f} s wall for {args.seconds:g} s; simulate calls "
-          f"{out['simulate_wall_seconds']:.1f} s, {out['failed_calls']} failed")
+    print(
+        f"robot {wall:.1f} s wall for {args.seconds:g} s; simulate calls "
+        f"{out['simulate_wall_seconds']:.1f} s, {out['failed_calls']} failed"
+    )
     for name, g in out["groups"].items():
-        print(f"  {name:36s} {g['calls']:4d} calls {g['wall_s']:7.2f} s wall "
-              f"{g['simulated_s']:7.2f} s simulated, {g['newton_iterations']} iterations")
+        print(
+            f"  {name:36s} {g['calls']:4d} calls {g['wall_s']:7.2f} s wall "
+            f"{g['simulated_s']:7.2f} s simulated, {g['newton_iterations']} iterations"
+        )
 
 
 if __name__ == "__main__":

@@ -68,12 +68,14 @@ def _profile(work: Callable[[], Any], top: int) -> dict[str, Any]:
     stats = pstats.Stats(prof)
     rows = []
     for (file, line, name), (_, ncalls, tottime, cumtime, _) in stats.stats.items():
-        rows.append({
-            "function": f"{Path(file).name}:{line}({name})",
-            "ncalls": int(ncalls),
-            "tottime_s": round(tottime, 4),
-            "cumtime_s": round(cumtime, 4),
-        })
+        rows.append(
+            {
+                "function": f"{Path(file).name}:{line}({name})",
+                "ncalls": int(ncalls),
+                "tottime_s": round(tottime, 4),
+                "cumtime_s": round(cumtime, 4),
+            }
+        )
     rows.sort(key=lambda r: -r["tottime_s"])
     return {"wall_seconds": wall, "wall_seconds_profiled": stats.total_tt, "top": rows[:top]}
 
@@ -127,10 +129,12 @@ def run(n_trials: int, top: int) -> dict[str, Any]:
 def main(argv: list[str] | None = None) -> int:
     """Command-line entry point; returns the exit status."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT,
-                        help=f"JSON file to write (default {DEFAULT_OUT}).")
-    parser.add_argument("--trials", type=int, default=40,
-                        help="Chapter-4 trials in the chunk (default 40).")
+    parser.add_argument(
+        "--out", type=Path, default=DEFAULT_OUT, help=f"JSON file to write (default {DEFAULT_OUT})."
+    )
+    parser.add_argument(
+        "--trials", type=int, default=40, help="Chapter-4 trials in the chunk (default 40)."
+    )
     parser.add_argument("--top", type=int, default=12, help="Entries kept (default 12).")
     args = parser.parse_args(argv)
     if args.trials < 1 or args.top < 1:

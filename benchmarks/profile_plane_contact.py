@@ -56,14 +56,18 @@ def _count(run) -> dict:
     cpu = time.process_time() - t0
     it = res.newton_iterations
     steps = len(it) - 1
-    return {"newton_iterations_per_step": round(float(it.sum()) / steps, 2),
-            "steps": steps, "contact_rows": int((res.contact_force_n > 0).sum()),
-            "cpu_seconds": round(cpu, 4)}
+    return {
+        "newton_iterations_per_step": round(float(it.sum()) / steps, 2),
+        "steps": steps,
+        "contact_rows": int((res.contact_force_n > 0).sum()),
+        "cpu_seconds": round(cpu, 4),
+    }
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     ap.add_argument("--out", default="benchmarks/results/plane_contact.json")
     args = ap.parse_args()
     cases: dict[str, dict] = {}
@@ -73,30 +77,48 @@ def main() -> None:
     crunch = RodModel(preset("crunchbot"), n_elements=16)
     flat = Surface(np.zeros((4, 4)), 1e-3, 0.3, "wall")
     t = np.linspace(0.0, 0.5, 1001)
-    push = Trajectory(t, np.column_stack([np.zeros_like(t),
-                                          135.0 - 40.0 * np.minimum(t / 0.25, 1.0)]))
+    push = Trajectory(
+        t, np.column_stack([np.zeros_like(t), 135.0 - 40.0 * np.minimum(t / 0.25, 1.0)])
+    )
     turn = BaseMotion(t, 0.3 * t, np.full_like(t, 0.3))
     for angle in (30.0, 60.0):
-        for label, motion, friction in (("still", None, 0.3), ("turning", turn, 0.3),
-                                        ("turning, no friction", turn, 0.0)):
+        for label, motion, friction in (
+            ("still", None, 0.3),
+            ("turning", turn, 0.3),
+            ("turning, no friction", turn, 0.0),
+        ):
             wall = SurfaceContact(flat, angle_deg=angle, side=1, friction=friction)
             cases[f"wall {angle:.0f} deg, {label}"] = _count(
-                lambda wall=wall, motion=motion: simulate(crunch, wall, push, 0.5, DT_S,
-                                                          base_motion=motion))
+                lambda wall=wall, motion=motion: simulate(
+                    crunch, wall, push, 0.5, DT_S, base_motion=motion
+                )
+            )
     # the pushes above start with the tip inside the inclined wall (4.5 mm at 60 deg):
     # an impulsive start; this one starts outside it, as a whisker meets a wall
-    outside = Trajectory(t, np.column_stack([np.zeros_like(t),
-                                             150.0 - 40.0 * np.minimum(t / 0.25, 1.0)]))
+    outside = Trajectory(
+        t, np.column_stack([np.zeros_like(t), 150.0 - 40.0 * np.minimum(t / 0.25, 1.0)])
+    )
     wall = SurfaceContact(flat, angle_deg=60.0, side=1, friction=0.3)
     cases["wall 60 deg, still, from outside"] = _count(
-        lambda: simulate(crunch, wall, outside, 0.5, DT_S))
-    out = {"what": __doc__.split("\n\n")[0], "dt_s": DT_S,
-           "load_average_at_start": round(os.getloadavg()[0], 2), "cases": cases}
+        lambda: simulate(crunch, wall, outside, 0.5, DT_S)
+    )
+    out = {
+        "what": __doc__.split("\n\n")[0],
+        "dt_s": DT_S,
+        "load_average_at_start": round(os.getloadavg()[0], 2),
+        "cases": cases,
+    }
     atomic_write_text(Path(args.out), json.dumps(out, indent=2) + "\n")
     for name, c in cases.items():
-        print(f"{name:32s} " + (f"failed: {c['failed']}" if "failed" in c else
-                                f"{c['newton_iterations_per_step']:5.2f} iterations/step "
-                                f"{c['cpu_seconds']:.3f} s CPU"))
+        print(
+            f"{name:32s} "
+            + (
+                f"failed: {c['failed']}"
+                if "failed" in c
+                else f"{c['newton_iterations_per_step']:5.2f} iterations/step "
+                f"{c['cpu_seconds']:.3f} s CPU"
+            )
+        )
 
 
 if __name__ == "__main__":

@@ -29,8 +29,9 @@ from vibrissa.reproduce import run_experiment
 PINS = pathlib.Path("tests/reproduce/pinned_predictions.json")
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-parser.add_argument("--record", action="store_true",
-                    help="write this checkout's predictions as the new pins")
+parser.add_argument(
+    "--record", action="store_true", help="write this checkout's predictions as the new pins"
+)
 args = parser.parse_args()
 
 pins = json.loads(PINS.read_text())
@@ -38,8 +39,9 @@ bad = []
 new = {}
 with tempfile.TemporaryDirectory() as d:
     for name, opts in (("radial-distance", {"n_seeds": 1}), ("angle-texture", {})):
-        res = run_experiment(name, pathlib.Path(d) / name, quick=True, seed=0, figures=False,
-                             **opts)
+        res = run_experiment(
+            name, pathlib.Path(d) / name, quick=True, seed=0, figures=False, **opts
+        )
         got = dict(res["predictions"])
         if "sequential" in res:
             got["sequential"] = res["sequential"]
@@ -52,14 +54,16 @@ with tempfile.TemporaryDirectory() as d:
                 if isinstance(mine, dict) and isinstance(v, dict):
                     changed = sum(
                         sum(a != b for a, b in zip(mine[t], v[t], strict=False))
-                        for t in v if t in mine and isinstance(v[t], list)
+                        for t in v
+                        if t in mine and isinstance(v[t], list)
                     )
                 bad.append(f"{name}: {k} ({changed} predictions differ)")
         if "sequential" in want and res["sequential"] != want["sequential"]:
             bad.append(f"{name}: sequential")
 if args.record:
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
-                            text=True).stdout.strip()
+    commit = subprocess.run(
+        ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True
+    ).stdout.strip()
     new["_about"] = (
         "Every classifier's test-set predictions on the quick grids (seed 0; chapter 4 "
         f"with --n-seeds 1), recorded by scripts/check_pinned_predictions.py --record at "

@@ -25,22 +25,36 @@ from pathlib import Path
 from typing import Any
 
 #: Keys whose values describe the run (time, place, machine), not its results.
-VOLATILE = frozenset({
-    "wall_seconds", "started_at", "command", "path", "fit_seconds", "classify_seconds",
-    "real_time_factor", "classifier_latency_ms", "cores", "wall_s", "elapsed_s",
-    "seconds_per_trial", "vibrissa_version",
-})
+VOLATILE = frozenset(
+    {
+        "wall_seconds",
+        "started_at",
+        "command",
+        "path",
+        "fit_seconds",
+        "classify_seconds",
+        "real_time_factor",
+        "classifier_latency_ms",
+        "cores",
+        "wall_s",
+        "elapsed_s",
+        "seconds_per_trial",
+        "vibrissa_version",
+    }
+)
 
 
 def volatile(key: str, where: str, ignore: frozenset[str]) -> bool:
     """Whether the value at ``where.key`` measures the run: a name in ``ignore``, any
     ``*_seconds`` timing, or a classifier's ``seconds``."""
-    return (key in ignore or key.endswith("_seconds")
-            or (key == "seconds" and ".classifiers." in where + "."))
+    return (
+        key in ignore
+        or key.endswith("_seconds")
+        or (key == "seconds" and ".classifiers." in where + ".")
+    )
 
 
-def differences(a: Any, b: Any, where: str, ignore: frozenset[str],
-                rtol: float) -> Iterator[str]:
+def differences(a: Any, b: Any, where: str, ignore: frozenset[str], rtol: float) -> Iterator[str]:
     """Every difference between ``a`` and ``b`` as ``where: a != b`` lines."""
     if isinstance(a, dict) and isinstance(b, dict):
         for k in sorted(set(a) | set(b), key=str):
@@ -58,8 +72,12 @@ def differences(a: Any, b: Any, where: str, ignore: frozenset[str],
             return
         for i, (x, y) in enumerate(zip(a, b, strict=True)):
             yield from differences(x, y, f"{where}[{i}]", ignore, rtol)
-    elif (isinstance(a, int | float) and isinstance(b, int | float)
-          and not isinstance(a, bool) and not isinstance(b, bool)):
+    elif (
+        isinstance(a, int | float)
+        and isinstance(b, int | float)
+        and not isinstance(a, bool)
+        and not isinstance(b, bool)
+    ):
         if a == b or (math.isnan(a) and math.isnan(b)):
             return
         if rtol > 0 and math.isclose(a, b, rel_tol=rtol):
@@ -69,8 +87,9 @@ def differences(a: Any, b: Any, where: str, ignore: frozenset[str],
         yield f"{where}: {a!r} != {b!r}"
 
 
-def compare_trees(before: Path, after: Path, ignore: frozenset[str] = VOLATILE,
-                  rtol: float = 0.0) -> tuple[int, list[str]]:
+def compare_trees(
+    before: Path, after: Path, ignore: frozenset[str] = VOLATILE, rtol: float = 0.0
+) -> tuple[int, list[str]]:
     """(files compared, difference lines) of the two trees."""
     lines: list[str] = []
     files_b = {p.relative_to(before) for p in before.rglob("results.json")}
@@ -103,9 +122,11 @@ def main(argv: list[str] | None = None) -> int:
     n, lines = compare_trees(args.before, args.after, VOLATILE | set(args.ignore), args.rtol)
     for line in lines:
         print(line)
-    print(f"{n} results.json compared, {len(lines)} differences "
-          f"(left out: {', '.join(sorted(VOLATILE | set(args.ignore)))}, *_seconds, "
-          "classifiers' seconds)")
+    print(
+        f"{n} results.json compared, {len(lines)} differences "
+        f"(left out: {', '.join(sorted(VOLATILE | set(args.ignore)))}, *_seconds, "
+        "classifiers' seconds)"
+    )
     return 0 if n and not lines else 1
 
 

@@ -43,10 +43,13 @@ def report(name: str, nb: FloorTextureNB, textures: tuple[str, ...], seed: int) 
     whole = course.texture_true[starts] == course.texture_true[ends]
     hit = course.texture_pred == truth
     per = {w: float(np.mean(hit[:, i])) for i, w in enumerate(("left", "right"))}
-    print(f"{name}: {course.decision_time_s.size} windows x 2 whiskers, accuracy "
-          f"{course.accuracy():.3f} (left {per['left']:.3f}, right {per['right']:.3f}); "
-          f"windows wholly on one tile {float(np.mean(hit[whole])):.3f}; course simulated "
-          f"in {wall:.1f} s", flush=True)
+    print(
+        f"{name}: {course.decision_time_s.size} windows x 2 whiskers, accuracy "
+        f"{course.accuracy():.3f} (left {per['left']:.3f}, right {per['right']:.3f}); "
+        f"windows wholly on one tile {float(np.mean(hit[whole])):.3f}; course simulated "
+        f"in {wall:.1f} s",
+        flush=True,
+    )
     for cls in nb.classes_:
         m = truth == cls
         if m.any():
@@ -61,8 +64,11 @@ def latency(nb: FloorTextureNB, windows: np.ndarray) -> None:
         nb.loglik(w)
         times.append(time.perf_counter() - t0)
     ms = 1e3 * np.array(times)
-    print(f"loglik latency ({len(nb.classes_)} classes): median {np.median(ms):.3f} ms, "
-          f"p99 {np.percentile(ms, 99):.3f} ms", flush=True)
+    print(
+        f"loglik latency ({len(nb.classes_)} classes): median {np.median(ms):.3f} ms, "
+        f"p99 {np.percentile(ms, 99):.3f} ms",
+        flush=True,
+    )
 
 
 def main() -> None:
@@ -78,8 +84,12 @@ def main() -> None:
     latency(nb3, windows)
     report("two textures, figure 6.11 course", nb2, FIGURE_6_11, seed)
     report("three textures, figure 6.11 course", nb3, FIGURE_6_11, seed)
-    report("three textures, rough carpet / vinyl / smooth carpet", nb3,
-           ("rough-carpet", "vinyl", "smooth-carpet"), seed)
+    report(
+        "three textures, rough carpet / vinyl / smooth carpet",
+        nb3,
+        ("rough-carpet", "vinyl", "smooth-carpet"),
+        seed,
+    )
 
 
 if __name__ == "__main__":

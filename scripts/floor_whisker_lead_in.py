@@ -61,13 +61,17 @@ def main() -> None:
     for texture in os.environ.get("TEXTURES", "vinyl,smooth-carpet,rough-carpet").split(","):
         ref, wall = run(texture, seconds, None)
         m, se = ref.mean(0), ref.std(0) / np.sqrt(len(ref))
-        print(f"\n{texture}: continuous {wall:.3f} s per step; "
-              + ", ".join(f"{n} {a:.4g}+-{b:.2g}" for n, a, b in zip(names, m, se, strict=True)))
+        print(
+            f"\n{texture}: continuous {wall:.3f} s per step; "
+            + ", ".join(f"{n} {a:.4g}+-{b:.2g}" for n, a, b in zip(names, m, se, strict=True))
+        )
         for lead in leads:
             got, wall = run(texture, seconds, lead)
             ratio = got.mean(0) / m
-            print(f"  lead-in {lead:.2f} s: {wall:.3f} s per step; ratio to continuous "
-                  + ", ".join(f"{n} {r:.3f}" for n, r in zip(names, ratio, strict=True)))
+            print(
+                f"  lead-in {lead:.2f} s: {wall:.3f} s per step; ratio to continuous "
+                + ", ".join(f"{n} {r:.3f}" for n, r in zip(names, ratio, strict=True))
+            )
 
 
 if __name__ == "__main__":

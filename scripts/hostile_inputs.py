@@ -48,12 +48,14 @@ def summarise(outcomes: list[Outcome]) -> dict[str, int]:
     """Counts of the outcomes (see the module docstring)."""
     return {
         "inputs tried": len(outcomes),
-        "refused cleanly (exit 2, one line naming the option or path)":
-            sum(o.refused_cleanly for o in outcomes),
+        "refused cleanly (exit 2, one line naming the option or path)": sum(
+            o.refused_cleanly for o in outcomes
+        ),
         "tracebacks": sum(o.traceback for o in outcomes),
         "other exit statuses": sum(o.exit_code != 2 for o in outcomes),
-        "other messages (not one line naming the culprit)":
-            sum(o.exit_code == 2 and not o.one_line for o in outcomes),
+        "other messages (not one line naming the culprit)": sum(
+            o.exit_code == 2 and not o.one_line for o in outcomes
+        ),
         "left files behind": sum(bool(o.new_files) for o in outcomes),
     }
 
@@ -62,8 +64,12 @@ def main(argv: list[str] | None = None) -> int:
     """Run the corpus and print the summary; 0 if every case was refused cleanly."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--vibrissa", default=None, help="The console script to run.")
-    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
-                        help="Cases run at the same time (default: all cores).")
+    parser.add_argument(
+        "--jobs",
+        type=int,
+        default=os.cpu_count() or 1,
+        help="Cases run at the same time (default: all cores).",
+    )
     args = parser.parse_args(argv)
     executable = args.vibrissa or _default_executable()
     with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:

@@ -61,8 +61,17 @@ def follicle_stiffness() -> float:
 def _trial(p, model, gain, r, v, delay):
     stage = dataclasses.replace(p.stage, latency=LatencyModel(delay, p.stage.latency.duty_cycle_s))
     sensor = HallSensor(gain, sample_rate_hz=p.sensor.sample_rate_hz, noise_v=0.0)
-    return run_trial(stage, model, sensor, PoleStimulus(r), v, 1, p.window_s,
-                     np.random.default_rng(0), dt_s=p.dt_s)
+    return run_trial(
+        stage,
+        model,
+        sensor,
+        PoleStimulus(r),
+        v,
+        1,
+        p.window_s,
+        np.random.default_rng(0),
+        dt_s=p.dt_s,
+    )
 
 
 def mechanics() -> dict[str, Any]:
@@ -99,10 +108,12 @@ def mechanics() -> dict[str, Any]:
         "free_first_mode_hz": float(model.natural_frequencies_hz[0]),
         "damping_ratio_modes": [float(z) for z in zeta],
         "clamped_first_mode_hz": float(rigid.natural_frequencies_hz[0]),
-        "clamped_modulus_for_resonance_gpa": float(scipy.optimize.brentq(
-            lambda e: clamped_first(e) - RESONANCE_HZ, 0.5, 20.0, xtol=1e-4)),
+        "clamped_modulus_for_resonance_gpa": float(
+            scipy.optimize.brentq(lambda e: clamped_first(e) - RESONANCE_HZ, 0.5, 20.0, xtol=1e-4)
+        ),
         "fitted_table_4_1_clamped_first_mode_hz": float(
-            RodModel(fitted, n, rigid_follicle=True).natural_frequencies_hz[0]),
+            RodModel(fitted, n, rigid_follicle=True).natural_frequencies_hz[0]
+        ),
         "tip_pinned_hz": {
             "current": float(model.pinned_frequencies_hz(g.length_mm)[0]),
             "soft_follicle": float(soft.pinned_frequencies_hz(g.length_mm)[0]),
@@ -110,9 +121,11 @@ def mechanics() -> dict[str, Any]:
             "rigid_follicle": float(rigid.pinned_frequencies_hz(g.length_mm)[0]),
         },
         "pole_pinned_hz": {
-            "min": float(pole.min()), "max": float(pole.max()),
+            "min": float(pole.min()),
+            "max": float(pole.max()),
             "radius_of_max_mm": float(radii[np.argmax(pole)]),
-            "at_80_mm": float(pole[0]), "at_180_mm": float(pole[-1]),
+            "at_80_mm": float(pole[0]),
+            "at_180_mm": float(pole[-1]),
         },
         "hall_323_calibration_tilt_deg": math.degrees(math.atan(tan_323)),
         "explicit_axial_limit": {
@@ -126,8 +139,12 @@ def mechanics() -> dict[str, Any]:
 
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--json", metavar="OUT", default=None,
-                    help="also write a run file (docs/runs/identify_parameters.json)")
+    ap.add_argument(
+        "--json",
+        metavar="OUT",
+        default=None,
+        help="also write a run file (docs/runs/identify_parameters.json)",
+    )
     args = ap.parse_args(argv)
     out: dict[str, Any] = {}
     kf = follicle_stiffness()
@@ -145,8 +162,10 @@ def main(argv: list[str] | None = None) -> None:
     gain = calibrated_gain(g, p.n_elements, p.sensor.calibration_mm)
     for it in range(4):
         lat = [_trial(p, model, gain, r, v, delay).mi_latency_s for r in radii for v in speeds]
-        print(f"iteration {it}: loop delay {delay * 1e3:.1f} ms -> median latency from first "
-              f"contact {np.median(lat) * 1e3:.1f} ms")
+        print(
+            f"iteration {it}: loop delay {delay * 1e3:.1f} ms -> median latency from first "
+            f"contact {np.median(lat) * 1e3:.1f} ms"
+        )
         delay += LATENCY_S - float(np.median(lat))
     print(f"loop delay: {delay * 1e3:.1f} ms")
     out["loop_delay_ms"] = delay * 1e3

@@ -117,7 +117,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     root = Path(__file__).resolve().parents[1]
     parser.add_argument(
-        "--out-dir", type=Path, default=root / "src" / "vibrissa" / "examples",
+        "--out-dir",
+        type=Path,
+        default=root / "src" / "vibrissa" / "examples",
         help="directory to write data_XY_small.mat and data_XY_small.mapping.json",
     )
     args = parser.parse_args(argv)

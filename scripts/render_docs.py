@@ -309,8 +309,9 @@ def extract_chapter5(results: Mapping[str, Any]) -> dict[str, Any]:
         "sequential": dict(results.get("sequential", {})),
     }
     detail = results.get("sequential_detail", {})
-    out["sequential_detail"] = {k: detail.get(k) for k in
-                                ("base", "threshold", "mean_contacts_used")}
+    out["sequential_detail"] = {
+        k: detail.get(k) for k in ("base", "threshold", "mean_contacts_used")
+    }
     if isinstance(detail.get("mean_contacts_used"), Mapping):
         out["sequential_detail"]["mean_contacts_used"] = dict(detail["mean_contacts_used"])
     thesis = [n for n in THESIS_CHAPTER5 if n in clfs]
@@ -321,14 +322,21 @@ def extract_chapter5(results: Mapping[str, Any]) -> dict[str, Any]:
         "thesis_methods_texture_kappa_max": max(texture),
     }
     for p in ("angle", "speed"):
-        pairs = [(clfs[n]["kappa"][p], THESIS_CHAPTER5[n]["kappa"][p]) for n in thesis
-                 if THESIS_CHAPTER5[n]["kappa"][p] is not None]
+        pairs = [
+            (clfs[n]["kappa"][p], THESIS_CHAPTER5[n]["kappa"][p])
+            for n in thesis
+            if THESIS_CHAPTER5[n]["kappa"][p] is not None
+        ]
         derived[f"{p}_compared"] = len(pairs)
         derived[f"{p}_at_least_thesis"] = sum(ours >= th for ours, th in pairs)
-    nb = [n for n in ("naive_bayes_raw", "naive_bayes_velocity", "naive_bayes_acceleration")
-          if n in clfs]
+    nb = [
+        n
+        for n in ("naive_bayes_raw", "naive_bayes_velocity", "naive_bayes_acceleration")
+        if n in clfs
+    ]
     derived["naive_bayes_thesis_binning_kappa_max"] = max(
-        clfs[n]["kappa"][p] for n in nb for p in ("angle", "speed", "texture"))
+        clfs[n]["kappa"][p] for n in nb for p in ("angle", "speed", "texture")
+    )
     out["derived"] = derived
     return out
 
@@ -344,9 +352,13 @@ def extract_identify(report: Mapping[str, Any]) -> dict[str, Any]:
     met, unmet = [], []
     for name, o in items:
         (met if o.get("within") else unmet).append(f"`{name}`")
-    return {"met": met or ["none"], "not_met": unmet or ["none"],
-            "n_within": len(met), "n_observables": len(met) + len(unmet),
-            **{k: v for k, v in report.items() if k in ("n_trials", "quick")}}
+    return {
+        "met": met or ["none"],
+        "not_met": unmet or ["none"],
+        "n_within": len(met),
+        "n_observables": len(met) + len(unmet),
+        **{k: v for k, v in report.items() if k in ("n_trials", "quick")},
+    }
 
 
 def extract_benchmarks(folder: str | os.PathLike[str]) -> dict[str, Any]:
@@ -362,44 +374,76 @@ def extract_benchmarks(folder: str | os.PathLike[str]) -> dict[str, Any]:
     out: dict[str, Any] = {"sources": {}}
     for name in ("physics", "generation", "chapter5"):
         f = root / f"{name}.json"
-        log = subprocess.run(["git", "log", "-1", "--format=%H %aI", "--", str(f)],
-                             capture_output=True, text=True, check=False, cwd=ROOT).stdout.split()
-        out["sources"][name] = {"file": _rel(f), "commit": log[0] if log else None,
-                                "date": log[1] if len(log) > 1 else None}
+        log = subprocess.run(
+            ["git", "log", "-1", "--format=%H %aI", "--", str(f)],
+            capture_output=True,
+            text=True,
+            check=False,
+            cwd=ROOT,
+        ).stdout.split()
+        out["sources"][name] = {
+            "file": _rel(f),
+            "commit": log[0] if log else None,
+            "date": log[1] if len(log) > 1 else None,
+        }
     phys = json.loads((root / "physics.json").read_text(encoding="utf-8"))
     runs = {f"e{r['n_elements']}_dt{round(r['dt_s'] * 1e6)}us": r for r in phys["runs"]}
     out["physics"] = {
-        "runs": {k: {"real_time_factor": r["real_time_factor"],
-                     "peak_follicle_moment_nm": r["peak_follicle_moment_nm"]}
-                 for k, r in runs.items()},
+        "runs": {
+            k: {
+                "real_time_factor": r["real_time_factor"],
+                "peak_follicle_moment_nm": r["peak_follicle_moment_nm"],
+            }
+            for k, r in runs.items()
+        },
         "memory": dict(phys["memory"]),
     }
     if "standard_trial" in phys:  # issue 14: the speed-ups on and off, in one run
-        keys = ("real_time_factor", "free_flight_real_time_factor",
-                "whisking_in_air_real_time_factor", "contact_real_time_factor",
-                "linear_free_flight_fraction")
+        keys = (
+            "real_time_factor",
+            "free_flight_real_time_factor",
+            "whisking_in_air_real_time_factor",
+            "contact_real_time_factor",
+            "linear_free_flight_fraction",
+        )
         out["physics"]["standard"] = {k: phys["standard_trial"][k] for k in keys}
         out["physics"]["standard_without_speedups"] = {
-            k: phys["standard_trial_without_speedups"][k] for k in keys}
+            k: phys["standard_trial_without_speedups"][k] for k in keys
+        }
         out["physics"]["speedup"] = phys["speedup"]
         out["physics"]["linear_free_flight_percent"] = (
-            100 * phys["standard_trial"]["linear_free_flight_fraction"])
+            100 * phys["standard_trial"]["linear_free_flight_fraction"]
+        )
     ref = runs["e24_dt250us"]["peak_follicle_moment_nm"]
     out["physics"]["moment_change_percent"] = {
         "dt_halved": 100 * abs(runs["e24_dt125us"]["peak_follicle_moment_nm"] / ref - 1),
         "elements_doubled": 100 * abs(runs["e48_dt250us"]["peak_follicle_moment_nm"] / ref - 1),
     }
     gen = json.loads((root / "generation.json").read_text(encoding="utf-8"))
-    out["generation"] = {k: gen[k] for k in ("n_trials", "workers", "wall_seconds",
-                                             "trials_per_second", "peak_rss_parent_mb")}
+    out["generation"] = {
+        k: gen[k]
+        for k in ("n_trials", "workers", "wall_seconds", "trials_per_second", "peak_rss_parent_mb")
+    }
     out["generation"]["ms_per_trial_per_worker"] = (
-        1e3 * gen["wall_seconds"] * gen["workers"] / gen["n_trials"])
+        1e3 * gen["wall_seconds"] * gen["workers"] / gen["n_trials"]
+    )
     ch5 = json.loads((root / "chapter5.json").read_text(encoding="utf-8"))
-    out["chapter5"] = {k: ch5[k] for k in (
-        "n_trials", "n_test", "workers", "reproduction_wall_seconds", "generate_seconds",
-        "evaluate_seconds", "peak_rss_parent_mb", "budgets")}
+    out["chapter5"] = {
+        k: ch5[k]
+        for k in (
+            "n_trials",
+            "n_test",
+            "workers",
+            "reproduction_wall_seconds",
+            "generate_seconds",
+            "evaluate_seconds",
+            "peak_rss_parent_mb",
+            "budgets",
+        )
+    }
     out["chapter5"]["classify_seconds"] = {
-        n: c["classify_seconds"] for n, c in ch5["classifiers"].items()}
+        n: c["classify_seconds"] for n, c in ch5["classifiers"].items()
+    }
     return out
 
 
@@ -411,14 +455,32 @@ def extract_peers(results: Mapping[str, Any]) -> dict[str, Any]:
     reference and the peak-moment error against ours there, and the verdict (the
     accepted step where there is one).
     """
-    keys = ("vibrissa_rtf", "mujoco_rtf", "ratio", "mujoco_links", "mujoco_dt_s",
-            "mujoco_first_mode_error_pct", "reference_first_mode_hz", "mujoco_first_mode_hz",
-            "vibrissa_first_mode_hz", "vibrissa_first_mode_error_pct",
-            "vibrissa_peak_follicle_moment_nm", "mujoco_peak_follicle_moment_nm",
-            "mujoco_peak_moment_error_pct", "damping_ratio", "mujoco_first_mode_damping_ratio",
-            "mujoco_version", "vibrissa_n_elements", "vibrissa_dt_s", "repeats", "duration_s",
-            "created_utc", "mujoco_planar_rtf", "ratio_planar",
-            "mujoco_planar_peak_moment_error_pct")
+    keys = (
+        "vibrissa_rtf",
+        "mujoco_rtf",
+        "ratio",
+        "mujoco_links",
+        "mujoco_dt_s",
+        "mujoco_first_mode_error_pct",
+        "reference_first_mode_hz",
+        "mujoco_first_mode_hz",
+        "vibrissa_first_mode_hz",
+        "vibrissa_first_mode_error_pct",
+        "vibrissa_peak_follicle_moment_nm",
+        "mujoco_peak_follicle_moment_nm",
+        "mujoco_peak_moment_error_pct",
+        "damping_ratio",
+        "mujoco_first_mode_damping_ratio",
+        "mujoco_version",
+        "vibrissa_n_elements",
+        "vibrissa_dt_s",
+        "repeats",
+        "duration_s",
+        "created_utc",
+        "mujoco_planar_rtf",
+        "ratio_planar",
+        "mujoco_planar_peak_moment_error_pct",
+    )
     out: dict[str, Any] = {k: results[k] for k in keys}
     out["mujoco_dt_us"] = results["mujoco_dt_s"] * 1e6
     out["mujoco_max_penetration_um"] = results["mujoco_max_penetration_m"] * 1e6
@@ -426,13 +488,16 @@ def extract_peers(results: Mapping[str, Any]) -> dict[str, Any]:
     for who in ("vibrissa", "mujoco"):
         out[f"{who}_peak_follicle_moment_mnm"] = results[f"{who}_peak_follicle_moment_nm"] * 1e3
         out[f"{who}_wall_ms"] = [round(1e3 * w, 1) for w in results[f"{who}_wall_seconds_all"]]
-    out["mujoco_planar_wall_ms"] = [round(1e3 * w, 1)
-                                    for w in results["mujoco_planar_wall_seconds_all"]]
+    out["mujoco_planar_wall_ms"] = [
+        round(1e3 * w, 1) for w in results["mujoco_planar_wall_seconds_all"]
+    ]
     out["machine"] = {k: results["machine"][k] for k in ("cpu", "cpu_count", "pinned_cpu")}
     out["machine"]["load_average_before"] = results["machine"]["load_average_before"][0]
     tol = results["criteria"]
-    lines = ["| links | step | first mode vs reference | peak moment vs ours | verdict |",
-             "|---|---|---|---|---|"]
+    lines = [
+        "| links | step | first mode vs reference | peak moment vs ours | verdict |",
+        "|---|---|---|---|---|",
+    ]
     for n in sorted({row["links"] for row in results["search"]}):
         stable = [r for r in results["search"] if r["links"] == n and r["stable"]]
         if not stable:
@@ -440,18 +505,28 @@ def extract_peers(results: Mapping[str, Any]) -> dict[str, Any]:
             continue
         r = next((r for r in stable if r["accepted"]), stable[0])  # else the largest step
         moment = f"{r['peak_moment_error_pct']:+.2f} %"
-        verdict = ("accepted" if r["accepted"] else "first mode outside"
-                   if abs(r["first_mode_error_pct"]) > tol["first_mode_tolerance_pct"]
-                   else "peak moment outside")
-        lines.append(f"| {n} | {r['dt_s'] * 1e6:g} us | {r['first_mode_error_pct']:+.3f} % "
-                     f"| {moment} | {verdict} |")
+        verdict = (
+            "accepted"
+            if r["accepted"]
+            else "first mode outside"
+            if abs(r["first_mode_error_pct"]) > tol["first_mode_tolerance_pct"]
+            else "peak moment outside"
+        )
+        lines.append(
+            f"| {n} | {r['dt_s'] * 1e6:g} us | {r['first_mode_error_pct']:+.3f} % "
+            f"| {moment} | {verdict} |"
+        )
     out["search_table"] = "\n".join(lines)
     return out
 
 
-EXTRACTORS = {"chapter4": extract_chapter4, "chapter5": extract_chapter5,
-              "identify": extract_identify, "benchmarks": extract_benchmarks,
-              "peers": extract_peers}
+EXTRACTORS = {
+    "chapter4": extract_chapter4,
+    "chapter5": extract_chapter5,
+    "identify": extract_identify,
+    "benchmarks": extract_benchmarks,
+    "peers": extract_peers,
+}
 
 
 def _write_atomic(path: Path, text: str) -> None:
@@ -467,18 +542,27 @@ def _write_atomic(path: Path, text: str) -> None:
 
 def extract_main(argv: list[str]) -> int:
     """``render_docs.py extract KIND RESULTS --command CMD --out OUT [--time-v FILE]``."""
-    ap = argparse.ArgumentParser(prog="render_docs.py extract",
-                                 description="Store a compact run file from a run's JSON.")
+    ap = argparse.ArgumentParser(
+        prog="render_docs.py extract", description="Store a compact run file from a run's JSON."
+    )
     ap.add_argument("kind", choices=sorted(EXTRACTORS))
-    ap.add_argument("results", help="the run's JSON (results.json, identify --json output; "
-                    "for benchmarks: the folder benchmarks/results)")
+    ap.add_argument(
+        "results",
+        help="the run's JSON (results.json, identify --json output; "
+        "for benchmarks: the folder benchmarks/results)",
+    )
     ap.add_argument("--command", required=True, help="the command that made RESULTS")
     ap.add_argument("--out", required=True, help="the run file (docs/runs/<source>.json)")
     ap.add_argument("--time-v", default=None, help="GNU time -v output of the command")
-    ap.add_argument("--wall-seconds", type=float, default=None,
-                    help="the command's wall time, s, when no --time-v output was kept")
-    ap.add_argument("--dataset", default=None,
-                    help="the data file (default: results' meta.dataset, if any)")
+    ap.add_argument(
+        "--wall-seconds",
+        type=float,
+        default=None,
+        help="the command's wall time, s, when no --time-v output was kept",
+    )
+    ap.add_argument(
+        "--dataset", default=None, help="the data file (default: results' meta.dataset, if any)"
+    )
     args = ap.parse_args(argv)
     if args.kind == "benchmarks":
         results: dict[str, Any] = {}
@@ -509,8 +593,11 @@ def main(argv: list[str] | None = None) -> int:
     if argv[:1] == ["extract"]:
         return extract_main(argv[1:])
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--check", action="store_true",
-                    help="write nothing; exit 1 listing the docs that differ from their render")
+    ap.add_argument(
+        "--check",
+        action="store_true",
+        help="write nothing; exit 1 listing the docs that differ from their render",
+    )
     args = ap.parse_args(argv)
     try:
         rendered = [(doc, render(t, RUNS)) for t, doc in targets(TEMPLATES, DOCS)]
@@ -518,8 +605,11 @@ def main(argv: list[str] | None = None) -> int:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     if args.check:
-        stale = [doc for doc, text in rendered
-                 if not doc.is_file() or doc.read_text(encoding="utf-8") != text]
+        stale = [
+            doc
+            for doc, text in rendered
+            if not doc.is_file() or doc.read_text(encoding="utf-8") != text
+        ]
         for doc in stale:
             print(f"{_rel(doc)} differs from its render (hand edit, or template/run not rendered)")
         if stale:

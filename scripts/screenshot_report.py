@@ -28,23 +28,35 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("report_html", type=Path, help="the HTML report to open")
     parser.add_argument("out_png", type=Path, help="where to write the screenshot (PNG)")
-    parser.add_argument("--width", type=int, default=1000,
-                        help="viewport width, CSS px (default 1000)")
-    parser.add_argument("--full-page", action="store_true",
-                        help="capture the whole page, not only the first 900 px")
+    parser.add_argument(
+        "--width", type=int, default=1000, help="viewport width, CSS px (default 1000)"
+    )
+    parser.add_argument(
+        "--full-page", action="store_true", help="capture the whole page, not only the first 900 px"
+    )
     args = parser.parse_args(argv)
     if not args.report_html.is_file():
         parser.error(f"no such file: {args.report_html}")
     executable = find_chromium()
     if executable is None or not playwright_available():
-        print("no chromium browser or no playwright: install Debian's chromium package and "
-              "pip install -e '.[dev]'", file=sys.stderr)
+        print(
+            "no chromium browser or no playwright: install Debian's chromium package and "
+            "pip install -e '.[dev]'",
+            file=sys.stderr,
+        )
         return 2
-    result = check_in_browser(args.report_html, width=args.width, screenshot=args.out_png,
-                              full_page=args.full_page, executable=executable)
+    result = check_in_browser(
+        args.report_html,
+        width=args.width,
+        screenshot=args.out_png,
+        full_page=args.full_page,
+        executable=executable,
+    )
     screen = result["views"]["screen"]
-    print(f"{args.out_png}: {len(screen['images'])} images, {len(screen['tables'])} tables, "
-          f"Chromium {result['browser_version']}, {result['seconds']:.1f} s")
+    print(
+        f"{args.out_png}: {len(screen['images'])} images, {len(screen['tables'])} tables, "
+        f"Chromium {result['browser_version']}, {result['seconds']:.1f} s"
+    )
     for problem in result["problems"]:
         print(f"problem: {problem}", file=sys.stderr)
     return 1 if result["problems"] else 0

@@ -53,10 +53,18 @@ def measure(path: str) -> dict[str, Any]:
     x = ds["signal"].sel(channel="x").values
     hp = band_power(x, fs)
     on, off = ds["contact_onset_s"].values, ds["contact_end_s"].values
-    during = np.array([np.mean(h[(t >= a) & (t <= b)] ** 2) if np.isfinite(a) else np.nan
-                       for h, a, b in zip(hp, on, off, strict=True)])
-    after = np.array([np.mean(h[(t > b) & (t <= b + 0.2)] ** 2) if np.isfinite(b) else np.nan
-                      for h, b in zip(hp, off, strict=True)])
+    during = np.array(
+        [
+            np.mean(h[(t >= a) & (t <= b)] ** 2) if np.isfinite(a) else np.nan
+            for h, a, b in zip(hp, on, off, strict=True)
+        ]
+    )
+    after = np.array(
+        [
+            np.mean(h[(t > b) & (t <= b + 0.2)] ** 2) if np.isfinite(b) else np.nan
+            for h, b in zip(hp, off, strict=True)
+        ]
+    )
     measures = {
         "peak deflection (V)": ds["peak_deflection_v"].values,
         "contact duration (s)": off - on,
@@ -78,18 +86,22 @@ def measure(path: str) -> dict[str, Any]:
                 groups = [g[np.isfinite(g)] for g in groups]
                 if all(g.size >= 2 for g in groups) and np.ptp(np.concatenate(groups)) > 0:
                     fs_cells.append(scipy.stats.f_oneway(*groups).statistic)
-        print(label.ljust(36) + "".join(f"{q:10.4g}" for q in med)
-              + f"{np.nanmedian(fs_cells):11.2f}")
-        table[KEYS[label]] = {"median": {str(n): float(q) for n, q in zip(names, med, strict=True)},
-                              "median_f": float(np.nanmedian(fs_cells))}
+        print(
+            label.ljust(36) + "".join(f"{q:10.4g}" for q in med) + f"{np.nanmedian(fs_cells):11.2f}"
+        )
+        table[KEYS[label]] = {
+            "median": {str(n): float(q) for n, q in zip(names, med, strict=True)},
+            "median_f": float(np.nanmedian(fs_cells)),
+        }
     return {"n_trials": int(ds.sizes["trial"]), "measures": table}
 
 
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("datasets", nargs="+", help="chapter-5 datasets (.nc)")
-    ap.add_argument("--json", metavar="OUT", default=None,
-                    help="also write a run file (one dataset only)")
+    ap.add_argument(
+        "--json", metavar="OUT", default=None, help="also write a run file (one dataset only)"
+    )
     args = ap.parse_args(argv)
     if args.json and len(args.datasets) != 1:
         ap.error("--json takes exactly one dataset")
@@ -97,7 +109,8 @@ def main(argv: list[str] | None = None) -> None:
         values = measure(p)
     if args.json:
         cmd = ".venv/bin/python scripts/texture_information.py " + " ".join(
-            shlex.quote(a) for a in (argv if argv is not None else sys.argv[1:]))
+            shlex.quote(a) for a in (argv if argv is not None else sys.argv[1:])
+        )
         write_run(args.json, {"meta": run_meta(cmd, args.datasets[0]), **values})
 
 

@@ -144,8 +144,15 @@ def _local(url: str) -> bool:
     return url.startswith(("data:", "file:"))
 
 
-def _view(browser: Any, url: str, width: int, media: str, log: dict[str, list[str]],
-          screenshot: Path | None = None, full_page: bool = True) -> dict[str, Any]:
+def _view(
+    browser: Any,
+    url: str,
+    width: int,
+    media: str,
+    log: dict[str, list[str]],
+    screenshot: Path | None = None,
+    full_page: bool = True,
+) -> dict[str, Any]:
     """Load ``url`` at ``width`` CSS px under ``media`` and measure it."""
     context = browser.new_context(
         viewport={"width": width, "height": 900}, device_scale_factor=1, offline=True
@@ -153,11 +160,23 @@ def _view(browser: Any, url: str, width: int, media: str, log: dict[str, list[st
     try:
         page = context.new_page()
         label = f"{media}@{width}px"
-        page.on("console", lambda msg: log["console_errors"].append(
-            f"{label}: {msg.text}") if msg.type == "error" else None)
+        page.on(
+            "console",
+            lambda msg: (
+                log["console_errors"].append(f"{label}: {msg.text}")
+                if msg.type == "error"
+                else None
+            ),
+        )
         page.on("pageerror", lambda exc: log["page_errors"].append(f"{label}: {exc}"))
-        page.on("requestfailed", lambda req: log["failed_requests"].append(
-            f"{label}: {req.url[:80]} ({req.failure})") if _local(req.url) else None)
+        page.on(
+            "requestfailed",
+            lambda req: (
+                log["failed_requests"].append(f"{label}: {req.url[:80]} ({req.failure})")
+                if _local(req.url)
+                else None
+            ),
+        )
 
         def route(r: Any) -> None:
             if _local(r.request.url):
@@ -170,8 +189,11 @@ def _view(browser: Any, url: str, width: int, media: str, log: dict[str, list[st
         page.emulate_media(media=media)
         page.goto(url, wait_until="load")
         view = page.evaluate(_MEASURE_JS)
-        view.update(width=width, media=media,
-                    horizontal_overflow=view["scroll_width"] > view["viewport_width"])
+        view.update(
+            width=width,
+            media=media,
+            horizontal_overflow=view["scroll_width"] > view["viewport_width"],
+        )
         if screenshot is not None:
             screenshot.parent.mkdir(parents=True, exist_ok=True)
             page.screenshot(path=str(screenshot), full_page=full_page)
@@ -258,15 +280,23 @@ def check_in_browser(
     start = time.perf_counter()
     url = Path(html_path).resolve().as_uri()
     log: dict[str, list[str]] = {
-        "console_errors": [], "page_errors": [], "failed_requests": [], "blocked_requests": [],
+        "console_errors": [],
+        "page_errors": [],
+        "failed_requests": [],
+        "blocked_requests": [],
     }
     views: dict[str, dict[str, Any]] = {}
     with sync_playwright() as playwright:
         browser = launch_chromium(playwright, executable)
         try:
             views["screen"] = _view(
-                browser, url, width, "screen", log,
-                screenshot=None if screenshot is None else Path(screenshot), full_page=full_page,
+                browser,
+                url,
+                width,
+                "screen",
+                log,
+                screenshot=None if screenshot is None else Path(screenshot),
+                full_page=full_page,
             )
             if phone_width is not None:
                 views["phone"] = _view(browser, url, phone_width, "screen", log)

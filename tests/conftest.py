@@ -63,8 +63,15 @@ def quick_runs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, tuple[Path
         with locked(root / f"{name}.lock", wait) as held:
             done = root / f"{name}.done"  # written once the run has finished
             if held and not done.exists():
-                run_experiment(name, root / name / "out", quick=True, seed=0, workers=1,
-                               command=f"pytest quick {name}", **QUICK_OPTIONS.get(name, {}))
+                run_experiment(
+                    name,
+                    root / name / "out",
+                    quick=True,
+                    seed=0,
+                    workers=1,
+                    command=f"pytest quick {name}",
+                    **QUICK_OPTIONS.get(name, {}),
+                )
                 done.touch()
             return held
 

@@ -102,8 +102,11 @@ def layer_violations(modules: dict[str, ast.Module]) -> list[str]:
                 bad.append(f"{mod}:{line} -> {target} (simulator)")
             if role in RECORDING_ROLES and layers & SIMULATOR:
                 bad.append(f"{mod}:{line} -> {target} (simulator, from a {role} module)")
-            if own not in TOP and layers & TOP and not (role == "experiment"
-                                                        and layers & TOP == {"reproduce"}):
+            if (
+                own not in TOP
+                and layers & TOP
+                and not (role == "experiment" and layers & TOP == {"reproduce"})
+            ):
                 bad.append(f"{mod}:{line} -> {target} (orchestration/CLI)")
             if own == "reproduce" and "cli" in layers:
                 bad.append(f"{mod}:{line} -> {target} (CLI)")
@@ -128,8 +131,11 @@ class _DropTypeCheckingBlocks(ast.NodeTransformer):
 
     def visit_If(self, node: ast.If) -> ast.AST | None:
         test = node.test
-        name = test.id if isinstance(test, ast.Name) else (
-            test.attr if isinstance(test, ast.Attribute) else None)
+        name = (
+            test.id
+            if isinstance(test, ast.Name)
+            else (test.attr if isinstance(test, ast.Attribute) else None)
+        )
         return None if name == "TYPE_CHECKING" else self.generic_visit(node)
 
 
@@ -182,8 +188,13 @@ def numba_outside_kernels(modules: dict[str, ast.Module]) -> list[str]:
         if mod.rpartition(".")[2] == "_kernels":
             continue
         for node in ast.walk(tree):
-            names = ([a.name for a in node.names] if isinstance(node, ast.Import)
-                     else [node.module or ""] if isinstance(node, ast.ImportFrom) else [])
+            names = (
+                [a.name for a in node.names]
+                if isinstance(node, ast.Import)
+                else [node.module or ""]
+                if isinstance(node, ast.ImportFrom)
+                else []
+            )
             if any(n == "numba" or n.startswith("numba.") for n in names):
                 bad.append(f"{mod}:{node.lineno}")
     return bad
@@ -198,8 +209,9 @@ def private_violations(modules: dict[str, ast.Module]) -> list[str]:
             for n in names:
                 full = f"{target}.{n}"
                 if not _private(n):
-                    if (SRC.parent / full.replace(".", "/")).with_suffix(".py").exists() or \
-                            _is_package(full):
+                    if (SRC.parent / full.replace(".", "/")).with_suffix(
+                        ".py"
+                    ).exists() or _is_package(full):
                         aliases[n] = full
                     continue
                 # a private submodule imported by the package that owns it is allowed
@@ -212,8 +224,12 @@ def private_violations(modules: dict[str, ast.Module]) -> list[str]:
                     continue
                 bad.append(f"{mod}:{line} {full}")
         for node in ast.walk(tree):
-            if (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)
-                    and node.value.id in aliases and _private(node.attr)):
+            if (
+                isinstance(node, ast.Attribute)
+                and isinstance(node.value, ast.Name)
+                and node.value.id in aliases
+                and _private(node.attr)
+            ):
                 bad.append(f"{mod}:{node.lineno} {aliases[node.value.id]}.{node.attr}")
     return bad
 
@@ -247,19 +263,23 @@ def test_cycle_check_catches_a_planted_cycle() -> None:
     mods = {
         "vibrissa.evaluate.planted_a": ast.parse("from vibrissa.evaluate import planted_b\n"),
         "vibrissa.evaluate.planted_b": ast.parse(
-            "def f():\n    from vibrissa.evaluate.planted_a import x\n"),
+            "def f():\n    from vibrissa.evaluate.planted_a import x\n"
+        ),
         "vibrissa.evaluate": ast.parse(""),
     }
     assert import_cycles(mods) == [["vibrissa.evaluate.planted_a", "vibrissa.evaluate.planted_b"]]
     mods["vibrissa.evaluate.planted_b"] = ast.parse(
         "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n"
-        "    from vibrissa.evaluate.planted_a import x\n")
+        "    from vibrissa.evaluate.planted_a import x\n"
+    )
     assert import_cycles(mods) == []
 
 
 def test_numba_check_catches_a_planted_import() -> None:
-    mods = {"vibrissa.signal._planted": ast.parse("import numba\n"),
-            "vibrissa.signal._kernels": ast.parse("from numba import njit\n")}
+    mods = {
+        "vibrissa.signal._planted": ast.parse("import numba\n"),
+        "vibrissa.signal._kernels": ast.parse("from numba import njit\n"),
+    }
     assert numba_outside_kernels(mods) == ["vibrissa.signal._planted:1"]
 
 
@@ -287,8 +307,10 @@ def test_role_rule_catches_violations(module: str, source: str) -> None:
     ("module", "source"),
     [
         ("vibrissa.thesis.planted.protocol", "from vibrissa.robots import whisking\n"),
-        ("vibrissa.thesis.planted.experiment",
-         "from vibrissa.reproduce.registry import register\n"),
+        (
+            "vibrissa.thesis.planted.experiment",
+            "from vibrissa.reproduce.registry import register\n",
+        ),
         ("vibrissa.thesis.planted.report", "from vibrissa.thesis.planted.values import X\n"),
         ("vibrissa.cli.planted", "from vibrissa.thesis.planted import viewer\n"),
     ],
@@ -340,7 +362,11 @@ def test_every_import_resolves() -> None:
 
 
 def test_unresolved_import_check_catches_a_planted_one() -> None:
-    mods = {"vibrissa.evaluate.planted": ast.parse(
-        "def f():\n    from vibrissa.evaluate.metrics import no_such_name\n")}
-    assert unresolved_imports(mods) == ["vibrissa.evaluate.planted:2 "
-                                        "vibrissa.evaluate.metrics.no_such_name"]
+    mods = {
+        "vibrissa.evaluate.planted": ast.parse(
+            "def f():\n    from vibrissa.evaluate.metrics import no_such_name\n"
+        )
+    }
+    assert unresolved_imports(mods) == [
+        "vibrissa.evaluate.planted:2 vibrissa.evaluate.metrics.no_such_name"
+    ]

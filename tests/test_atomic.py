@@ -50,13 +50,16 @@ def test_replacing_a_directory_names_it_once(tmp_path):
     assert info.value.filename == str(tmp_path / "d") and info.value.filename2 is None
 
 
-@pytest.mark.parametrize(("make", "path", "directory", "message"), [
-    (lambda p: (p / "d").mkdir(), "d", False, "d is a directory, not a file"),
-    (lambda p: (p / "f").write_text("x"), "f", True, "f is a file, not a directory"),
-    (lambda p: (p / "f").write_text("x"), "f/sub/x.nc", False, "f is a file, not a directory"),
-    (lambda p: None, "/proc/x.nc", False, "no file can be created in /proc"),
-    (lambda p: os.mkfifo(p / "pipe"), "pipe", False, "pipe is not a regular file"),
-])
+@pytest.mark.parametrize(
+    ("make", "path", "directory", "message"),
+    [
+        (lambda p: (p / "d").mkdir(), "d", False, "d is a directory, not a file"),
+        (lambda p: (p / "f").write_text("x"), "f", True, "f is a file, not a directory"),
+        (lambda p: (p / "f").write_text("x"), "f/sub/x.nc", False, "f is a file, not a directory"),
+        (lambda p: None, "/proc/x.nc", False, "no file can be created in /proc"),
+        (lambda p: os.mkfifo(p / "pipe"), "pipe", False, "pipe is not a regular file"),
+    ],
+)
 def test_check_writable_refuses_and_creates_nothing(tmp_path, make, path, directory, message):
     make(tmp_path)
     before = sorted(tmp_path.rglob("*"))

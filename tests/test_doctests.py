@@ -29,14 +29,21 @@ def modules_with_examples() -> list[str]:
 
 
 def test_the_examples_are_found():
-    assert {"vibrissa.examples", "vibrissa.experiments.protocols",
-            "vibrissa.data.importers"} <= set(modules_with_examples())
+    assert {
+        "vibrissa.examples",
+        "vibrissa.experiments.protocols",
+        "vibrissa.data.importers",
+    } <= set(modules_with_examples())
 
 
 @pytest.mark.parametrize("name", modules_with_examples())
 def test_docstring_examples(name: str):
     module = importlib.import_module(name)
-    result = doctest.testmod(module, optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE,
-                             verbose=False, report=False)
+    result = doctest.testmod(
+        module,
+        optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE,
+        verbose=False,
+        report=False,
+    )
     assert result.attempted > 0, f"{name}: no example found"
     assert result.failed == 0, f"{name}: {result.failed} of {result.attempted} examples failed"

@@ -46,8 +46,9 @@ def check_writable(path: str | os.PathLike[str], *, directory: bool = False) -> 
     if p.exists() and not directory and not p.is_file():
         # a device, pipe or socket: the atomic rename would replace it by a plain file
         raise ValueError(f"{p} is not a regular file (a device, pipe or socket)")
-    parent = next((a for a in ((p,) if directory else ()) + tuple(p.parents) if a.exists()),
-                  Path.cwd())
+    parent = next(
+        (a for a in ((p,) if directory else ()) + tuple(p.parents) if a.exists()), Path.cwd()
+    )
     if not parent.is_dir():
         raise ValueError(f"cannot write {p}: {parent} is a file, not a directory")
     try:
@@ -85,8 +86,7 @@ def atomic_path(path: str | os.PathLike[str], suffix: str | None = None) -> Iter
         for parent in target.parents:  # a file where a directory is needed
             if parent.exists():
                 if not parent.is_dir():
-                    raise NotADirectoryError(errno.ENOTDIR, os.strerror(errno.ENOTDIR),
-                                             str(parent))
+                    raise NotADirectoryError(errno.ENOTDIR, os.strerror(errno.ENOTDIR), str(parent))
                 break
         target.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp_name = tempfile.mkstemp(
@@ -109,8 +109,8 @@ def atomic_path(path: str | os.PathLike[str], suffix: str | None = None) -> Iter
             with contextlib.suppress(FileNotFoundError):
                 tmp.unlink()
         if isinstance(exc, OSError) and (
-            exc.filename is None or Path(os.fsdecode(exc.filename)).name.startswith(
-                f".{target.name}.")
+            exc.filename is None
+            or Path(os.fsdecode(exc.filename)).name.startswith(f".{target.name}.")
         ):
             # a full disk or a failed write names the file the user asked for, not the
             # hidden temporary (or nothing, as some writers leave it)

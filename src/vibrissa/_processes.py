@@ -145,8 +145,9 @@ def imap_unordered(
             conn.close()
 
 
-def _hand_out(conn: Connection, proc: multiprocessing.process.BaseProcess, msg: Any,
-              job: int | None) -> None:
+def _hand_out(
+    conn: Connection, proc: multiprocessing.process.BaseProcess, msg: Any, job: int | None
+) -> None:
     """Send ``msg`` (job ``job``, or None: stop) to a worker; one that has died meanwhile
     is reported as such if it was to take a job."""
     try:
@@ -155,11 +156,12 @@ def _hand_out(conn: Connection, proc: multiprocessing.process.BaseProcess, msg: 
         if job is None:  # it was to stop anyway, and all it ran has come back
             return
         proc.join(timeout=1.0)
-        raise WorkerDied(f"worker process {proc.pid} ended with exit code {proc.exitcode} "
-                         f"before it could take job {job}") from None
+        raise WorkerDied(
+            f"worker process {proc.pid} ended with exit code {proc.exitcode} "
+            f"before it could take job {job}"
+        ) from None
 
 
 def _died(proc: multiprocessing.process.BaseProcess, job: int) -> str:
     proc.join(timeout=1.0)
-    return (f"worker process {proc.pid} ended with exit code {proc.exitcode} "
-            f"while it ran job {job}")
+    return f"worker process {proc.pid} ended with exit code {proc.exitcode} while it ran job {job}"

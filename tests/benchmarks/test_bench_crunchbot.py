@@ -7,12 +7,23 @@ import json
 import sys
 
 
-def test_bench_crunchbot_times_the_robot_and_each_mode(tmp_path, monkeypatch,
-                                                       bench_script) -> None:
+def test_bench_crunchbot_times_the_robot_and_each_mode(tmp_path, monkeypatch, bench_script) -> None:
     bench = bench_script("bench_crunchbot")
     out = tmp_path / "crunchbot.json"
-    monkeypatch.setattr(sys, "argv", ["bench_crunchbot.py", "--seconds", "6", "--particles",
-                                      "4", "--quick-training", "--out", str(out)])
+    monkeypatch.setattr(
+        sys,
+        "argv",
+        [
+            "bench_crunchbot.py",
+            "--seconds",
+            "6",
+            "--particles",
+            "4",
+            "--quick-training",
+            "--out",
+            str(out),
+        ],
+    )
     bench.main()
     res = json.loads(out.read_text())
     assert res["n_particles"] == 4 and res["seconds"] >= 6

@@ -46,8 +46,11 @@ def test_reference_is_the_clamped_cantilever_for_a_rigid_follicle():
     rigid = UNIFORM.replace(follicle_stiffness_nm_per_rad=1e9, follicle_inertia_kg_m2=1e-15)
     rho_a = rigid.density_kg_m3 * math.pi * (1e-3) ** 2
     beta_l = np.array([1.875104069, 4.694091133, 7.854757438])
-    analytic = (beta_l**2 / (2 * math.pi * rigid.length_m**2)
-                * math.sqrt(rigid.bending_stiffness_base_nm2 / rho_a))
+    analytic = (
+        beta_l**2
+        / (2 * math.pi * rigid.length_m**2)
+        * math.sqrt(rigid.bending_stiffness_base_nm2 / rho_a)
+    )
     np.testing.assert_allclose(bench_peers.reference_frequencies_hz(rigid), analytic, rtol=1e-6)
 
 
@@ -85,8 +88,9 @@ def test_static_tip_stiffness_matches_beam_theory_for_a_uniform_rod(mujoco):
     g = UNIFORM
     force = 1e-4  # N: about 0.2 mm at the tip, linear
     L, d = g.length_m, g.follicle_depth_mm * 1e-3
-    beam = force * (L**3 / (3 * g.bending_stiffness_base_nm2)
-                    + (L + d) ** 2 / g.follicle_stiffness_nm_per_rad)
+    beam = force * (
+        L**3 / (3 * g.bending_stiffness_base_nm2) + (L + d) ** 2 / g.follicle_stiffness_nm_per_rad
+    )
     deflection = _settled_tip_deflection(mujoco, g, 10, force)
     assert deflection == pytest.approx(beam, rel=0.02)
 
@@ -149,15 +153,30 @@ def test_quick_json_has_the_comparison(mujoco, tmp_path, capsys):
     out = tmp_path / "results" / "peers.json"
     assert bench_peers.main(["--quick", "--json", "--duration-s", "0.2", "--out", str(out)]) == 0
     result = json.loads(capsys.readouterr().out)
-    for key in ("vibrissa_rtf", "mujoco_rtf", "ratio", "mujoco_links", "mujoco_dt_s",
-                "mujoco_first_mode_error_pct", "reference_first_mode_hz", "mujoco_first_mode_hz",
-                "vibrissa_peak_follicle_moment_nm", "mujoco_peak_follicle_moment_nm",
-                "mujoco_peak_moment_error_pct", "mujoco_version", "search", "machine",
-                "mujoco_planar_rtf", "ratio_planar", "mujoco_planar_peak_follicle_moment_nm"):
+    for key in (
+        "vibrissa_rtf",
+        "mujoco_rtf",
+        "ratio",
+        "mujoco_links",
+        "mujoco_dt_s",
+        "mujoco_first_mode_error_pct",
+        "reference_first_mode_hz",
+        "mujoco_first_mode_hz",
+        "vibrissa_peak_follicle_moment_nm",
+        "mujoco_peak_follicle_moment_nm",
+        "mujoco_peak_moment_error_pct",
+        "mujoco_version",
+        "search",
+        "machine",
+        "mujoco_planar_rtf",
+        "ratio_planar",
+        "mujoco_planar_peak_follicle_moment_nm",
+    ):
         assert key in result, key
     assert result["ratio"] == pytest.approx(result["vibrissa_rtf"] / result["mujoco_rtf"])
     assert result["ratio_planar"] == pytest.approx(
-        result["vibrissa_rtf"] / result["mujoco_planar_rtf"])
+        result["vibrissa_rtf"] / result["mujoco_planar_rtf"]
+    )
     assert abs(result["mujoco_planar_peak_moment_error_pct"]) <= bench_peers.MOMENT_TOLERANCE_PCT
     assert abs(result["mujoco_first_mode_error_pct"]) <= bench_peers.FIRST_MODE_TOLERANCE_PCT
     assert abs(result["mujoco_peak_moment_error_pct"]) <= bench_peers.MOMENT_TOLERANCE_PCT
@@ -174,13 +193,16 @@ def test_quick_json_has_the_comparison(mujoco, tmp_path, capsys):
     assert table[-1].startswith(f"| {result['mujoco_links']} |") and "accepted" in table[-1]
 
 
-@pytest.mark.parametrize("argv, name", [
-    (["--repeats", "0"], "--repeats"),
-    (["--repeats", "two"], "--repeats"),
-    (["--duration-s", "nan"], "--duration-s"),
-    (["--duration-s", "0.001"], "--duration-s"),
-    (["--frobnicate"], "--frobnicate"),
-])
+@pytest.mark.parametrize(
+    "argv, name",
+    [
+        (["--repeats", "0"], "--repeats"),
+        (["--repeats", "two"], "--repeats"),
+        (["--duration-s", "nan"], "--duration-s"),
+        (["--duration-s", "0.001"], "--duration-s"),
+        (["--frobnicate"], "--frobnicate"),
+    ],
+)
 def test_bad_arguments_exit_2_in_one_line(argv, name, capsys):
     with pytest.raises(SystemExit) as exc:
         bench_peers.main(argv)

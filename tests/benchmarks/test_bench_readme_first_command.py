@@ -10,7 +10,8 @@ ROOT = Path(__file__).resolve().parents[2]
 
 def _module():
     spec = importlib.util.spec_from_file_location(
-        "bench_readme", ROOT / "benchmarks" / "bench_readme_first_command.py")
+        "bench_readme", ROOT / "benchmarks" / "bench_readme_first_command.py"
+    )
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     return mod

@@ -7,8 +7,7 @@ import json
 import sys
 
 
-def test_every_case_is_counted_or_says_where_it_failed(tmp_path, monkeypatch,
-                                                       bench_script) -> None:
+def test_every_case_is_counted_or_says_where_it_failed(tmp_path, monkeypatch, bench_script) -> None:
     bench = bench_script("profile_plane_contact")
     out = tmp_path / "plane.json"
     monkeypatch.setattr(sys, "argv", ["profile_plane_contact.py", "--out", str(out)])

@@ -22,8 +22,13 @@ from vibrissa.classify import (
 )
 
 FS4, FS5 = 1000.0, 4000.0
-WHISKER = {"length_mm": 185.0, "base_radius_mm": 1.0, "youngs_modulus_gpa": 2.35,
-           "follicle_stiffness_nm_per_rad": 0.1, "hall_gain_v": 12.0}
+WHISKER = {
+    "length_mm": 185.0,
+    "base_radius_mm": 1.0,
+    "youngs_modulus_gpa": 2.35,
+    "follicle_stiffness_nm_per_rad": 0.1,
+    "hall_gain_v": 12.0,
+}
 
 
 def _pulses(fs: float, n_t: int, y: np.ndarray, seed: int) -> np.ndarray:
@@ -46,33 +51,47 @@ def chapter4_data() -> tuple[np.ndarray, np.ndarray]:
 
 def chapter5_data() -> tuple[np.ndarray, np.ndarray]:
     """Chapter-5 trials (800 samples at 4 kHz): angle x speed x texture code, 2 repeats."""
-    y = np.array([[a, v, tex] for _ in range(2) for a in (20.0, 60.0) for v in (20.0, 80.0)
-                  for tex in (0.0, 1.0, 2.0)])
+    y = np.array(
+        [
+            [a, v, tex]
+            for _ in range(2)
+            for a in (20.0, 60.0)
+            for v in (20.0, 80.0)
+            for tex in (0.0, 1.0, 2.0)
+        ]
+    )
     return _pulses(FS5, 800, y, 1), y
 
 
 def _chapter4() -> dict:
     clfs = {f"ch4 {k}": v for k, v in vc.chapter4_classifiers(FS4, WHISKER).items()}
     clfs["ch4 static_beam_fitted"].set_params(classifier__param_grid={"youngs_modulus_gpa": [2.35]})
-    clfs.update({
-        "ch4 TimeTemplateClassifier": vc.TimeTemplateClassifier(),
-        "ch4 FrequencyTemplateClassifier": vc.FrequencyTemplateClassifier(),
-        "ch4 FeatureRegressionClassifier": vc.FeatureRegressionClassifier(),
-        "ch4 StationaryNaiveBayes": vc.StationaryNaiveBayes(),
-        "ch4 StaticBeamClassifier": vc.StaticBeamClassifier(whisker=WHISKER, sample_rate_hz=FS4),
-        "ch4 RecordingWindow": vc.RecordingWindow(),
-    })
+    clfs.update(
+        {
+            "ch4 TimeTemplateClassifier": vc.TimeTemplateClassifier(),
+            "ch4 FrequencyTemplateClassifier": vc.FrequencyTemplateClassifier(),
+            "ch4 FeatureRegressionClassifier": vc.FeatureRegressionClassifier(),
+            "ch4 StationaryNaiveBayes": vc.StationaryNaiveBayes(),
+            "ch4 StaticBeamClassifier": vc.StaticBeamClassifier(
+                whisker=WHISKER, sample_rate_hz=FS4
+            ),
+            "ch4 RecordingWindow": vc.RecordingWindow(),
+        }
+    )
     return clfs
 
 
 def _chapter5() -> dict:
     clfs = {f"ch5 {k}": v for k, v in vc.chapter5_classifiers(FS5, notch_hz=13.0).items()}
     clfs["ch5 minirocket"].set_params(pool=4, n_dilations=3)
-    clfs.update({
-        "ch5 SignalTransform": vc.SignalTransform("lowpass", downsample=4),
-        "ch5 SequentialEvidenceClassifier": vc.SequentialEvidenceClassifier(
-            vc.TimeTemplateClassifier(sample_rate_hz=FS5, cutoff_hz=None)),
-    })
+    clfs.update(
+        {
+            "ch5 SignalTransform": vc.SignalTransform("lowpass", downsample=4),
+            "ch5 SequentialEvidenceClassifier": vc.SequentialEvidenceClassifier(
+                vc.TimeTemplateClassifier(sample_rate_hz=FS5, cutoff_hz=None)
+            ),
+        }
+    )
     return clfs
 
 
@@ -125,37 +144,55 @@ def test_a_pipeline_step_is_named_and_sees_the_downsampled_rate() -> None:
     pipe = vc.chapter5_classifiers(FS5, notch_hz=13.0)["template_lowpass"]
     down = pipe.named_steps["signal"].downsample
     assert sample_rate_fit_params(pipe, FS5) == {
-        "signal__sample_rate_hz": FS5, "template__sample_rate_hz": FS5 / down}
+        "signal__sample_rate_hz": FS5,
+        "template__sample_rate_hz": FS5 / down,
+    }
     pipe.fit(X, y, **sample_rate_fit_params(pipe, FS5))
     assert pipe.named_steps["template"].sample_rate_hz_ == FS5 / down
-    with pytest.raises(ValueError, match="step 'signal': SignalTransform was fitted on data "
-                                         "sampled at 4000 Hz, but these data are sampled at 1000"):
+    with pytest.raises(
+        ValueError,
+        match="step 'signal': SignalTransform was fitted on data "
+        "sampled at 4000 Hz, but these data are sampled at 1000",
+    ):
         check_sample_rate(pipe, 1000.0)
     # a classifier built for the rate before the downsampling is refused
-    wrong = Pipeline([("signal", vc.SignalTransform("lowpass", FS5, downsample=20)),
-                      ("template", vc.TimeTemplateClassifier(sample_rate_hz=FS5))])
-    with pytest.raises(ValueError, match="step 'template': TimeTemplateClassifier is built for "
-                                         "sample_rate_hz=4000 Hz, but the data are sampled at "
-                                         "200 Hz"):
+    wrong = Pipeline(
+        [
+            ("signal", vc.SignalTransform("lowpass", FS5, downsample=20)),
+            ("template", vc.TimeTemplateClassifier(sample_rate_hz=FS5)),
+        ]
+    )
+    with pytest.raises(
+        ValueError,
+        match="step 'template': TimeTemplateClassifier is built for "
+        "sample_rate_hz=4000 Hz, but the data are sampled at "
+        "200 Hz",
+    ):
         check_sample_rate(wrong, FS5)
 
 
 def test_composite_refuses_parts_built_for_another_rate() -> None:
     X, y = chapter5_data()
     sf = vc.SpeedFirstClassifier(estimator=vc.StationaryNaiveBayes(sample_rate_hz=FS4))  # 4 kHz
-    with pytest.raises(ValueError, match="SpeedFirstClassifier's estimator: StationaryNaiveBayes "
-                                         "is built for sample_rate_hz=1000 Hz, but the data "
-                                         "are sampled at 4000 Hz"):
+    with pytest.raises(
+        ValueError,
+        match="SpeedFirstClassifier's estimator: StationaryNaiveBayes "
+        "is built for sample_rate_hz=1000 Hz, but the data "
+        "are sampled at 4000 Hz",
+    ):
         sf.fit(X, y)
     lp_1khz = vc.SignalTransform("lowpass", sample_rate_hz=FS4)
     jl = vc.JointLikelihoodNaiveBayes(template_signal=lp_1khz)
-    with pytest.raises(ValueError, match="template_signal: SignalTransform is built for "
-                                         "sample_rate_hz=1000 Hz"):
+    with pytest.raises(
+        ValueError, match="template_signal: SignalTransform is built for sample_rate_hz=1000 Hz"
+    ):
         jl.fit(X, y, sample_rate_hz=FS5)
 
 
-@pytest.mark.parametrize("est", [
-    vc.StaticBeamClassifier(whisker=WHISKER), vc.MiniRocketClassifier(pool=4, n_dilations=3)])
+@pytest.mark.parametrize(
+    "est",
+    [vc.StaticBeamClassifier(whisker=WHISKER), vc.MiniRocketClassifier(pool=4, n_dilations=3)],
+)
 def test_rate_independent_estimators_record_the_rate_they_are_given(est) -> None:
     X, y = chapter4_data()
     assert est.fit(X, y).sample_rate_hz_ is None
@@ -163,8 +200,9 @@ def test_rate_independent_estimators_record_the_rate_they_are_given(est) -> None
     est.fit(X, y, sample_rate_hz=500.0)
     assert est.sample_rate_hz_ == 500.0 and est.sample_rate_hz is None
     np.testing.assert_array_equal(est.predict(X, sample_rate_hz=500.0), est.predict(X))
-    with pytest.raises(ValueError, match="fitted on data sampled at 500 Hz, but these data are "
-                                         "sampled at 1000 Hz"):
+    with pytest.raises(
+        ValueError, match="fitted on data sampled at 500 Hz, but these data are sampled at 1000 Hz"
+    ):
         est.predict(X, sample_rate_hz=1000.0)
 
 
@@ -175,27 +213,41 @@ def test_sequential_records_the_rate_of_its_estimator() -> None:
     assert seq.sample_rate_hz_ == FS5
     seqs = np.arange(len(y))[:, None]
     seq.predict_sequences(X, seqs, sample_rate_hz=FS5)
-    with pytest.raises(ValueError, match="fitted on data sampled at 4000 Hz, but these data are "
-                                         "sampled at 1000 Hz"):
+    with pytest.raises(
+        ValueError, match="fitted on data sampled at 4000 Hz, but these data are sampled at 1000 Hz"
+    ):
         seq.predict_sequences(X, seqs, sample_rate_hz=FS4)
     with pytest.raises(ValueError, match="4000 Hz, but the data are sampled at 1000 Hz"):
         vc.SequentialEvidenceClassifier(vc.TimeTemplateClassifier(sample_rate_hz=FS5)).fit(
-            X, y, sample_rate_hz=FS4)
+            X, y, sample_rate_hz=FS4
+        )
 
 
 # ------------------------------------------------------------------ from_dataset, params
 #: Every public estimator built for a sample rate (found, so that a new one is covered).
-RATED = [c for c in map(vc.__dict__.get, vc.__all__)
-         if isinstance(c, type) and issubclass(c, vc.SampleRateMixin)
-         and "sample_rate_hz" in getattr(c, "_get_param_names", list)()]
+RATED = [
+    c
+    for c in map(vc.__dict__.get, vc.__all__)
+    if isinstance(c, type)
+    and issubclass(c, vc.SampleRateMixin)
+    and "sample_rate_hz" in getattr(c, "_get_param_names", list)()
+]
 
 
 def test_every_rate_aware_estimator_is_covered() -> None:
     assert {c.__name__ for c in RATED} >= {
-        "TimeTemplateClassifier", "FrequencyTemplateClassifier", "FeatureRegressionClassifier",
-        "StationaryNaiveBayes", "StaticBeamClassifier", "RecordingWindow", "SignalTransform",
-        "FeaturePolynomialClassifier", "SpeedFirstClassifier", "JointLikelihoodNaiveBayes",
-        "MiniRocketClassifier"}
+        "TimeTemplateClassifier",
+        "FrequencyTemplateClassifier",
+        "FeatureRegressionClassifier",
+        "StationaryNaiveBayes",
+        "StaticBeamClassifier",
+        "RecordingWindow",
+        "SignalTransform",
+        "FeaturePolynomialClassifier",
+        "SpeedFirstClassifier",
+        "JointLikelihoodNaiveBayes",
+        "MiniRocketClassifier",
+    }
 
 
 def _dataset(rate: float | None) -> xr.Dataset:
@@ -208,8 +260,11 @@ def test_from_dataset_takes_the_dataset_rate(cls) -> None:
     est = cls.from_dataset(ds)
     assert est.sample_rate_hz == 2500.0 == dataset_sample_rate(ds)
     assert cls.from_dataset(ds, sample_rate_hz=2500.0).get_params() == est.get_params()
-    with pytest.raises(ValueError, match=r"sample_rate_hz=1000\.0 differs from the dataset's "
-                                         "rate, 2500 Hz"):
+    with pytest.raises(
+        ValueError,
+        match=r"sample_rate_hz=1000\.0 differs from the dataset's "
+        "rate, 2500 Hz",
+    ):
         cls.from_dataset(ds, sample_rate_hz=1000.0)
     with pytest.raises(ValueError, match="no attribute 'sample_rate_hz'"):
         cls.from_dataset(_dataset(None))

@@ -43,8 +43,9 @@ def make_ch5(reps: int = 2, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
                 for tex in (0, 1, 2):
                     amp = 0.005 * v
                     rise = 0.01 + 0.0005 * a
-                    pulse = np.where(t < 0, np.exp(-0.5 * (t / rise) ** 2),
-                                     np.exp(-0.5 * (t / 0.02) ** 2))
+                    pulse = np.where(
+                        t < 0, np.exp(-0.5 * (t / rise) ** 2), np.exp(-0.5 * (t / 0.02) ** 2)
+                    )
                     vib = 0.02 * amp * np.sin(2 * np.pi * (150 + 150 * tex) * t) * pulse
                     x = 2.5 + amp * pulse + vib
                     X.append(np.stack([x, 2.5 + 0.1 * vib]))
@@ -82,8 +83,12 @@ def test_resonance_from_whisker_json():
 def test_modulation_features_of_known_spectrum():
     n = 4000  # 1 Hz bins at 4 kHz
     t = np.arange(n) / FS
-    x = 2.5 + 0.3 * np.sin(2 * np.pi * 100 * t) + 0.1 * np.sin(2 * np.pi * 3 * t) \
+    x = (
+        2.5
+        + 0.3 * np.sin(2 * np.pi * 100 * t)
+        + 0.1 * np.sin(2 * np.pi * 3 * t)
         + 0.2 * np.sin(2 * np.pi * 1500 * t)
+    )
     X = np.stack([x, x])[None]
     f = chapter5_features(X, FS, notch_hz=None, rest_v=2.5)[0]
     assert f[2] == pytest.approx(100.0)  # f3: the 3 Hz and 1.5 kHz lines are outside the band
@@ -144,8 +149,9 @@ def test_joint_likelihood_equals_brute_force(data):
     (X, y), (Xt, _) = data
     X, y, Xt = X[:, :, :200], y, Xt[:3, :, :200]
     ts = SignalTransform("lowpass", sample_rate_hz=FS, downsample=10)
-    clf = JointLikelihoodNaiveBayes(template_signal=ts, sample_rate_hz=FS,
-                                    template_weight=0.5).fit(X, y)
+    clf = JointLikelihoodNaiveBayes(template_signal=ts, sample_rate_hz=FS, template_weight=0.5).fit(
+        X, y
+    )
     h = clf.histogram_
     from vibrissa import signal as vsig
 
@@ -161,16 +167,19 @@ def test_joint_likelihood_equals_brute_force(data):
                 edges = h.bin_edges_[ch]
                 nb = len(edges) - 1
                 for val in Vt[i, ch]:
-                    b = int(np.clip(np.floor((val - edges[0]) / (edges[-1] - edges[0]) * nb),
-                                    0, nb - 1))
+                    b = int(
+                        np.clip(np.floor((val - edges[0]) / (edges[-1] - edges[0]) * nb), 0, nb - 1)
+                    )
                     ll += h.log_likelihood_[c, ch, b]
             # Gaussian template likelihood with the pooled within-class variance
-            resid = np.concatenate([S[yi == k] - S[yi == k].mean(axis=0)
-                                    for k in range(len(clf.classes_))])
+            resid = np.concatenate(
+                [S[yi == k] - S[yi == k].mean(axis=0) for k in range(len(clf.classes_))]
+            )
             var = (resid**2).sum(axis=(0, 2)) / ((len(S) - len(clf.classes_)) * S.shape[2])
             mean = S[yi == c].mean(axis=0)
-            tl = np.sum(-0.5 * np.log(2 * np.pi * var)[:, None]
-                        - 0.5 * (St[i] - mean) ** 2 / var[:, None])
+            tl = np.sum(
+                -0.5 * np.log(2 * np.pi * var)[:, None] - 0.5 * (St[i] - mean) ** 2 / var[:, None]
+            )
             brute[i, c] = ll + 0.5 * tl
     np.testing.assert_allclose(clf._joint_scores(Xt), brute, rtol=1e-8, atol=1e-6)
 
@@ -183,8 +192,7 @@ def test_sequential_accumulation_improves_accuracy():
     logits = rng.normal(0, 1, (n, k, c))
     logits[np.arange(n), :, truth] += 0.6
     lp = logits - np.log(np.exp(logits).sum(axis=2, keepdims=True))
-    acc = [np.mean(accumulate_evidence(lp[:, :m], threshold=1.0)[0] == truth)
-           for m in (1, 3, 10)]
+    acc = [np.mean(accumulate_evidence(lp[:, :m], threshold=1.0)[0] == truth) for m in (1, 3, 10)]
     assert acc[0] < acc[1] < acc[2]
     assert acc[2] > 0.8
     d, used, post = accumulate_evidence(lp, threshold=0.9)
@@ -195,7 +203,8 @@ def test_sequential_accumulation_improves_accuracy():
 def test_sequential_classifier_on_trials(data):
     (X, y), (Xt, yt) = data
     seq = SequentialEvidenceClassifier(
-        StationaryNaiveBayes(signal="velocity", sample_rate_hz=FS), threshold=0.999).fit(X, y)
+        StationaryNaiveBayes(signal="velocity", sample_rate_hz=FS), threshold=0.999
+    ).fit(X, y)
     np.testing.assert_array_equal(seq.classes_, [0.0, 1.0, 2.0])
     s = draw_sequences(yt[:, 2], 3, seed=0)
     assert s.shape == (len(yt), 3)
@@ -206,8 +215,17 @@ def test_sequential_classifier_on_trials(data):
     np.testing.assert_array_equal(seq.classes_[np.argmax(p1, axis=1)], seq.predict(Xt))
 
 
-@pytest.mark.parametrize("name", ["template_lowpass", "feature", "combined",
-                                  "joint_likelihood_nb", "minirocket", "naive_bayes_acceleration"])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "template_lowpass",
+        "feature",
+        "combined",
+        "joint_likelihood_nb",
+        "minirocket",
+        "naive_bayes_acceleration",
+    ],
+)
 def test_bad_input_errors(data, name):
     (X, y), _ = data
     est = clone(_estimators()[name])
@@ -251,13 +269,19 @@ def test_minirocket_heads_and_parameters(data):
         # speed (amplitude x4) is easy for random-kernel PPV features
         assert np.mean(pred[:, 1] == yt[:, 1]) >= 0.9, head
         assert type(m.heads_[1]).__name__ == (
-            "LogisticRegression" if head == "logistic" else "RidgeClassifierCV")
+            "LogisticRegression" if head == "logistic" else "RidgeClassifierCV"
+        )
     for col in (2, 1):  # 3 textures (multinomial), 2 speeds (binary)
         m = MiniRocketClassifier(pool=4, n_dilations=3).fit(X, y[:, col])
         np.testing.assert_allclose(
-            m.predict_proba(Xt), m.heads_[0].predict_proba(m.transform(Xt)), atol=1e-6)
-    for bad, match in ((dict(head="svm"), "head"), (dict(C=0.0), "C"),
-                       (dict(C=float("nan")), "C"), (dict(C=True), "C")):
+            m.predict_proba(Xt), m.heads_[0].predict_proba(m.transform(Xt)), atol=1e-6
+        )
+    for bad, match in (
+        (dict(head="svm"), "head"),
+        (dict(C=0.0), "C"),
+        (dict(C=float("nan")), "C"),
+        (dict(C=True), "C"),
+    ):
         with pytest.raises(ValueError, match=match):
             MiniRocketClassifier(pool=4, n_dilations=3, **bad).fit(X, y)
 

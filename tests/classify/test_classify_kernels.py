@@ -37,8 +37,7 @@ class ExhaustiveBeam(StaticBeamClassifier):
     """The static beam with every grid point evaluated by the reference computation."""
 
     def _grid_errors(self, kappa, lengths_mm, moment, r_true):
-        return np.column_stack([self._snapped_errors(kappa, L, moment, r_true)
-                                for L in lengths_mm])
+        return np.column_stack([self._snapped_errors(kappa, L, moment, r_true) for L in lengths_mm])
 
 
 def _beam_trials(whisker, radii, n_rep, seed):
@@ -64,8 +63,14 @@ def test_static_beam_grid_search_equals_exhaustive_search(whisker, integer, n_re
     kw = {"whisker": whisker, "fit_parameters": True}
     fast = StaticBeamClassifier(**kw).fit(X, y)
     slow = ExhaustiveBeam(**kw).fit(X, y)
-    for attr in ("youngs_modulus_gpa_", "base_radius_mm_", "length_mm_", "moment_scale_",
-                 "training_error_mm_", "residual_std_mm_"):
+    for attr in (
+        "youngs_modulus_gpa_",
+        "base_radius_mm_",
+        "length_mm_",
+        "moment_scale_",
+        "training_error_mm_",
+        "residual_std_mm_",
+    ):
         assert getattr(fast, attr) == getattr(slow, attr), attr
     assert np.array_equal(fast.predict(X), slow.predict(X), equal_nan=True)
 
@@ -96,8 +101,9 @@ def test_naive_bayes_counts_equal_the_bincount_of_the_bin_indices() -> None:
     S[0, 0, :3] = [-1e6, 1e6, 3.0]  # far outside, and on the upper edge
     n, c, _ = S.shape
     edges = nb.bin_edges_
-    idx = np.floor((S - edges[:, 0][None, :, None])
-                   / ((edges[:, -1] - edges[:, 0])[None, :, None] / 37)).astype(np.intp)
+    idx = np.floor(
+        (S - edges[:, 0][None, :, None]) / ((edges[:, -1] - edges[:, 0])[None, :, None] / 37)
+    ).astype(np.intp)
     np.clip(idx, 0, 36, out=idx)
     idx += (np.arange(n * c) * 37).reshape(n, c, 1)
     expect = np.bincount(idx.ravel(), minlength=n * c * 37).reshape(n, c * 37)

@@ -25,8 +25,7 @@ WHISKER = {
 # the estimators themselves (the line-up wraps each in a window Pipeline; the thesis
 # presets' Pipelines are tested in test_thesis_presets.py)
 ESTIMATORS = {
-    k: v.steps[-1][1]
-    for k, v in chapter4_classifiers(FS, WHISKER, preset="vibrissa").items()
+    k: v.steps[-1][1] for k, v in chapter4_classifiers(FS, WHISKER, preset="vibrissa").items()
 }
 # one parameter per estimator for GridSearchCV
 GRID = {

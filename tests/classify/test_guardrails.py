@@ -22,13 +22,20 @@ def _trials(seed: int = 0):
     y = np.array([[r, s] for r in (50.0, 100.0) for s in (36.0, 43.2)] * 6)
     t = np.arange(80)
     X = rng.normal(0, 0.05, size=(len(y), 2, 80)) + (y[:, 0] / 50)[:, None, None] * np.sin(
-        t * y[:, 1][:, None, None] / 200)
+        t * y[:, 1][:, None, None] / 200
+    )
     return X, y
 
 
-@pytest.mark.parametrize("est", [
-    TimeTemplateClassifier(), FrequencyTemplateClassifier(),
-    StationaryNaiveBayes(signal="velocity"), MiniRocketClassifier(pool=2)])
+@pytest.mark.parametrize(
+    "est",
+    [
+        TimeTemplateClassifier(),
+        FrequencyTemplateClassifier(),
+        StationaryNaiveBayes(signal="velocity"),
+        MiniRocketClassifier(pool=2),
+    ],
+)
 def test_overflowing_inputs_refused(est) -> None:
     X, y = _trials()
     with pytest.raises(ValueError, match=r"as large as .*e\+300"):
@@ -69,7 +76,9 @@ def test_speed_first_takes_1d_speeds() -> None:
     X, y = _trials()
     m = SpeedFirstClassifier(
         speed_estimator=TimeTemplateClassifier(cutoff_hz=None),
-        estimator=TimeTemplateClassifier(cutoff_hz=None), sample_rate_hz=1000.0).fit(X, y[:, 1])
+        estimator=TimeTemplateClassifier(cutoff_hz=None),
+        sample_rate_hz=1000.0,
+    ).fit(X, y[:, 1])
     assert m.classes_.ndim == 1 and set(m.predict(X)) <= {36.0, 43.2}
 
 

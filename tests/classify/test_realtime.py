@@ -25,8 +25,7 @@ def _windows(rng: np.random.Generator, n: int, sd: float) -> np.ndarray:
 def floor_nb() -> tuple[FloorTextureNB, np.ndarray, np.ndarray]:
     rng = np.random.default_rng(0)
     quiet, rough = _windows(rng, 40, 0.01), _windows(rng, 40, 0.04)
-    nb = FloorTextureNB().fit(np.concatenate([quiet, rough]), ["vinyl"] * 40 + ["carpet"] * 40,
-                              FS)
+    nb = FloorTextureNB().fit(np.concatenate([quiet, rough]), ["vinyl"] * 40 + ["carpet"] * 40, FS)
     test = np.concatenate([_windows(rng, 20, 0.01), _windows(rng, 20, 0.04)])
     return nb, test, np.array(["vinyl"] * 20 + ["carpet"] * 20)
 
@@ -45,8 +44,9 @@ def test_loglik_is_the_estimators_summed_log_likelihood(floor_nb) -> None:
     assert ll.shape == (5, 2) and np.all(ll < 0)
     post = np.exp(ll - ll.max(axis=1, keepdims=True))
     post /= post.sum(axis=1, keepdims=True)
-    np.testing.assert_allclose(post, nb.estimator_.predict_proba(np.moveaxis(test[:5], 2, 1)),
-                               atol=1e-9)
+    np.testing.assert_allclose(
+        post, nb.estimator_.predict_proba(np.moveaxis(test[:5], 2, 1)), atol=1e-9
+    )
 
 
 def test_naive_bayes_bad_input(floor_nb) -> None:
@@ -76,8 +76,10 @@ def test_a_linear_fit_recovers_a_line() -> None:
     assert fit.slope_m_per_v_ == pytest.approx(-0.05, abs=0.004)
     assert fit.residual_std_m_ == pytest.approx(0.002, rel=0.35)
     assert isinstance(fit.predict(0.5), float)
-    np.testing.assert_allclose(fit.predict(np.array([0.2, 1.0])),
-                               fit.intercept_m_ + fit.slope_m_per_v_ * np.array([0.2, 1.0]))
+    np.testing.assert_allclose(
+        fit.predict(np.array([0.2, 1.0])),
+        fit.intercept_m_ + fit.slope_m_per_v_ * np.array([0.2, 1.0]),
+    )
     exact = RadialDistanceLinear().fit(np.array([0.0, 1.0, 2.0]), np.array([1.0, 3.0, 5.0]))
     assert exact.predict(3.0) == pytest.approx(7.0) and exact.residual_std_m_ < 1e-12
 
@@ -106,9 +108,15 @@ def _angle_runs(rng: np.random.Generator, angles: np.ndarray, reps: int, n: int)
     """Smooth 8-channel responses whose shape depends on the angle, plus noise."""
     t = np.arange(n) / FS
     ch = np.arange(8)
-    clean = np.array([2.5 + 0.3 * np.sin(2 * np.pi * (0.5 + ch[None] * 0.1) * t[:, None]
-                                         + 3.0 * a + ch[None]) * np.cos(a + ch[None])
-                      for a in angles])
+    clean = np.array(
+        [
+            2.5
+            + 0.3
+            * np.sin(2 * np.pi * (0.5 + ch[None] * 0.1) * t[:, None] + 3.0 * a + ch[None])
+            * np.cos(a + ch[None])
+            for a in angles
+        ]
+    )
     return np.repeat(clean, reps, axis=0) + rng.normal(0.0, 0.05, (len(angles) * reps, n, 8))
 
 
@@ -141,8 +149,9 @@ def test_template_scores_are_the_mean_squared_error_over_the_recordings_length()
 def test_template_filters_are_causal() -> None:
     """A recording's first m preprocessed samples do not depend on what follows."""
     rng = np.random.default_rng(3)
-    tm = SurfaceAngleTemplates().fit(_angle_runs(rng, np.array([0.3, 0.6]), 2, 1000),
-                                     np.repeat([0.3, 0.6], 2), FS)
+    tm = SurfaceAngleTemplates().fit(
+        _angle_runs(rng, np.array([0.3, 0.6]), 2, 1000), np.repeat([0.3, 0.6], 2), FS
+    )
     rec = rng.normal(2.5, 0.1, (1000, 8))
     np.testing.assert_allclose(tm.preprocess(rec)[:300], tm.preprocess(rec[:300]))
     flat = np.full((50, 8), 2.7)

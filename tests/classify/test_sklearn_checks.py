@@ -93,24 +93,35 @@ def _expected_failures(est) -> dict[str, str]:
     if isinstance(est, SignalTransform):
         return {}
     if isinstance(est, RecordingWindow):
-        reason = ("the window accepts recordings of any length >= n_samples, also another "
-                  "than at fit (shorter ones are refused)")
-        return {"check_transformer_general": reason,
-                "check_n_features_in_after_fitting": reason}
+        reason = (
+            "the window accepts recordings of any length >= n_samples, also another "
+            "than at fit (shorter ones are refused)"
+        )
+        return {"check_transformer_general": reason, "check_n_features_in_after_fitting": reason}
     out = {
         "check_classifiers_regression_target": (
             "physical-unit labels are non-integer floats by design; each value is a class"
         )
     }
-    if isinstance(est, TimeTemplateClassifier | FrequencyTemplateClassifier | StaticBeamClassifier
-                  | SequentialEvidenceClassifier):
+    if isinstance(
+        est,
+        TimeTemplateClassifier
+        | FrequencyTemplateClassifier
+        | StaticBeamClassifier
+        | SequentialEvidenceClassifier,
+    ):
         out["check_classifier_multioutput"] = (
             "predict_proba is over joint classes; static beam returns NaN non-radius columns"
         )
     if isinstance(est, FeaturePolynomialClassifier):
         out["check_classifier_multioutput"] = "one feature group per target column"
-    if isinstance(est, FeatureRegressionClassifier | StaticBeamClassifier | SpeedFirstClassifier
-                  | FeaturePolynomialClassifier):
+    if isinstance(
+        est,
+        FeatureRegressionClassifier
+        | StaticBeamClassifier
+        | SpeedFirstClassifier
+        | FeaturePolynomialClassifier,
+    ):
         out["check_classifiers_classes"] = "regresses numeric labels; string labels rejected"
     return out
 

@@ -24,8 +24,9 @@ def test_naive_bayes_log_likelihood_and_decision_by_hand():
     X = np.array([[0.5, 0.5, 1.5, 2.5], [2.5, 3.5, 3.5, 3.5]])[:, None, :]
     y = np.array([0, 1])
     floor = 1e-3
-    nb = StationaryNaiveBayes(signal="raw", n_bins=4, value_range=(0.0, 4.0),
-                              smoothing_sigma=0.0, likelihood_floor=floor).fit(X, y)
+    nb = StationaryNaiveBayes(
+        signal="raw", n_bins=4, value_range=(0.0, 4.0), smoothing_sigma=0.0, likelihood_floor=floor
+    ).fit(X, y)
     la = np.log([0.5, 0.25, 0.25, floor])
     lb = np.log([floor, floor, 0.25, 0.75])
     assert np.allclose(nb.log_likelihood_[0, 0], la)
@@ -41,9 +42,14 @@ def test_naive_bayes_log_likelihood_and_decision_by_hand():
 def test_naive_bayes_smoothing_sigma_one_truncated_by_hand():
     # one count in bin 2 of 5; Gaussian sigma 1 truncated at 1 bin, renormalised
     X = np.array([[2.5], [0.5]])[:, None, :]
-    nb = StationaryNaiveBayes(signal="raw", n_bins=5, value_range=(0.0, 5.0),
-                              smoothing_sigma=1.0, smoothing_radius_bins=1,
-                              likelihood_floor=1e-12).fit(X, [0, 1])
+    nb = StationaryNaiveBayes(
+        signal="raw",
+        n_bins=5,
+        value_range=(0.0, 5.0),
+        smoothing_sigma=1.0,
+        smoothing_radius_bins=1,
+        likelihood_floor=1e-12,
+    ).fit(X, [0, 1])
     w = np.exp(-0.5)
     expect = np.array([0, w, 1, w, 0]) / (1 + 2 * w)
     got = np.exp(nb.log_likelihood_[0, 0])
@@ -69,8 +75,9 @@ def test_abs_real_two_sided_spectrum_by_hand():
     n = 8
     t = np.arange(n)
     x = 1.0 + np.cos(2 * np.pi * t / n) + np.sin(2 * np.pi * 2 * t / n)
-    f = FrequencyTemplateClassifier(sample_rate_hz=8.0, cutoff_hz=None, spectrum="abs_real",
-                                    one_sided=False, zero_dc=True)
+    f = FrequencyTemplateClassifier(
+        sample_rate_hz=8.0, cutoff_hz=None, spectrum="abs_real", one_sided=False, zero_dc=True
+    )
     spec = f._features(x[None, None, :])[0]
     # DFT: DC 8 (zeroed), cos -> Re 4 at k = 1 and 7, sin -> purely imaginary at k = 2, 6
     expect = np.zeros(n)
@@ -120,6 +127,7 @@ def test_velocity_window_is_filtered_before_it_is_cut():
     X = np.stack([_recording(300)])
     rw = RecordingWindow(signal="velocity").fit(X)
     from vibrissa import signal as vsig
+
     full = vsig.causal_gaussian_velocity(X[:, :1], 1000.0)
     assert np.allclose(rw.transform(X)[0, 0], full[0, 0, 201:951])
 
@@ -185,8 +193,13 @@ def test_thesis_presets_fit_predict_pickle_on_recordings():
     import pickle
 
     rng = np.random.default_rng(0)
-    whisker = {"length_mm": 185.0, "base_radius_mm": 1.0, "youngs_modulus_gpa": 2.35,
-               "follicle_stiffness_nm_per_rad": 0.1, "hall_gain_v": 12.0}
+    whisker = {
+        "length_mm": 185.0,
+        "base_radius_mm": 1.0,
+        "youngs_modulus_gpa": 2.35,
+        "follicle_stiffness_nm_per_rad": 0.1,
+        "hall_gain_v": 12.0,
+    }
     X, y = [], []
     for _rep in range(3):
         for r in (90.0, 130.0, 170.0):

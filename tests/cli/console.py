@@ -29,8 +29,13 @@ def interrupt_once_a_shard_exists(args: list[str], parts: Path, sig: int) -> tup
     (int, str)
         The exit status and standard error (standard output must be empty).
     """
-    proc = subprocess.Popen([console_script(), *args], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, env={**os.environ, "CI": "1"})
+    proc = subprocess.Popen(
+        [console_script(), *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "CI": "1"},
+    )
     deadline = time.monotonic() + 300
     while not any(parts.glob("chunk-*.npz")):
         if proc.poll() is not None or time.monotonic() > deadline:

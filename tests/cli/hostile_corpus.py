@@ -68,7 +68,7 @@ def _hdf5_with_bad_root_attributes(path: Path) -> None:
     clean.unlink()
     for start in range(64, len(data) - 64, 16):
         damaged = bytearray(data)
-        damaged[start:start + 64] = bytes(64)
+        damaged[start : start + 64] = bytes(64)
         path.write_bytes(bytes(damaged))
         try:
             f = h5py.File(path, "r")
@@ -90,13 +90,20 @@ def _small_dataset(path: Path) -> None:
 
     t = np.arange(-20, 40) / 1000.0
     rows = [(r, s) for r in (80.0, 120.0, 160.0) for s in (36.0, 72.0, 108.0)] * 2
-    sig = np.stack([np.stack([2.5 + (100 / r) * np.exp(-0.5 * (t / 0.004) ** 2),
-                              np.full_like(t, 2.5)]) for r, _ in rows])
+    sig = np.stack(
+        [
+            np.stack([2.5 + (100 / r) * np.exp(-0.5 * (t / 0.004) ** 2), np.full_like(t, 2.5)])
+            for r, _ in rows
+        ]
+    )
     ds = xr.Dataset(
         {"signal": (("trial", "channel", "time"), sig, {"units": "V"})},
-        coords={"channel": ["x", "y"], "time": t,
-                "radial_distance_mm": ("trial", [r for r, _ in rows]),
-                "speed_mm_s": ("trial", [s for _, s in rows])},
+        coords={
+            "channel": ["x", "y"],
+            "time": t,
+            "radial_distance_mm": ("trial", [r for r, _ in rows]),
+            "speed_mm_s": ("trial", [s for _, s in rows]),
+        },
         attrs={"sample_rate_hz": 1000.0},
     )
     save_dataset(ds, path)
@@ -138,14 +145,24 @@ FIXTURES: dict[str, Callable[[Path], None]] = {
     "no-classifiers.json": _bytes(json.dumps({"meta": {}}).encode()),
     # CrunchBot arena files (issue 16): an unknown tile texture, overlapping obstacles,
     # the robot starting inside an obstacle
-    "bad-texture.toml": _bytes(b'size_m = 1.0\ntiles = [["vinyl", "velvet"], '
-                               b'["vinyl", "vinyl"]]\nstart = {x_m = 0.3, y_m = 0.3}\n'),
-    "overlap.toml": _bytes(b"size_m = 1.25\nstart = {x_m = 0.2, y_m = 0.2}\n"
-                           b"[[obstacles]]\nx_m = 0.5\ny_m = 0.5\nsize_m = 0.3\n"
-                           b"[[obstacles]]\nx_m = 0.6\ny_m = 0.6\nsize_m = 0.3\n"),
-    "inside.json": _bytes(json.dumps({"size_m": 1.25, "start": {"x_m": 0.6, "y_m": 0.6},
-                                      "obstacles": [{"x_m": 0.5, "y_m": 0.5,
-                                                     "size_m": 0.25}]}).encode()),
+    "bad-texture.toml": _bytes(
+        b'size_m = 1.0\ntiles = [["vinyl", "velvet"], '
+        b'["vinyl", "vinyl"]]\nstart = {x_m = 0.3, y_m = 0.3}\n'
+    ),
+    "overlap.toml": _bytes(
+        b"size_m = 1.25\nstart = {x_m = 0.2, y_m = 0.2}\n"
+        b"[[obstacles]]\nx_m = 0.5\ny_m = 0.5\nsize_m = 0.3\n"
+        b"[[obstacles]]\nx_m = 0.6\ny_m = 0.6\nsize_m = 0.3\n"
+    ),
+    "inside.json": _bytes(
+        json.dumps(
+            {
+                "size_m": 1.25,
+                "start": {"x_m": 0.6, "y_m": 0.6},
+                "obstacles": [{"x_m": 0.5, "y_m": 0.5, "size_m": 0.25}],
+            }
+        ).encode()
+    ),
 }
 
 
@@ -302,8 +319,14 @@ def _cases() -> list[Case]:
     add("plot", "DATASET")
     add("plot missing.nc --out o", "missing.nc")
     add("plot dir --out o", "dir", "dir/")
-    for name in ("empty.nc", "garbage.nc", "hdf5-garbage.nc", "netcdf3-garbage.nc",
-                 "bad-attributes.nc", "file.txt"):
+    for name in (
+        "empty.nc",
+        "garbage.nc",
+        "hdf5-garbage.nc",
+        "netcdf3-garbage.nc",
+        "bad-attributes.nc",
+        "file.txt",
+    ):
         add(f"plot {name} --out o", name, name)
     add("plot ds.nc --out file.txt", "file.txt", "ds.nc", "file.txt")
     add("plot ds.nc --out file.txt/o", "file.txt", "ds.nc", "file.txt")
@@ -328,8 +351,7 @@ def _cases() -> list[Case]:
     add([*rp, "--baseline", "missing.json"], "missing.json")
     add([*rp, "--baseline", "dir"], "dir", "dir/")
     add([*rp, "--baseline", "not-json.json"], "not-json.json", "not-json.json")
-    add([*rp, "--baseline", "no-classifiers.json"], "no-classifiers.json",
-        "no-classifiers.json")
+    add([*rp, "--baseline", "no-classifiers.json"], "no-classifiers.json", "no-classifiers.json")
     # the robots of chapter 6
     ft = ["reproduce", "floor-texture", "--quick", "--out", "r"]
     add([*ft, "--floors", "vinyl,shag"], "--floors")
@@ -366,11 +388,15 @@ def _cases() -> list[Case]:
         add([*cs, "--runs", value], "--runs")
     for value in ("nonsense", "tcp://host", ""):
         add([*cs, "--scheduler", value], "--scheduler")
-    add(["reproduce", "radial-distance", "--quick", "--out", "r", "--scheduler", "x y:1"],
-        "--scheduler")
+    add(
+        ["reproduce", "radial-distance", "--quick", "--out", "r", "--scheduler", "x y:1"],
+        "--scheduler",
+    )
     # scratchbot simulates its conditions on local processes only
-    add(["reproduce", "scratchbot", "--quick", "--out", "r", "--scheduler", "tcp://h:8786"],
-        "--scheduler")
+    add(
+        ["reproduce", "scratchbot", "--quick", "--out", "r", "--scheduler", "tcp://h:8786"],
+        "--scheduler",
+    )
     # identify
     add("identify extra", "extra")
     add("identify --bogus", "--bogus")
@@ -406,21 +432,21 @@ class Outcome:
     def one_line(self) -> bool:
         """Exactly one line, ``error: ...``, naming the option or path."""
         lines = self.lines
-        return (len(lines) == 1 and lines[0].startswith("error:")
-                and self.case.names in lines[0])
+        return len(lines) == 1 and lines[0].startswith("error:") and self.case.names in lines[0]
 
     @property
     def refused_cleanly(self) -> bool:
         """Exit status 2, one line naming the culprit, no traceback, nothing created."""
-        return self.exit_code == 2 and self.one_line and not self.traceback \
-            and not self.new_files
+        return self.exit_code == 2 and self.one_line and not self.traceback and not self.new_files
 
     def problem(self) -> str:
         """What is wrong with the outcome (empty if refused cleanly)."""
         if self.refused_cleanly:
             return ""
-        return (f"vibrissa {self.case.id}: exit {self.exit_code}, files {self.new_files}, "
-                f"stderr {self.stderr!r}")
+        return (
+            f"vibrissa {self.case.id}: exit {self.exit_code}, files {self.new_files}, "
+            f"stderr {self.stderr!r}"
+        )
 
 
 def _files(directory: Path) -> set[str]:
@@ -449,10 +475,20 @@ def run_console(case: Case, directory: Path, executable: str, timeout_s: float =
     before = _files(directory)
     env = {**os.environ, "CI": "1"}
     try:
-        proc = subprocess.run([executable, *case.args], cwd=directory, capture_output=True,
-                              text=True, timeout=timeout_s, env=env)
+        proc = subprocess.run(
+            [executable, *case.args],
+            cwd=directory,
+            capture_output=True,
+            text=True,
+            timeout=timeout_s,
+            env=env,
+        )
     except subprocess.TimeoutExpired as exc:
         err = exc.stderr.decode() if isinstance(exc.stderr, bytes) else (exc.stderr or "")
-        return Outcome(case, -1, err + f"\n(timed out after {timeout_s:g} s)",
-                       sorted(_files(directory) - before))
+        return Outcome(
+            case,
+            -1,
+            err + f"\n(timed out after {timeout_s:g} s)",
+            sorted(_files(directory) - before),
+        )
     return Outcome(case, proc.returncode, proc.stderr, sorted(_files(directory) - before))

@@ -17,9 +17,19 @@ def test_bench_physics_json_short():
     )
     assert res.exit_code == 0, res.output
     d = json.loads(res.stdout)
-    for key in ("real_time_factor", "scenario", "preset", "radial_distance_mm", "speed_mm_s",
-                "dt_s", "n_elements", "wall_seconds", "peak_memory_mb", "peak_memory_method",
-                "n_steps"):
+    for key in (
+        "real_time_factor",
+        "scenario",
+        "preset",
+        "radial_distance_mm",
+        "speed_mm_s",
+        "dt_s",
+        "n_elements",
+        "wall_seconds",
+        "peak_memory_mb",
+        "peak_memory_method",
+        "n_steps",
+    ):
         assert key in d
     assert d["real_time_factor"] > 0
     assert d["preset"] == "xy-robot"
@@ -42,4 +52,3 @@ def test_bench_physics_text_and_bad_dt():
     res = runner.invoke(app, ["bench", "physics", "--repeats", "0", "--duration-s", "0.05"])
     assert res.exit_code == 2
     assert "--repeats" in res.stderr
-

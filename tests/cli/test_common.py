@@ -23,17 +23,26 @@ from vibrissa.whisker.rod import SimulationError
 runner = CliRunner()
 
 
-@pytest.mark.parametrize(("exc", "line"), [
-    (OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), "out.nc"),
-     "out.nc: No space left on device"),
-    (PermissionError(errno.EACCES, os.strerror(errno.EACCES), "/root/x"),
-     "/root/x: Permission denied"),
-    (OSError(errno.EXDEV, os.strerror(errno.EXDEV), "a", None, "b"),
-     "a -> b: Invalid cross-device link"),
-    (FileNotFoundError("dataset file not found: x.nc"), "dataset file not found: x.nc"),
-    (KeyError("no variable 'data'"), "no variable 'data'"),
-    (ValueError("bad\nvalue"), "bad value"),
-])
+@pytest.mark.parametrize(
+    ("exc", "line"),
+    [
+        (
+            OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), "out.nc"),
+            "out.nc: No space left on device",
+        ),
+        (
+            PermissionError(errno.EACCES, os.strerror(errno.EACCES), "/root/x"),
+            "/root/x: Permission denied",
+        ),
+        (
+            OSError(errno.EXDEV, os.strerror(errno.EXDEV), "a", None, "b"),
+            "a -> b: Invalid cross-device link",
+        ),
+        (FileNotFoundError("dataset file not found: x.nc"), "dataset file not found: x.nc"),
+        (KeyError("no variable 'data'"), "no variable 'data'"),
+        (ValueError("bad\nvalue"), "bad value"),
+    ],
+)
 def test_error_message_is_one_line_and_names_the_path(exc, line):
     assert error_message(exc) == line
 
@@ -87,7 +96,8 @@ def test_a_solver_failure_on_the_users_parameters_is_bad_input(capsys):
     assert info.value.exit_code == 2
     assert capsys.readouterr().err == (
         "error: the solver did not converge on these parameters (static solve did not "
-        "converge for --force-n=1000); use a smaller --force-n\n")
+        "converge for --force-n=1000); use a smaller --force-n\n"
+    )
 
 
 def test_solver_limits_names_options_in_other_errors_and_passes_bugs_through(capsys):
@@ -98,10 +108,13 @@ def test_solver_limits_names_options_in_other_errors_and_passes_bugs_through(cap
         _command(ZeroDivisionError("bug"))()
 
 
-@pytest.mark.parametrize(("value", "minimum", "message"), [
-    (0, 1, "--workers: expected a positive integer, got 0"),
-    (-1, 0, "--workers: expected a non-negative integer, got -1"),
-])
+@pytest.mark.parametrize(
+    ("value", "minimum", "message"),
+    [
+        (0, 1, "--workers: expected a positive integer, got 0"),
+        (-1, 0, "--workers: expected a non-negative integer, got -1"),
+    ],
+)
 def test_count_option(value, minimum, message):
     assert count_option("--workers", None) is None
     assert count_option("--workers", 3, minimum) == 3

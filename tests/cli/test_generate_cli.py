@@ -25,21 +25,28 @@ from vibrissa.experiments.protocols import get_protocol
 runner = CliRunner()
 
 
-@pytest.mark.parametrize(("args", "message"), [
-    (["radial-distance", "--textures", "p80"], "--textures does not apply"),
-    (["radial-distance", "--angles", "10,20"], "--angles does not apply"),
-    (["angle-texture", "--radial-distances", "5000"], "--radial-distances does not apply"),
-    (["radial-distance", "--radial-distances", ""], "empty grid"),
-    (["angle-texture", "--textures", ""], "--textures: empty list"),
-    (["radial-distance", "--speeds", "1:2:#100000000"], "more than 10000 values"),
-    (["radial-distance", "--speeds", "50:100:0.0000001"], "more than 10000 values"),
-    (["radial-distance", "--runs", "1000000000"], "assembled in memory"),
-    (["radial-distance", "--speeds", "100,100,100"], "repeats the value"),
-    (["radial-distance", "--quick", "--workers", "0"],
-     "error: --workers: expected a positive integer, got 0"),
-    (["radial-distance", "--quick", "--seed", "-1"],
-     "error: --seed: expected a non-negative integer, got -1"),
-])
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["radial-distance", "--textures", "p80"], "--textures does not apply"),
+        (["radial-distance", "--angles", "10,20"], "--angles does not apply"),
+        (["angle-texture", "--radial-distances", "5000"], "--radial-distances does not apply"),
+        (["radial-distance", "--radial-distances", ""], "empty grid"),
+        (["angle-texture", "--textures", ""], "--textures: empty list"),
+        (["radial-distance", "--speeds", "1:2:#100000000"], "more than 10000 values"),
+        (["radial-distance", "--speeds", "50:100:0.0000001"], "more than 10000 values"),
+        (["radial-distance", "--runs", "1000000000"], "assembled in memory"),
+        (["radial-distance", "--speeds", "100,100,100"], "repeats the value"),
+        (
+            ["radial-distance", "--quick", "--workers", "0"],
+            "error: --workers: expected a positive integer, got 0",
+        ),
+        (
+            ["radial-distance", "--quick", "--seed", "-1"],
+            "error: --seed: expected a non-negative integer, got -1",
+        ),
+    ],
+)
 def test_bad_options_refused_in_one_line_and_nothing_created(tmp_path, args, message):
     out = tmp_path / "x.nc"
     res = runner.invoke(app, ["generate", *args, "--out", str(out)])
@@ -50,8 +57,16 @@ def test_bad_options_refused_in_one_line_and_nothing_created(tmp_path, args, mes
 
 
 # ----------------------------------------------------------------- issue 13, finding 7
-SMALL = ["generate", "radial-distance", "--radial-distances", "100,150", "--speeds", "60,180",
-         "--runs", "1"]
+SMALL = [
+    "generate",
+    "radial-distance",
+    "--radial-distances",
+    "100,150",
+    "--speeds",
+    "60,180",
+    "--runs",
+    "1",
+]
 
 
 @pytest.mark.parametrize("where", ["existing-dir", "a-file/x.nc", "a-fifo", "/proc/x.nc"])
@@ -76,8 +91,11 @@ def test_the_work_is_stated_with_its_time_and_size_before_it_starts(tmp_path):
     res = runner.invoke(app, [*SMALL, "--workers", "1", "--json", "--out", str(out)])
     assert res.exit_code == 0, res.output
     first = res.stderr.splitlines()[0]
-    assert re.fullmatch(rf"radial-distance: 8 trials, about \d+ (s|min|h) on 1 core, "
-                        rf"about [\d.]+ MB -> {re.escape(str(out))}", first), first
+    assert re.fullmatch(
+        rf"radial-distance: 8 trials, about \d+ (s|min|h) on 1 core, "
+        rf"about [\d.]+ MB -> {re.escape(str(out))}",
+        first,
+    ), first
 
 
 GRID = ["--radial-distances", "100,120,140,160", "--speeds", "60,100,140,180", "--runs", "1"]
@@ -85,25 +103,47 @@ GRID = ["--radial-distances", "100,120,140,160", "--speeds", "60,100,140,180", "
 
 @pytest.mark.parametrize(("sig", "status"), [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
 def test_an_interrupted_generation_says_what_it_kept_and_resumes_to_the_same_bytes(
-        tmp_path, sig, status):
+    tmp_path, sig, status
+):
     """The old main stopped silently (SIGTERM killed it, status -15)."""
     out, parts = tmp_path / "x.nc", tmp_path / "x.nc.parts"
-    args = ["generate", "radial-distance", *GRID, "--chunk-size", "1", "--workers", "2",
-            "--out", str(out)]
+    args = [
+        "generate",
+        "radial-distance",
+        *GRID,
+        "--chunk-size",
+        "1",
+        "--workers",
+        "2",
+        "--out",
+        str(out),
+    ]
     code, err = interrupt_once_a_shard_exists(args, parts, sig)
     assert code == status, err
     assert "Traceback" not in err
     last = err.splitlines()[-1]
-    m = re.fullmatch(rf"interrupted: (\d+) of 32 trials kept in {re.escape(str(parts))}/; "
-                     "rerun the same command to resume", last)
+    m = re.fullmatch(
+        rf"interrupted: (\d+) of 32 trials kept in {re.escape(str(parts))}/; "
+        "rerun the same command to resume",
+        last,
+    )
     assert m, err
     assert 1 <= int(m.group(1)) == len(list(parts.glob("chunk-*.npz")))  # chunks of 1 trial
     assert not out.exists()
-    again = subprocess.run([console_script(), *args], capture_output=True, text=True,
-                           timeout=600, env={**os.environ, "CI": "1"})
+    again = subprocess.run(
+        [console_script(), *args],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        env={**os.environ, "CI": "1"},
+    )
     assert again.returncode == 0, again.stderr
-    protocol = get_protocol("radial-distance", radial_distances_mm=(100.0, 120.0, 140.0, 160.0),
-                            speeds_mm_s=(60.0, 100.0, 140.0, 180.0), runs=1)
+    protocol = get_protocol(
+        "radial-distance",
+        radial_distances_mm=(100.0, 120.0, 140.0, 160.0),
+        speeds_mm_s=(60.0, 100.0, 140.0, 180.0),
+        runs=1,
+    )
     ref = generate(protocol, tmp_path / "ref.nc", workers=1)
     assert load_dataset(out)["signal"].values.tobytes() == ref["signal"].values.tobytes()
 
@@ -115,12 +155,12 @@ def without_dask(monkeypatch: pytest.MonkeyPatch) -> None:
         monkeypatch.setitem(sys.modules, name, None)
 
 
-def test_a_scheduler_without_dask_is_refused_in_one_line_before_any_work(tmp_path,
-                                                                          monkeypatch):
+def test_a_scheduler_without_dask_is_refused_in_one_line_before_any_work(tmp_path, monkeypatch):
     without_dask(monkeypatch)
     out = tmp_path / "x.nc"
     res = runner.invoke(app, [*SMALL, "--scheduler", "tcp://127.0.0.1:1", "--out", str(out)])
     assert res.exit_code == 2, res.output
-    assert res.output.strip() == ("error: --scheduler: needs the 'distributed' extra "
-                                  "(pip install 'vibrissa[distributed]')")
+    assert res.output.strip() == (
+        "error: --scheduler: needs the 'distributed' extra (pip install 'vibrissa[distributed]')"
+    )
     assert list(tmp_path.iterdir()) == []

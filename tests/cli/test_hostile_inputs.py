@@ -53,7 +53,8 @@ def test_the_corpus_is_large_and_covers_every_command_and_the_issue():
     assert [cmd for cmd in ISSUE_COMMANDS if cmd not in args] == []
     # the commands of the corpus are the commands of the app
     assert set(COMMANDS) == {c.name for c in app.registered_commands} | {
-        g.name for g in app.registered_groups}
+        g.name for g in app.registered_groups
+    }
 
 
 class SimulationStarted(BaseException):
@@ -70,19 +71,24 @@ def no_simulation(monkeypatch):
 
     # the solvers every simulation goes through: dynamics, and the static solves of
     # pushes, static loads and the Hall sensor's calibration
-    monkeypatch.setattr(importlib.import_module("vibrissa.whisker.simulate"), "run_dynamics",
-                        refuse)
+    monkeypatch.setattr(
+        importlib.import_module("vibrissa.whisker.simulate"), "run_dynamics", refuse
+    )
     monkeypatch.setattr(importlib.import_module("vibrissa.whisker.rod"), "solve_static", refuse)
     # CrunchBot: the simulated robot's run and training, the synthetic robot's run and
     # the particle filter's steps (issue 16)
-    monkeypatch.setattr(importlib.import_module("vibrissa.robots.crunchbot.robot"),
-                        "run_crunchbot", refuse)
-    monkeypatch.setattr(importlib.import_module("vibrissa.robots.crunchbot.training"),
-                        "train_classifiers", refuse)
-    monkeypatch.setattr(importlib.import_module("vibrissa.robots.crunchbot.synthetic"),
-                        "synthetic_log", refuse)
-    monkeypatch.setattr(importlib.import_module("vibrissa.slam.filter").ParticleFilter, "step",
-                        refuse)
+    monkeypatch.setattr(
+        importlib.import_module("vibrissa.robots.crunchbot.robot"), "run_crunchbot", refuse
+    )
+    monkeypatch.setattr(
+        importlib.import_module("vibrissa.robots.crunchbot.training"), "train_classifiers", refuse
+    )
+    monkeypatch.setattr(
+        importlib.import_module("vibrissa.robots.crunchbot.synthetic"), "synthetic_log", refuse
+    )
+    monkeypatch.setattr(
+        importlib.import_module("vibrissa.slam.filter").ParticleFilter, "step", refuse
+    )
 
 
 @pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])
@@ -91,13 +97,17 @@ def test_hostile_input_is_refused_in_one_line_before_any_work(case, tmp_path, no
     assert outcome.refused_cleanly, outcome.problem()
 
 
-@pytest.mark.parametrize("args", [
-    ("generate", "radial-distance", "--out", "x.nc", "--quick", "--workers", "abc"),
-    ("generate", "radial-distance", "--out", "x.nc", "--quick", "--seed", "-1"),
-    ("plot", "bad-attributes.nc", "--out", "o"),
-    ("plot", "ds.nc", "--out", "file.txt"),
-    ("whisker", "static", "--force-n", "1"),
-], ids=lambda a: " ".join(a))
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("generate", "radial-distance", "--out", "x.nc", "--quick", "--workers", "abc"),
+        ("generate", "radial-distance", "--out", "x.nc", "--quick", "--seed", "-1"),
+        ("plot", "bad-attributes.nc", "--out", "o"),
+        ("plot", "ds.nc", "--out", "file.txt"),
+        ("whisker", "static", "--force-n", "1"),
+    ],
+    ids=lambda a: " ".join(a),
+)
 def test_the_console_script_prints_the_same_one_line(args, tmp_path):
     (case,) = [c for c in CASES if c.args == args]
     outcome = run_console(case, tmp_path, console_script())

@@ -20,8 +20,16 @@ def test_identify_json_has_every_observable_with_thesis_value_and_tolerance():
     assert "resonance_hz" in obs and "mi_latency_ms" in obs and "tip_zone_mm" in obs
     for key, o in obs.items():
         assert o["key"] == key
-        for field in ("description", "thesis", "thesis_value", "value", "unit", "tolerance",
-                      "within", "detail"):
+        for field in (
+            "description",
+            "thesis",
+            "thesis_value",
+            "value",
+            "unit",
+            "tolerance",
+            "within",
+            "detail",
+        ):
             assert field in o
     assert d["n_within"] == sum(o["within"] for o in obs.values())
 

@@ -65,8 +65,7 @@ def test_import_data_xy_with_mapping_file(data_xy, tmp_path) -> None:
     mapping.write_text(json.dumps(MAPPING))
     out = tmp_path / "xy.nc"
     before = data_xy.read_bytes()
-    res = runner.invoke(app, ["import", str(data_xy), "--mapping", str(mapping),
-                              "--out", str(out)])
+    res = runner.invoke(app, ["import", str(data_xy), "--mapping", str(mapping), "--out", str(out)])
     assert res.exit_code == 0, res.output
     assert "60 trials x 2 channels (x, y) x 750 samples at 1000 Hz" in res.stdout
     assert "speed_mm_s: 36.0, 43.2, 50.4" in res.stdout
@@ -77,13 +76,32 @@ def test_import_data_xy_with_mapping_file(data_xy, tmp_path) -> None:
 
 def test_import_data_xy_with_flags_only_and_json(data_xy, tmp_path) -> None:
     out = tmp_path / "xy.nc"
-    res = runner.invoke(app, [
-        "import", str(data_xy), "--out", str(out), "--signal", "data",
-        "--axis", "set=1:4", "--axis", "speed_mm_s=36:7.2:50.4",
-        "--axis", "radial_distance_mm=80:84", "--channels", "x,y",
-        "--sample-rate-hz", "1000", "--const", "texture=P80", "--const", "angle_deg=90",
-        "--json",
-    ])
+    res = runner.invoke(
+        app,
+        [
+            "import",
+            str(data_xy),
+            "--out",
+            str(out),
+            "--signal",
+            "data",
+            "--axis",
+            "set=1:4",
+            "--axis",
+            "speed_mm_s=36:7.2:50.4",
+            "--axis",
+            "radial_distance_mm=80:84",
+            "--channels",
+            "x,y",
+            "--sample-rate-hz",
+            "1000",
+            "--const",
+            "texture=P80",
+            "--const",
+            "angle_deg=90",
+            "--json",
+        ],
+    )
     assert res.exit_code == 0, res.output
     summary = json.loads(res.stdout)
     assert summary["n_trials"] == 60 and summary["n_timepoints"] == 750
@@ -100,8 +118,21 @@ def test_flags_override_mapping_file(data_xy, tmp_path) -> None:
     mapping = tmp_path / "xy.json"
     mapping.write_text(json.dumps({**MAPPING, "sample_rate_hz": 4000}))
     out = tmp_path / "xy.nc"
-    res = runner.invoke(app, ["import", str(data_xy), "-m", str(mapping), "-o", str(out),
-                              "--sample-rate-hz", "1000", "--t0-s", "-0.325"])
+    res = runner.invoke(
+        app,
+        [
+            "import",
+            str(data_xy),
+            "-m",
+            str(mapping),
+            "-o",
+            str(out),
+            "--sample-rate-hz",
+            "1000",
+            "--t0-s",
+            "-0.325",
+        ],
+    )
     assert res.exit_code == 0, res.output
     ds = load_dataset(out)
     assert ds.attrs["sample_rate_hz"] == 1000.0
@@ -130,8 +161,17 @@ def test_ragged_crop_flag(tmp_path) -> None:
 @pytest.mark.parametrize(
     ("extra", "message"),
     [
-        (["--axis", "set=1:4", "--axis", "speed_mm_s=36:7.2:216",
-          "--axis", "radial_distance_mm=80:84"], "'speed_mm_s') has 26 values"),
+        (
+            [
+                "--axis",
+                "set=1:4",
+                "--axis",
+                "speed_mm_s=36:7.2:216",
+                "--axis",
+                "radial_distance_mm=80:84",
+            ],
+            "'speed_mm_s') has 26 values",
+        ),
         (["--axis", "set=1:4"], "4 x 3 x 5 cell array but --axis has 1"),
         (["--signal", "dat"], "no variable 'dat'"),
         (["--axis", "=3"], "--axis '=3'"),
@@ -142,8 +182,7 @@ def test_ragged_crop_flag(tmp_path) -> None:
 )
 def test_bad_input_is_one_line_and_exit_2(data_xy, tmp_path, extra, message) -> None:
     out = tmp_path / "x.nc"
-    base = ["import", str(data_xy), "-o", str(out), "--signal", "data",
-            "--sample-rate-hz", "1000"]
+    base = ["import", str(data_xy), "-o", str(out), "--signal", "data", "--sample-rate-hz", "1000"]
     res = runner.invoke(app, [*base, *extra])
     assert res.exit_code == 2, res.output
     assert res.stderr.startswith("error:")
@@ -168,14 +207,32 @@ def test_missing_source_and_unknown_type(tmp_path) -> None:
 def test_output_not_replaced_on_failure_and_not_the_source(data_xy, tmp_path) -> None:
     out = tmp_path / "keep.nc"
     out.write_bytes(b"old contents")
-    res = runner.invoke(app, ["import", str(data_xy), "-o", str(out), "--sample-rate-hz", "1000",
-                              "--signal", "nope"])
+    res = runner.invoke(
+        app,
+        ["import", str(data_xy), "-o", str(out), "--sample-rate-hz", "1000", "--signal", "nope"],
+    )
     assert res.exit_code == 2
     assert out.read_bytes() == b"old contents"
     before = data_xy.read_bytes()
-    res = runner.invoke(app, ["import", str(data_xy), "-o", str(data_xy), "--signal", "data",
-                              "--axis", "a", "--axis", "b", "--axis", "c",
-                              "--sample-rate-hz", "1000"])
+    res = runner.invoke(
+        app,
+        [
+            "import",
+            str(data_xy),
+            "-o",
+            str(data_xy),
+            "--signal",
+            "data",
+            "--axis",
+            "a",
+            "--axis",
+            "b",
+            "--axis",
+            "c",
+            "--sample-rate-hz",
+            "1000",
+        ],
+    )
     assert res.exit_code == 2 and "is the source file" in res.stderr
     assert data_xy.read_bytes() == before
 
@@ -184,7 +241,8 @@ def test_csv_import_via_cli(tmp_path) -> None:
     src = tmp_path / "rec.csv"
     rows = ["trial,time,x,texture"] + [
         f"{tr},{s / 1000:.3f},{tr + s / 10},{'P80' if tr else 'P600'}"
-        for tr in range(2) for s in range(5)
+        for tr in range(2)
+        for s in range(5)
     ]
     src.write_text("\n".join(rows) + "\n")
     out = tmp_path / "rec.nc"
@@ -199,8 +257,17 @@ def test_csv_import_via_cli(tmp_path) -> None:
 def test_help_documents_the_mapping() -> None:
     res = runner.invoke(app, ["import", "--help"])
     assert res.exit_code == 0
-    for word in ("cell_axes", "time_axis", "data_XY.mat", "--crop", "sample_rate_hz", "wide",
-                 "format", "data_XY_small.mat", "exit status 2"):
+    for word in (
+        "cell_axes",
+        "time_axis",
+        "data_XY.mat",
+        "--crop",
+        "sample_rate_hz",
+        "wide",
+        "format",
+        "data_XY_small.mat",
+        "exit status 2",
+    ):
         assert word in res.stdout
 
 
@@ -210,8 +277,16 @@ def test_import_shipped_example_end_to_end(tmp_path) -> None:
     src = example_path(EXAMPLE_RECORDING)
     digest = hashlib.sha256(src.read_bytes()).hexdigest()
     out = tmp_path / "xy_small.nc"
-    args = ["import", str(src), "--mapping", str(example_path(EXAMPLE_MAPPING)),
-            "--out", str(out), "--format", "mat"]
+    args = [
+        "import",
+        str(src),
+        "--mapping",
+        str(example_path(EXAMPLE_MAPPING)),
+        "--out",
+        str(out),
+        "--format",
+        "mat",
+    ]
     res = runner.invoke(app, args)
     assert res.exit_code == 0, res.output
     assert "60 trials x 2 channels (x, y) x 750 samples at 1000 Hz (0.75 s)" in res.stdout
@@ -225,15 +300,21 @@ def test_import_shipped_example_end_to_end(tmp_path) -> None:
         np.testing.assert_array_equal(ds[name].values, ref[name].values)
     cells = scipy.io.loadmat(src)["data"]
     np.testing.assert_array_equal(ds["signal"].values[17], cells[1, 0, 2].T)
-    assert (int(ds["set"][17]), float(ds["speed_mm_s"][17]),
-            float(ds["radial_distance_mm"][17])) == (2, 36.0, 130.0)
+    assert (
+        int(ds["set"][17]),
+        float(ds["speed_mm_s"][17]),
+        float(ds["radial_distance_mm"][17]),
+    ) == (2, 36.0, 130.0)
     assert hashlib.sha256(src.read_bytes()).hexdigest() == digest
     res = runner.invoke(app, [*args, "--json"])
     assert res.exit_code == 0, res.output
     summary = json.loads(res.stdout)
     assert summary["n_trials"] == 60 and summary["n_timepoints"] == 750
     assert {k: v["n_values"] for k, v in summary["labels"].items()} == {
-        "set": 4, "speed_mm_s": 3, "radial_distance_mm": 5}
+        "set": 4,
+        "speed_mm_s": 3,
+        "radial_distance_mm": 5,
+    }
 
 
 def test_existing_dataset_kept_when_import_fails(tmp_path) -> None:

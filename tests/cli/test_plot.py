@@ -21,10 +21,13 @@ def _dataset() -> xr.Dataset:
     sig = np.stack([np.stack([x, np.full_like(t, 2.5)]) for x in pulses])
     return xr.Dataset(
         {"signal": (("trial", "channel", "time"), sig, {"units": "V"})},
-        coords={"channel": ["x", "y"], "time": t,
-                "radial_distance_mm": ("trial", [r[0] for r in rows]),
-                "speed_mm_s": ("trial", [r[1] for r in rows]),
-                "set": ("trial", [r[2] for r in rows])},
+        coords={
+            "channel": ["x", "y"],
+            "time": t,
+            "radial_distance_mm": ("trial", [r[0] for r in rows]),
+            "speed_mm_s": ("trial", [r[1] for r in rows]),
+            "set": ("trial", [r[2] for r in rows]),
+        },
         attrs={"sample_rate_hz": 1000.0, "whisker": "{}"},
     )
 
@@ -56,8 +59,9 @@ def test_plot_all_writes_pngs(nc, tmp_path) -> None:
 
 
 def test_plot_kind_and_channel(nc, tmp_path) -> None:
-    res = runner.invoke(app, ["plot", str(nc), "--out", str(tmp_path), "--kind", "traces",
-                              "--channel", "x"])
+    res = runner.invoke(
+        app, ["plot", str(nc), "--out", str(tmp_path), "--kind", "traces", "--channel", "x"]
+    )
     assert res.exit_code == 0, res.output
     assert [p.rsplit("/", 1)[-1] for p in json.loads(res.stdout)["written"]] == ["traces.png"]
 

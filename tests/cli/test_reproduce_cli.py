@@ -31,15 +31,28 @@ def _run(args: list[str]) -> dict:
 @pytest.fixture(scope="module")
 def angle_texture(tmp_path_factory) -> tuple[Path, dict]:
     out = tmp_path_factory.mktemp("ch5") / "out"
-    return out, _run(["angle-texture", "--quick", "--json", "--no-figures",
-                      "--workers", "1", "--out", str(out)])
+    return out, _run(
+        ["angle-texture", "--quick", "--json", "--no-figures", "--workers", "1", "--out", str(out)]
+    )
 
 
 @pytest.fixture(scope="module")
 def radial_distance(tmp_path_factory) -> tuple[Path, dict]:
     out = tmp_path_factory.mktemp("ch4") / "out"
-    return out, _run(["radial-distance", "--quick", "--json", "--no-figures", "--n-seeds", "1",
-                      "--workers", "1", "--out", str(out)])
+    return out, _run(
+        [
+            "radial-distance",
+            "--quick",
+            "--json",
+            "--no-figures",
+            "--n-seeds",
+            "1",
+            "--workers",
+            "1",
+            "--out",
+            str(out),
+        ]
+    )
 
 
 def test_angle_texture_json_contract(angle_texture):
@@ -67,8 +80,10 @@ def test_angle_texture_reuses_its_dataset(angle_texture):
     assert again["meta"]["dataset"]["reused"] is True
     assert again["meta"]["dataset"]["path"] == first["meta"]["dataset"]["path"]
     # same data, same seed: the deterministic classifiers agree exactly
-    assert again["classifiers"]["template_raw"]["kappa"] == \
-        first["classifiers"]["template_raw"]["kappa"]
+    assert (
+        again["classifiers"]["template_raw"]["kappa"]
+        == first["classifiers"]["template_raw"]["kappa"]
+    )
 
 
 def test_radial_distance_json_contract(radial_distance):
@@ -85,8 +100,20 @@ def test_corrupt_cached_dataset_is_regenerated(radial_distance):
     out, first = radial_distance
     cached = Path(first["meta"]["dataset"]["path"])
     cached.write_bytes(cached.read_bytes()[: cached.stat().st_size // 3])  # truncated
-    again = _run(["radial-distance", "--quick", "--json", "--no-figures", "--n-seeds", "1",
-                  "--workers", "1", "--out", str(out)])
+    again = _run(
+        [
+            "radial-distance",
+            "--quick",
+            "--json",
+            "--no-figures",
+            "--n-seeds",
+            "1",
+            "--workers",
+            "1",
+            "--out",
+            str(out),
+        ]
+    )
     assert again["meta"]["dataset"]["reused"] is False
     # regenerated with the same seed: the same trials, so the same errors
     for key in ("radius_mm", "speed_mm_s"):
@@ -94,10 +121,13 @@ def test_corrupt_cached_dataset_is_regenerated(radial_distance):
 
 
 @pytest.mark.parametrize("command", ["angle-texture", "radial-distance"])
-@pytest.mark.parametrize(("args", "message"), [
-    (["--seed", "-1"], "error: --seed: expected a non-negative integer, got -1"),
-    (["--workers", "0"], "error: --workers: expected a positive integer, got 0"),
-])
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--seed", "-1"], "error: --seed: expected a non-negative integer, got -1"),
+        (["--workers", "0"], "error: --workers: expected a positive integer, got 0"),
+    ],
+)
 def test_bad_arguments_fail_before_any_work(tmp_path, command, args, message):
     out = tmp_path / "out"
     res = runner.invoke(app, ["reproduce", command, "--quick", "--out", str(out), *args])
@@ -116,8 +146,9 @@ def test_out_is_a_file_and_results_survive(tmp_path):
     out = tmp_path / "old"
     out.mkdir()
     (out / "results.json").write_text('{"earlier": true}')
-    res = runner.invoke(app, ["reproduce", "radial-distance", "--quick", "--n-seeds", "0",
-                              "--out", str(out)])
+    res = runner.invoke(
+        app, ["reproduce", "radial-distance", "--quick", "--n-seeds", "0", "--out", str(out)]
+    )
     assert res.exit_code == 2 and "--n-seeds must be an integer >= 1" in res.output
     assert (out / "results.json").read_text() == '{"earlier": true}'
     assert not (out / "data").exists()
@@ -154,12 +185,27 @@ def test_unknown_experiment_is_a_usage_error():
 # ----------------------------------------------------------------- issue 13, finding 7
 def test_a_reused_dataset_is_stated_before_the_evaluation(radial_distance):
     out, first = radial_distance
-    res = runner.invoke(app, ["reproduce", "radial-distance", "--quick", "--json", "--no-figures",
-                              "--n-seeds", "1", "--workers", "1", "--out", str(out)])
+    res = runner.invoke(
+        app,
+        [
+            "reproduce",
+            "radial-distance",
+            "--quick",
+            "--json",
+            "--no-figures",
+            "--n-seeds",
+            "1",
+            "--workers",
+            "1",
+            "--out",
+            str(out),
+        ],
+    )
     assert res.exit_code == 0, res.output
     assert res.stderr.splitlines()[0] == (
         f"radial-distance: 80 trials (quick grid), seed 0, simulated dataset reused from "
-        f"{first['meta']['dataset']['path']}; then the evaluation -> {out}")
+        f"{first['meta']['dataset']['path']}; then the evaluation -> {out}"
+    )
 
 
 def test_an_interrupted_reproduction_says_what_it_kept(tmp_path):
@@ -170,16 +216,34 @@ def test_an_interrupted_reproduction_says_what_it_kept(tmp_path):
     data = dataset_path(get_experiment("radial-distance").protocol(True, 0), out)
     parts = data.with_name(data.name + ".parts")
     code, err = interrupt_once_a_shard_exists(
-        ["reproduce", "radial-distance", "--quick", "--no-figures", "--n-seeds", "1",
-         "--workers", "2", "--out", str(out)], parts, signal.SIGTERM)
+        [
+            "reproduce",
+            "radial-distance",
+            "--quick",
+            "--no-figures",
+            "--n-seeds",
+            "1",
+            "--workers",
+            "2",
+            "--out",
+            str(out),
+        ],
+        parts,
+        signal.SIGTERM,
+    )
     assert code == 143, err
     assert "Traceback" not in err
     lines = err.splitlines()
-    assert re.fullmatch(r"radial-distance: 80 trials \(quick grid\), seed 0, simulating about "
-                        r"\d+ (s|min|h) on 2 cores, about [\d.]+ MB; then the evaluation -> .*",
-                        lines[0]), lines[0]
-    m = re.fullmatch(rf"interrupted: (\d+) of 80 trials kept in {re.escape(str(parts))}/; "
-                     "rerun the same command to resume", lines[-1])
+    assert re.fullmatch(
+        r"radial-distance: 80 trials \(quick grid\), seed 0, simulating about "
+        r"\d+ (s|min|h) on 2 cores, about [\d.]+ MB; then the evaluation -> .*",
+        lines[0],
+    ), lines[0]
+    m = re.fullmatch(
+        rf"interrupted: (\d+) of 80 trials kept in {re.escape(str(parts))}/; "
+        "rerun the same command to resume",
+        lines[-1],
+    )
     assert m, err
     kept = sorted(parts.glob("chunk-*.npz"))
     assert int(m.group(1)) == sum(min(32, 80 - 32 * int(p.stem[6:])) for p in kept) > 0
@@ -187,14 +251,27 @@ def test_an_interrupted_reproduction_says_what_it_kept(tmp_path):
 
 
 @pytest.mark.parametrize("name", ["radial-distance", "crunchbot-slam"])
-def test_a_scheduler_without_dask_is_refused_in_one_line_before_any_work(tmp_path, monkeypatch,
-                                                                          name):
+def test_a_scheduler_without_dask_is_refused_in_one_line_before_any_work(
+    tmp_path, monkeypatch, name
+):
     for module in ("dask", "distributed", "dask.distributed"):  # as in a plain pip install
         monkeypatch.setitem(sys.modules, module, None)
     out = tmp_path / "out"
-    res = runner.invoke(app, ["reproduce", name, "--quick", "--no-figures", "--out", str(out),
-                              "--scheduler", "tcp://127.0.0.1:1"])
+    res = runner.invoke(
+        app,
+        [
+            "reproduce",
+            name,
+            "--quick",
+            "--no-figures",
+            "--out",
+            str(out),
+            "--scheduler",
+            "tcp://127.0.0.1:1",
+        ],
+    )
     assert res.exit_code == 2, res.output
-    assert res.output.strip() == ("error: --scheduler: needs the 'distributed' extra "
-                                  "(pip install 'vibrissa[distributed]')")
+    assert res.output.strip() == (
+        "error: --scheduler: needs the 'distributed' extra (pip install 'vibrissa[distributed]')"
+    )
     assert not (out / "data").exists() and not (out / "results.json").exists()

@@ -18,8 +18,19 @@ CONDITIONS = ["clockwise", "anticlockwise", "spot"]
 @pytest.fixture(scope="module")
 def floor_run(tmp_path_factory) -> tuple[Path, dict]:
     out = tmp_path_factory.mktemp("floor") / "out"
-    res = runner.invoke(app, ["reproduce", "floor-texture", "--quick", "--json",
-                              "--floors", "vinyl,rough-carpet", "--out", str(out)])
+    res = runner.invoke(
+        app,
+        [
+            "reproduce",
+            "floor-texture",
+            "--quick",
+            "--json",
+            "--floors",
+            "vinyl,rough-carpet",
+            "--out",
+            str(out),
+        ],
+    )
     assert res.exit_code == 0, res.output
     return out, json.loads(res.stdout)
 
@@ -47,13 +58,19 @@ def test_floor_texture_json_contract(floor_run):
         assert (out / "figures" / f"{fig}.png").stat().st_size > 1000
 
 
-@pytest.mark.parametrize(("args", "message"), [
-    (["--floors", "vinyl,shag"], "error: --floors: unknown floor texture 'shag'; choose from "
-                                 "rough-carpet, vinyl, smooth-carpet, tarmac"),
-    (["--floors", "vinyl"], "error: --floors needs at least 2 of"),
-    (["--floors", "vinyl,vinyl"], "error: --floors: each name once"),
-    (["--seed", "-1"], "error: --seed: expected a non-negative integer, got -1"),
-])
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (
+            ["--floors", "vinyl,shag"],
+            "error: --floors: unknown floor texture 'shag'; choose from "
+            "rough-carpet, vinyl, smooth-carpet, tarmac",
+        ),
+        (["--floors", "vinyl"], "error: --floors needs at least 2 of"),
+        (["--floors", "vinyl,vinyl"], "error: --floors: each name once"),
+        (["--seed", "-1"], "error: --seed: expected a non-negative integer, got -1"),
+    ],
+)
 def test_bad_input_fails_with_one_line_before_any_simulation(tmp_path, args, message):
     out = tmp_path / "out"
     res = runner.invoke(app, ["reproduce", "floor-texture", "--quick", "--out", str(out), *args])

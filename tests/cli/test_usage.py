@@ -15,24 +15,36 @@ runner = CliRunner()
 GEN = ["generate", "radial-distance", "--out", "x.nc"]
 
 
-@pytest.mark.parametrize(("args", "line"), [
-    ([*GEN, "--workers", "abc"], "error: --workers: expected an integer, got 'abc'"),
-    ([*GEN, "--seed", "-1"], "error: --seed: expected a non-negative integer, got -1"),
-    ([*GEN, "--seed", "1.5"], "error: --seed: expected an integer, got '1.5'"),
-    ([*GEN, "--unknown-flag"], "error: no such option: --unknown-flag"),
-    (["generate"], "error: PROTOCOL: missing; this argument is required"),
-    (["generate", "radial-distance"], "error: --out: missing; this option is required"),
-    (["generate", "radial-distance", "--out"], "error: --out: needs a value"),
-    (["plot", "x.nc", "--out", "o", "--dpi", "5"], "error: --dpi: must be at least 20, got 5"),
-    (["whisker", "info", "--length-mm", "abc"],
-     "error: --length-mm: expected a number, got 'abc'"),
-    (["whisker", "info", "--lenght-mm", "3"],
-     "error: no such option: --lenght-mm (did you mean --length-mm?)"),
-    (["whisker", "info", "--rigid-follicle=3"], "error: --rigid-follicle: does not take a value"),
-    (["reproduce", "radial-distance", "--seed", "x"],
-     "error: --seed: expected an integer, got 'x'"),
-    (["--bogus"], "error: no such option: --bogus"),
-])
+@pytest.mark.parametrize(
+    ("args", "line"),
+    [
+        ([*GEN, "--workers", "abc"], "error: --workers: expected an integer, got 'abc'"),
+        ([*GEN, "--seed", "-1"], "error: --seed: expected a non-negative integer, got -1"),
+        ([*GEN, "--seed", "1.5"], "error: --seed: expected an integer, got '1.5'"),
+        ([*GEN, "--unknown-flag"], "error: no such option: --unknown-flag"),
+        (["generate"], "error: PROTOCOL: missing; this argument is required"),
+        (["generate", "radial-distance"], "error: --out: missing; this option is required"),
+        (["generate", "radial-distance", "--out"], "error: --out: needs a value"),
+        (["plot", "x.nc", "--out", "o", "--dpi", "5"], "error: --dpi: must be at least 20, got 5"),
+        (
+            ["whisker", "info", "--length-mm", "abc"],
+            "error: --length-mm: expected a number, got 'abc'",
+        ),
+        (
+            ["whisker", "info", "--lenght-mm", "3"],
+            "error: no such option: --lenght-mm (did you mean --length-mm?)",
+        ),
+        (
+            ["whisker", "info", "--rigid-follicle=3"],
+            "error: --rigid-follicle: does not take a value",
+        ),
+        (
+            ["reproduce", "radial-distance", "--seed", "x"],
+            "error: --seed: expected an integer, got 'x'",
+        ),
+        (["--bogus"], "error: no such option: --bogus"),
+    ],
+)
 def test_usage_errors_are_one_line_naming_the_option(args, line, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     res = runner.invoke(app, args)
@@ -45,12 +57,20 @@ def test_usage_errors_are_one_line_naming_the_option(args, line, tmp_path, monke
 def test_an_unknown_command_lists_the_commands():
     res = runner.invoke(app, ["whisker", "bogus"])
     assert res.exit_code == 2
-    assert res.stderr == ("error: no such command 'bogus' (commands: presets, info, static, "
-                          "push, ring, whisk)\n")
+    assert res.stderr == (
+        "error: no such command 'bogus' (commands: presets, info, static, push, ring, whisk)\n"
+    )
 
 
-@pytest.mark.parametrize("args", [["--help"], ["generate", "--help"], ["whisker", "--help"],
-                                  ["reproduce", "radial-distance", "--help"]])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["--help"],
+        ["generate", "--help"],
+        ["whisker", "--help"],
+        ["reproduce", "radial-distance", "--help"],
+    ],
+)
 def test_help_is_still_the_help(args):
     res = runner.invoke(app, args)
     assert res.exit_code == 0

@@ -24,8 +24,14 @@ def run_json(*args: str) -> dict:
 def test_presets_lists_all_with_parameters():
     items = run_json("presets")
     names = [d["name"] for d in items]
-    for name in ("xy-robot", "scratchbot", "crunchbot", "biotact-g1-80", "biotact-g1-112",
-                 "biotact-g1-158"):
+    for name in (
+        "xy-robot",
+        "scratchbot",
+        "crunchbot",
+        "biotact-g1-80",
+        "biotact-g1-112",
+        "biotact-g1-158",
+    ):
         assert name in names
     keys = set(PRESETS["xy-robot"].to_dict())
     for d in items:
@@ -43,8 +49,15 @@ def test_info_keys_and_values():
     d = run_json("info")
     for key in PRESETS["xy-robot"].to_dict():
         assert key in d
-    for key in ("n_elements", "natural_frequencies_hz", "mass_kg", "hall_gain_v_per_tan",
-                "damping_alpha_per_s", "damping_beta_shaft_s", "damping_beta_follicle_s"):
+    for key in (
+        "n_elements",
+        "natural_frequencies_hz",
+        "mass_kg",
+        "hall_gain_v_per_tan",
+        "damping_alpha_per_s",
+        "damping_beta_shaft_s",
+        "damping_beta_follicle_s",
+    ):
         assert key in d
     assert d["name"] == "xy-robot"
     assert len(d["natural_frequencies_hz"]) == 3
@@ -68,7 +81,10 @@ def test_explicit_options_default_to_xy_robot():
     xy = PRESETS["xy-robot"]
     assert g.tip_radius_mm == 0.5
     assert (g.length_mm, g.base_radius_mm, g.youngs_modulus_gpa) == (
-        xy.length_mm, xy.base_radius_mm, xy.youngs_modulus_gpa)
+        xy.length_mm,
+        xy.base_radius_mm,
+        xy.youngs_modulus_gpa,
+    )
     assert build_geometry("crunchbot") is PRESETS["crunchbot"]
 
 
@@ -78,16 +94,38 @@ def test_info_text():
     assert "natural_frequencies_hz" in res.stdout
 
 
-STATIC_KEYS = {"base_moment_nm", "deflection_mm", "axial_shortening_mm", "base_angle_deg",
-               "hall_x_v", "hall_y_v"}
-PUSH_KEYS = {"base_moment_nm", "base_force_n", "contact_arc_length_mm", "slipped_off",
-             "hall_x_v", "hall_y_v"}
+STATIC_KEYS = {
+    "base_moment_nm",
+    "deflection_mm",
+    "axial_shortening_mm",
+    "base_angle_deg",
+    "hall_x_v",
+    "hall_y_v",
+}
+PUSH_KEYS = {
+    "base_moment_nm",
+    "base_force_n",
+    "contact_arc_length_mm",
+    "slipped_off",
+    "hall_x_v",
+    "hall_y_v",
+}
 
 
 def test_static_uniform_rigid_matches_beam_theory():
     F, L = 1e-4, 185.0
-    d = run_json("static", "--base-radius-mm", "1", "--tip-radius-mm", "1", "--rigid-follicle",
-                 "--force-n", str(F), "--at-mm", str(L))
+    d = run_json(
+        "static",
+        "--base-radius-mm",
+        "1",
+        "--tip-radius-mm",
+        "1",
+        "--rigid-follicle",
+        "--force-n",
+        str(F),
+        "--at-mm",
+        str(L),
+    )
     assert STATIC_KEYS <= set(d)
     E = PRESETS["xy-robot"].youngs_modulus_gpa * 1e9
     EI = E * math.pi * (1e-3) ** 4 / 4
@@ -127,8 +165,7 @@ def test_calibration_push_reads_full_scale():
 
 def test_ring_matches_configuration():
     d = run_json("ring")
-    for key in ("frequency_hz", "damping_ratio", "configured_damping_ratio",
-                "model_frequency_hz"):
+    for key in ("frequency_hz", "damping_ratio", "configured_damping_ratio", "model_frequency_hz"):
         assert key in d
     assert d["configured_damping_ratio"] == PRESETS["xy-robot"].damping_ratio
     assert d["damping_ratio"] == pytest.approx(d["configured_damping_ratio"], rel=0.10)
@@ -183,12 +220,15 @@ def test_help_mentions_units():
     assert "(mm)" in res.stdout
 
 
-@pytest.mark.parametrize(("args", "message"), [
-    (["info", "--length-mm", "1e300"], "--length-mm must lie in [1.0, 2000.0] mm"),
-    (["info", "--length-mm", "1e20"], "--length-mm must lie in [1.0, 2000.0] mm"),
-    (["info", "--damping-ratio", "0.7"], "--damping-ratio must lie in [0.0, 0.5]"),
-    (["ring", "--duration-s", "1e9"], "--duration-s must lie in [0.0, 600.0] s"),
-])
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["info", "--length-mm", "1e300"], "--length-mm must lie in [1.0, 2000.0] mm"),
+        (["info", "--length-mm", "1e20"], "--length-mm must lie in [1.0, 2000.0] mm"),
+        (["info", "--damping-ratio", "0.7"], "--damping-ratio must lie in [0.0, 0.5]"),
+        (["ring", "--duration-s", "1e9"], "--duration-s must lie in [0.0, 600.0] s"),
+    ],
+)
 def test_absurd_whisker_inputs_refused_in_one_line(args, message):
     """Issue 13, findings 3 and 8: tracebacks, 29 TiB allocations, inconsistent bounds."""
     res = CliRunner().invoke(app, ["whisker", *args])
@@ -199,14 +239,32 @@ def test_absurd_whisker_inputs_refused_in_one_line(args, message):
 
 
 # ----------------------------------------------------------------- issue 13, finding 7
-@pytest.mark.parametrize(("args", "option"), [
-    (["static", "--force-n", "1000", "--at-mm", "100"], "--force-n"),
-    (["push", "--at-mm", "150", "--displacement-mm", "200"], "--displacement-mm"),
-    (["push", "--at-mm", "150", "--displacement-mm", "60", "--friction", "1e6"], "--friction"),
-    (["ring", "--youngs-modulus-gpa", "1200", "--density-kg-m3", "1", "--base-radius-mm",
-      "0.001", "--tip-radius-mm", "0.001", "--length-mm", "1", "--tip-deflection-mm", "0.4"],
-     "--dt-ms"),
-])
+@pytest.mark.parametrize(
+    ("args", "option"),
+    [
+        (["static", "--force-n", "1000", "--at-mm", "100"], "--force-n"),
+        (["push", "--at-mm", "150", "--displacement-mm", "200"], "--displacement-mm"),
+        (["push", "--at-mm", "150", "--displacement-mm", "60", "--friction", "1e6"], "--friction"),
+        (
+            [
+                "ring",
+                "--youngs-modulus-gpa",
+                "1200",
+                "--density-kg-m3",
+                "1",
+                "--base-radius-mm",
+                "0.001",
+                "--tip-radius-mm",
+                "0.001",
+                "--length-mm",
+                "1",
+                "--tip-deflection-mm",
+                "0.4",
+            ],
+            "--dt-ms",
+        ),
+    ],
+)
 def test_a_solver_that_does_not_converge_on_the_options_is_bad_input(args, option):
     """The old main exited 1, "simulation failed", as for a bug; the options are to blame."""
     res = runner.invoke(app, ["whisker", *args])
@@ -222,22 +280,56 @@ def test_a_static_load_beyond_the_solvers_reach_says_how_far_it_got():
     assert "did not converge beyond" in res.stderr and "N of --force-n=1000" in res.stderr
 
 
-@pytest.mark.parametrize(("args", "message"), [
-    (["info", "--density-kg-m3", "1e300"],
-     "--density-kg-m3 must lie in [1, 23000] kg/m^3 (aerogel to osmium), got 1e+300"),
-    (["info", "--youngs-modulus-gpa", "1e-300"],
-     "--youngs-modulus-gpa must lie in [0.001, 1200] GPa (soft rubber to diamond)"),
-    (["info", "--base-radius-mm", "1e-300", "--tip-radius-mm", "1e-301"],
-     "--base-radius-mm must lie in [0.001, 500] mm"),
-    (["info", "--youngs-modulus-gpa", "1200", "--density-kg-m3", "1", "--base-radius-mm", "0.5",
-      "--tip-radius-mm", "0.001", "--rigid-follicle"],
-     "is overdamped by the shaft's own material damping"),
-    (["info", "--youngs-modulus-gpa", "0.01", "--base-radius-mm", "0.001", "--tip-radius-mm",
-      "0.001", "--length-mm", "2000"],
-     "calibration push (60 mm at r = 150 mm) does not tilt the follicle"),
-    (["push", "--at-mm", "150", "--displacement-mm", "60", "--pole-radius-mm", "1e6"],
-     "--pole-radius-mm (1e+06) must be smaller than --at-mm (150)"),
-])
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (
+            ["info", "--density-kg-m3", "1e300"],
+            "--density-kg-m3 must lie in [1, 23000] kg/m^3 (aerogel to osmium), got 1e+300",
+        ),
+        (
+            ["info", "--youngs-modulus-gpa", "1e-300"],
+            "--youngs-modulus-gpa must lie in [0.001, 1200] GPa (soft rubber to diamond)",
+        ),
+        (
+            ["info", "--base-radius-mm", "1e-300", "--tip-radius-mm", "1e-301"],
+            "--base-radius-mm must lie in [0.001, 500] mm",
+        ),
+        (
+            [
+                "info",
+                "--youngs-modulus-gpa",
+                "1200",
+                "--density-kg-m3",
+                "1",
+                "--base-radius-mm",
+                "0.5",
+                "--tip-radius-mm",
+                "0.001",
+                "--rigid-follicle",
+            ],
+            "is overdamped by the shaft's own material damping",
+        ),
+        (
+            [
+                "info",
+                "--youngs-modulus-gpa",
+                "0.01",
+                "--base-radius-mm",
+                "0.001",
+                "--tip-radius-mm",
+                "0.001",
+                "--length-mm",
+                "2000",
+            ],
+            "calibration push (60 mm at r = 150 mm) does not tilt the follicle",
+        ),
+        (
+            ["push", "--at-mm", "150", "--displacement-mm", "60", "--pole-radius-mm", "1e6"],
+            "--pole-radius-mm (1e+06) must be smaller than --at-mm (150)",
+        ),
+    ],
+)
 def test_whiskers_outside_physics_are_refused_in_one_line(args, message):
     """The old main gave tracebacks (IndexError, a 7-line overflow warning, LAPACK's
     "leading minor" message) or, for a 1 km pole, a base moment of 0 at 4.75 V."""
@@ -248,19 +340,22 @@ def test_whiskers_outside_physics_are_refused_in_one_line(args, message):
 
 
 # ----------------------------------------------------------------- whisk (issue 15)
-@pytest.mark.parametrize(("args", "needle"), [
-    (["--frequency-hz", "0"], "--frequency-hz must be positive"),
-    (["--frequency-hz", "-4"], "--frequency-hz must be positive"),
-    (["--sigma-z", "-0.7"], "--sigma-z must be non-negative"),
-    (["--tau-z-periods", "-1"], "--tau-z-periods must be positive"),
-    (["--motor-bandwidth-hz", "0"], "--motor-bandwidth-hz must be positive"),
-    (["--pole-at-mm", "100", "--pole-angle-deg", "0"], "inside the whisker's reach at rest"),
-    (["--pole-at-mm", "100", "--pole-angle-deg", "-3"], "inside the whisker's reach at rest"),
-    (["--pole-at-mm", "100", "--retracted-deg", "8"], "inside the whisker's reach at rest"),
-    (["--pole-at-mm", "100", "--pole-angle-deg", "30"], "never reaches the pole"),
-    (["--pole-at-mm", "500"], "--pole-at-mm must lie in"),
-    (["--whisks", "0"], "--whisks"),
-])
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["--frequency-hz", "0"], "--frequency-hz must be positive"),
+        (["--frequency-hz", "-4"], "--frequency-hz must be positive"),
+        (["--sigma-z", "-0.7"], "--sigma-z must be non-negative"),
+        (["--tau-z-periods", "-1"], "--tau-z-periods must be positive"),
+        (["--motor-bandwidth-hz", "0"], "--motor-bandwidth-hz must be positive"),
+        (["--pole-at-mm", "100", "--pole-angle-deg", "0"], "inside the whisker's reach at rest"),
+        (["--pole-at-mm", "100", "--pole-angle-deg", "-3"], "inside the whisker's reach at rest"),
+        (["--pole-at-mm", "100", "--retracted-deg", "8"], "inside the whisker's reach at rest"),
+        (["--pole-at-mm", "100", "--pole-angle-deg", "30"], "never reaches the pole"),
+        (["--pole-at-mm", "500"], "--pole-at-mm must lie in"),
+        (["--whisks", "0"], "--whisks"),
+    ],
+)
 def test_whisk_bad_input_exits_2_in_one_line_before_any_simulation(args, needle, monkeypatch):
     import vibrissa.robots.whisking as whisking
 
@@ -278,11 +373,31 @@ def test_whisk_bad_input_exits_2_in_one_line_before_any_simulation(args, needle,
 def test_whisk_into_a_pole_and_in_air():
     air = run_json("whisk", "--preset", "scratchbot", "--frequency-hz", "2", "--whisks", "2")
     assert air["max_contact_force_n"] == 0.0 and air["whisks_touching"] == 0
-    pole = run_json("whisk", "--preset", "scratchbot", "--frequency-hz", "2", "--whisks", "2",
-                    "--pole-at-mm", "100")
+    pole = run_json(
+        "whisk",
+        "--preset",
+        "scratchbot",
+        "--frequency-hz",
+        "2",
+        "--whisks",
+        "2",
+        "--pole-at-mm",
+        "100",
+    )
     assert pole["whisks_touching"] == 2 and pole["max_contact_force_n"] > 0
     assert pole["peak_deflection_v"] > 5 * air["peak_deflection_v"]
-    rcp = run_json("whisk", "--preset", "scratchbot", "--frequency-hz", "2", "--whisks", "2",
-                   "--pole-at-mm", "100", "--sigma-z", "0.7")
+    rcp = run_json(
+        "whisk",
+        "--preset",
+        "scratchbot",
+        "--frequency-hz",
+        "2",
+        "--whisks",
+        "2",
+        "--pole-at-mm",
+        "100",
+        "--sigma-z",
+        "0.7",
+    )
     assert 0 < rcp["max_gating"] <= 1
     assert rcp["peak_deflection_v"] < pole["peak_deflection_v"]

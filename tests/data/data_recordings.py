@@ -82,8 +82,11 @@ def write_mat73(path: Path, variables: dict[str, object]) -> Path:
             arr2 = np.atleast_2d(arr)
             d = group.create_dataset(name, data=arr2.T)
             d.attrs["MATLAB_class"] = np.bytes_(
-                "logical" if arr.dtype == bool else "double" if arr.dtype.kind == "f" else
-                str(arr.dtype)
+                "logical"
+                if arr.dtype == bool
+                else "double"
+                if arr.dtype.kind == "f"
+                else str(arr.dtype)
             )
             return d
 

@@ -195,13 +195,28 @@ def test_make_dataset_coordinates_carry_units_and_long_name() -> None:
     from vibrissa.data.dataset import coordinate_attrs
 
     ds = make_dataset(
-        np.zeros((2, 2, 4)), sample_rate_hz=1000.0,
-        labels={"radial_distance_mm": [80.0, 90.0], "speed_mm_s": [36.0, 36.0],
-                "angle_deg": [0, 45], "texture": ["p80", "p600"], "set": [1, 2],
-                "depth_um": [1, 2], "pole_offset_mm": [1.0, 2.0], "note_s": ["a", "b"]},
+        np.zeros((2, 2, 4)),
+        sample_rate_hz=1000.0,
+        labels={
+            "radial_distance_mm": [80.0, 90.0],
+            "speed_mm_s": [36.0, 36.0],
+            "angle_deg": [0, 45],
+            "texture": ["p80", "p600"],
+            "set": [1, 2],
+            "depth_um": [1, 2],
+            "pole_offset_mm": [1.0, 2.0],
+            "note_s": ["a", "b"],
+        },
     )
-    want = {"trial": "1", "time": "s", "radial_distance_mm": "mm", "speed_mm_s": "mm/s",
-            "angle_deg": "degree", "set": "1", "pole_offset_mm": "mm"}
+    want = {
+        "trial": "1",
+        "time": "s",
+        "radial_distance_mm": "mm",
+        "speed_mm_s": "mm/s",
+        "angle_deg": "degree",
+        "set": "1",
+        "pole_offset_mm": "mm",
+    }
     for name, units in want.items():
         assert ds[name].attrs["units"] == units, name
     for name in ds.coords:
@@ -209,5 +224,7 @@ def test_make_dataset_coordinates_carry_units_and_long_name() -> None:
     for name in ("channel", "texture", "depth_um", "note_s"):  # text, or a unit not known
         assert "units" not in ds[name].attrs, name
     assert ds["time"].attrs["long_name"] == "time from the alignment point"
-    assert coordinate_attrs("latency_s") == {"long_name": "latency of the robot's response",
-                                             "units": "s"}
+    assert coordinate_attrs("latency_s") == {
+        "long_name": "latency of the robot's response",
+        "units": "s",
+    }

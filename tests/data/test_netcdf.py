@@ -63,8 +63,7 @@ def test_round_trip_is_identical(tmp_path) -> None:
     assert back["direction"].dtype == np.int64
     assert back.attrs["flag"] == 1
     assert back.attrs["whisker"] == ds.attrs["whisker"]
-    assert not {"vibrissa_checksum", "vibrissa_checksum_parts", "vibrissa_schema"} & set(
-        back.attrs)
+    assert not {"vibrissa_checksum", "vibrissa_checksum_parts", "vibrissa_schema"} & set(back.attrs)
     with h5py.File(path) as f:
         assert int(np.asarray(f.attrs["vibrissa_schema"]).item()) == SCHEMA_VERSION == 2
         stored = f.attrs["vibrissa_checksum"]
@@ -97,14 +96,16 @@ def test_checksum_covers_signal_and_labels() -> None:
     assert checksum(ds.assign_attrs(vibrissa_checksum="x", vibrissa_checksum_parts="y")) == c
 
 
-_DTYPES = st.sampled_from(["<f8", ">f8", "<f4", "<i8", ">i4", "|u1", "|b1", "<c16",
-                           "<M8[ns]", "<m8[s]"])
+_DTYPES = st.sampled_from(
+    ["<f8", ">f8", "<f4", "<i8", ">i4", "|u1", "|b1", "<c16", "<M8[ns]", "<m8[s]"]
+)
 
 
 @settings(max_examples=60, deadline=None)
 @given(
-    arr=_DTYPES.flatmap(lambda dt: hnp.arrays(np.dtype(dt), hnp.array_shapes(min_dims=0,
-                                                                             max_side=5))),
+    arr=_DTYPES.flatmap(
+        lambda dt: hnp.arrays(np.dtype(dt), hnp.array_shapes(min_dims=0, max_side=5))
+    ),
     transpose=st.booleans(),
 )
 def test_values_are_hashed_as_their_little_endian_bytes(arr, transpose) -> None:
@@ -115,8 +116,13 @@ def test_values_are_hashed_as_their_little_endian_bytes(arr, transpose) -> None:
     var = xr.DataArray(vals, dims=[f"d{i}" for i in range(vals.ndim)])
     little = vals.dtype.newbyteorder("<") if vals.dtype.byteorder != "|" else vals.dtype
     h = hashlib.sha256()
-    h.update(json.dumps([[f"d{i}" for i in range(vals.ndim)], list(vals.shape)],
-                        sort_keys=True, separators=(",", ":")).encode())
+    h.update(
+        json.dumps(
+            [[f"d{i}" for i in range(vals.ndim)], list(vals.shape)],
+            sort_keys=True,
+            separators=(",", ":"),
+        ).encode()
+    )
     h.update(little.str.encode())
     h.update(np.ascontiguousarray(vals, dtype=little).tobytes())
     assert _values_digest(var) == h.hexdigest()
@@ -172,8 +178,11 @@ def test_checksum_mismatch(tmp_path) -> None:
     # rewrite one value of the signal in place, keeping the old checksum attribute
     with h5py.File(p, "r+") as f:
         f["signal"][2, 0, 10] = f["signal"][2, 0, 10] + 0.5
-    with pytest.raises(DatasetModifiedError, match="modified after it was written by vibrissa "
-                       r"\(checksum mismatch\); differs: data variable 'signal'$") as err:
+    with pytest.raises(
+        DatasetModifiedError,
+        match="modified after it was written by vibrissa "
+        r"\(checksum mismatch\); differs: data variable 'signal'$",
+    ) as err:
         load_dataset(p)
     assert err.value.differs == ("data variable 'signal'",)
     assert "corrupt" not in str(err.value)
@@ -190,7 +199,7 @@ def _flip_bit(text: str, old: str, new: str) -> str:
     i = text.index(old)
     diff = [a ^ b for a, b in zip(old.encode(), new.encode(), strict=True) if a != b]
     assert len(diff) == 1 and bin(diff[0]).count("1") == 1
-    return text[:i] + new + text[i + len(old):]
+    return text[:i] + new + text[i + len(old) :]
 
 
 def _edit_attr(path, name: str, edit) -> None:
@@ -234,14 +243,18 @@ def test_added_removed_and_variable_attributes_are_named(tmp_path) -> None:
     with pytest.raises(DatasetModifiedError) as err:
         load_dataset(p)
     assert set(err.value.differs) == {
-        "attribute 'seed' (removed)", "attribute 'note' (added)",
+        "attribute 'seed' (removed)",
+        "attribute 'note' (added)",
         "attributes of coordinate 'time'",
     }
 
 
 def test_subset_saved_with_plain_xarray_is_not_called_corrupt(tmp_path) -> None:
-    ds = make_dataset(np.random.default_rng(1).normal(size=(100, 2, 30)), sample_rate_hz=1000,
-                      labels={"set": np.arange(100) % 4})
+    ds = make_dataset(
+        np.random.default_rng(1).normal(size=(100, 2, 30)),
+        sample_rate_hz=1000,
+        labels={"set": np.arange(100) % 4},
+    )
     p = save_dataset(ds, tmp_path / "all.nc")
     sub = tmp_path / "sub.nc"
     with xr.open_dataset(p) as f:
@@ -279,15 +292,21 @@ def test_schema_versions(tmp_path) -> None:
     p = save_dataset(ds, tmp_path / "new.nc")
     with h5py.File(p, "r+") as f:
         f.attrs["vibrissa_schema"] = SCHEMA_VERSION + 1
-    with pytest.raises(DatasetSchemaError, match="newer vibrissa \\(file schema 3, this vibrissa "
-                       "reads schema 2 and older\\); upgrade vibrissa") as err:
+    with pytest.raises(
+        DatasetSchemaError,
+        match="newer vibrissa \\(file schema 3, this vibrissa "
+        "reads schema 2 and older\\); upgrade vibrissa",
+    ) as err:
         load_dataset(p)
     assert err.value.schema == SCHEMA_VERSION + 1
     # a file of vibrissa before schema versions: a checksum, no vibrissa_schema
     old = tmp_path / "old.nc"
     ds.assign_attrs(vibrissa_checksum="0" * 64).to_netcdf(old, engine="h5netcdf")
-    with pytest.raises(DatasetSchemaError, match="older vibrissa \\(file schema 1, this vibrissa "
-                       "reads schema 2\\).*re-create the file") as err:
+    with pytest.raises(
+        DatasetSchemaError,
+        match="older vibrissa \\(file schema 1, this vibrissa "
+        "reads schema 2\\).*re-create the file",
+    ) as err:
         load_dataset(old)
     assert err.value.schema == 1 and isinstance(err.value, DatasetFileError)
     with pytest.warns(DatasetIntegrityWarning, match="older vibrissa"):
@@ -335,11 +354,22 @@ def test_error_pickles() -> None:
 # --- property: save -> load gives back exactly what was saved -------------------------
 
 _NAME = st.from_regex(r"[a-z][a-z0-9_]{0,10}", fullmatch=True).filter(
-    lambda s: s not in {"trial", "channel", "time", "signal", "sample_rate_hz",
-                        "vibrissa_version", "vibrissa_schema", "vibrissa_checksum",
-                        "vibrissa_checksum_parts"})
-_TEXT = st.text(st.characters(exclude_categories=("Cs",), exclude_characters="\x00"),
-                max_size=12)
+    lambda s: (
+        s
+        not in {
+            "trial",
+            "channel",
+            "time",
+            "signal",
+            "sample_rate_hz",
+            "vibrissa_version",
+            "vibrissa_schema",
+            "vibrissa_checksum",
+            "vibrissa_checksum_parts",
+        }
+    )
+)
+_TEXT = st.text(st.characters(exclude_categories=("Cs",), exclude_characters="\x00"), max_size=12)
 _FLOAT = st.floats(allow_nan=False, allow_infinity=False)
 _JSONABLE = st.recursive(
     st.none() | st.booleans() | st.integers(-(2**53), 2**53) | _FLOAT | _TEXT,
@@ -364,19 +394,25 @@ def _datasets(draw: st.DrawFn) -> xr.Dataset:
     return make_dataset(
         np.array(signal, dtype=float).reshape(n, c, t),
         sample_rate_hz=draw(st.floats(1e-3, 1e9)),
-        channels=channels, labels=labels, attrs=attrs,
+        channels=channels,
+        labels=labels,
+        attrs=attrs,
     )
 
 
-@settings(max_examples=50, deadline=None,
-          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@settings(
+    max_examples=50,
+    deadline=None,
+    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow],
+)
 @given(ds=_datasets())
 def test_round_trip_property(tmp_path, ds: xr.Dataset) -> None:
     path = save_dataset(ds, tmp_path / "p.nc")
     back = load_dataset(path)
     xr.testing.assert_identical(back, ds)
     assert checksum(back.assign_attrs(vibrissa_schema=SCHEMA_VERSION)) == checksum(
-        ds.assign_attrs(vibrissa_schema=SCHEMA_VERSION))
+        ds.assign_attrs(vibrissa_schema=SCHEMA_VERSION)
+    )
 
 
 # ----------------------------------------------------------------- issue 13, finding 7
@@ -389,7 +425,7 @@ def _unreadable_root_attributes(path) -> None:
     """
     data = path.read_bytes()
     for start in range(0, len(data) - 64, 16):
-        path.write_bytes(data[:start] + bytes(64) + data[start + 64:])
+        path.write_bytes(data[:start] + bytes(64) + data[start + 64 :])
         try:
             f = h5py.File(path, "r")
         except Exception:  # this damage does not keep the file openable
@@ -406,10 +442,13 @@ def test_a_corrupt_header_gives_one_error_and_nothing_else_on_stderr(tmp_path) -
     """The old main printed the right error, then 8 lines of a finaliser's traceback."""
     p = save_dataset(_ds(), tmp_path / "a.nc")
     _unreadable_root_attributes(p)
-    code = ("import sys\nfrom vibrissa.data import DatasetFileError, load_dataset\n"
-            "try:\n    load_dataset(sys.argv[1])\nexcept DatasetFileError as e:\n    print(e)\n")
-    proc = subprocess.run([sys.executable, "-c", code, str(p)], capture_output=True, text=True,
-                          timeout=120)
+    code = (
+        "import sys\nfrom vibrissa.data import DatasetFileError, load_dataset\n"
+        "try:\n    load_dataset(sys.argv[1])\nexcept DatasetFileError as e:\n    print(e)\n"
+    )
+    proc = subprocess.run(
+        [sys.executable, "-c", code, str(p)], capture_output=True, text=True, timeout=120
+    )
     assert proc.returncode == 0
     assert proc.stderr == ""
     assert proc.stdout.startswith(f"{p}: cannot be read as a NetCDF dataset")

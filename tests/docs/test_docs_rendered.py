@@ -78,8 +78,9 @@ def test_missing_run_file_and_meta_are_errors(tmp_path):
         render_docs.render_text("{{ other.a }}", "t.md", runs)
 
 
-@pytest.mark.parametrize("line", ["{{ r.a.b", "r.a.b }}", "{{ r }}", "{{ r.a.b | .2f | x }}",
-                                  "{{ r.a.b + 1 }}"])
+@pytest.mark.parametrize(
+    "line", ["{{ r.a.b", "r.a.b }}", "{{ r }}", "{{ r.a.b | .2f | x }}", "{{ r.a.b + 1 }}"]
+)
 def test_malformed_placeholder_is_an_error(tmp_path, line):
     runs = _runs(tmp_path, {"meta": META, "a": {"b": 1.0}})
     with pytest.raises(render_docs.RenderError, match=r"t\.md:1: malformed placeholder"):
@@ -114,8 +115,14 @@ def test_check_reports_a_hand_edited_doc(tmp_path, monkeypatch, capsys):
 
 NUMBER = re.compile(r"(?<![\w.])(\d+)\.(\d+)(?![\w.]*\d)")
 SECTION = r"[1-7]\.\d(?:\.\d)?(?![\d.])(?!\s*(?:%|[a-zA-Z]))"
-CITES = re.compile(r"thesis|table|figure|(?:\(|\bsections?\s|\beqs?\.\s|\|\s)\s*" + SECTION
-                   + r"|" + SECTION + r"\s*[),;]", re.I)
+CITES = re.compile(
+    r"thesis|table|figure|(?:\(|\bsections?\s|\beqs?\.\s|\|\s)\s*"
+    + SECTION
+    + r"|"
+    + SECTION
+    + r"\s*[),;]",
+    re.I,
+)
 
 
 def significant_decimals(whole: str, frac: str) -> int:
@@ -170,16 +177,14 @@ def test_guard_catches_typed_numbers_and_allows_citations():
     assert unsourced_numbers("kappa 0.99 here\n") == [(1, "0.99")]
     assert unsourced_numbers("thesis: 12.75 mm\n(4.3): 53.99\n`x = 1.234`\n") == []
     assert unsourced_numbers("as in 5.3.1, 53.99\n| 4.3.2 | 0.25 |\n") == []
-    assert unsourced_numbers("within 1.2 %: 12.75\n1.5 mm, 12.75\n") == [(1, "12.75"),
-                                                                          (2, "12.75")]
+    assert unsourced_numbers("within 1.2 %: 12.75\n1.5 mm, 12.75\n") == [(1, "12.75"), (2, "12.75")]
     assert unsourced_numbers("threshold 0.05 V, 1e-3, 0.5-99.5th\n") == []
     assert unsourced_numbers("{{ r.a | .2f }} mm\n```\n1.2345\n```\n") == []
     table = "| name | ours / thesis |\n|---|---|\n| a | {{ r.a }} / 0.27 |\n| b | 0.33 |\n"
     assert unsourced_numbers(table) == []
     table = "| name | ours |\n|---|---|\n| a | 0.27 |\n"
     assert unsourced_numbers(table) == [(3, "0.27")]
-    assert unsourced_numbers("{# settings: 0.25 (dt, ms) #}\ndt 0.25 ms, 0.35 s\n") == [
-        (2, "0.35")]
+    assert unsourced_numbers("{# settings: 0.25 (dt, ms) #}\ndt 0.25 ms, 0.35 s\n") == [(2, "0.35")]
 
 
 @pytest.mark.parametrize("template", TEMPLATES, ids=lambda p: p.name)

@@ -11,20 +11,27 @@ from vibrissa.thesis.radial_distance.report import markdown_report
 CH4 = {
     "meta": {"n_trials": 8},
     "classifiers": {
-        "template": {"radius_mm": {"mean": 0.5, "std": 7.7, "n": 4},
-                     "speed_mm_s": {"mean": -1.0, "std": 13.1, "n": 4}, "predictions": [1, 2]},
+        "template": {
+            "radius_mm": {"mean": 0.5, "std": 7.7, "n": 4},
+            "speed_mm_s": {"mean": -1.0, "std": 13.1, "n": 4},
+            "predictions": [1, 2],
+        },
     },
     "training_fractions": {},
 }
-CH5 = {"meta": {}, "classifiers": {"template_raw": {"kappa": {"angle": 0.4, "speed": 0.7,
-                                                             "texture": 0.15}}}}
+CH5 = {
+    "meta": {},
+    "classifiers": {"template_raw": {"kappa": {"angle": 0.4, "speed": 0.7, "texture": 0.15}}},
+}
 
 
 def test_compact_keeps_the_summary_only():
     c = compact_results(CH4, "old")
     assert c["meta"]["label"] == "old"
-    assert c["classifiers"]["template"] == {"radius_mm": {"mean": 0.5, "std": 7.7},
-                                            "speed_mm_s": {"mean": -1.0, "std": 13.1}}
+    assert c["classifiers"]["template"] == {
+        "radius_mm": {"mean": 0.5, "std": 7.7},
+        "speed_mm_s": {"mean": -1.0, "std": 13.1},
+    }
     assert compact_results(CH5, "x")["classifiers"]["template_raw"]["kappa"]["angle"] == 0.4
 
 
@@ -45,11 +52,19 @@ def test_load_baseline_labels_by_file_and_refuses_other_json(tmp_path):
 
 
 def test_chapter4_report_shows_before_beside_ours_and_the_thesis():
-    before = compact_results({"classifiers": {"template": {
-        "radius_mm": {"mean": 0.1, "std": 3.68}, "speed_mm_s": {"mean": 0.2, "std": 9.0}}}},
-        "main before")
+    before = compact_results(
+        {
+            "classifiers": {
+                "template": {
+                    "radius_mm": {"mean": 0.1, "std": 3.68},
+                    "speed_mm_s": {"mean": 0.2, "std": 9.0},
+                }
+            }
+        },
+        "main before",
+    )
     text = markdown_report(CH4, baseline=before)
-    table = text[text.index("## Table 4.7"):]
+    table = text[text.index("## Table 4.7") :]
     assert "*before*: main before." in table
     table = table[: table.index("\n\n", table.index("| template"))]
     lines = [ln for ln in table.splitlines() if ln.startswith("| template")]
@@ -59,11 +74,11 @@ def test_chapter4_report_shows_before_beside_ours_and_the_thesis():
 
 
 def test_chapter5_report_has_a_thesis_before_after_kappa_table():
-    before = {"meta": {"label": "old run"},
-              "classifiers": {"template_raw": {"kappa": {"angle": 0.3, "speed": 0.6,
-                                                        "texture": 0.1}}}}
+    before = {
+        "meta": {"label": "old run"},
+        "classifiers": {"template_raw": {"kappa": {"angle": 0.3, "speed": 0.6, "texture": 0.1}}},
+    }
     text = markdown_chapter5(CH5, baseline=before)
     assert "thesis / before / this run" in text and "old run" in text
-    row = next(ln for ln in text.splitlines()
-               if ln.startswith("| `template_raw`") and "0.30" in ln)
+    row = next(ln for ln in text.splitlines() if ln.startswith("| `template_raw`") and "0.30" in ln)
     assert "0.30 / 0.40" in row

@@ -119,7 +119,8 @@ def test_kappa_is_sklearns_to_the_last_bit(weights, n_trials, n_classes) -> None
         tj, pj = np.column_stack([t, t % 7]), np.column_stack([p, p % 7])
         codes_t, codes_p, classes = metrics.joint_labels(tj, pj)
         assert metrics.joint_kappa(tj, pj) == cohen_kappa_score(
-            codes_t, codes_p, labels=np.arange(len(classes)))
+            codes_t, codes_p, labels=np.arange(len(classes))
+        )
 
 
 def test_kappa_of_total_disagreement_by_hand() -> None:

@@ -101,8 +101,10 @@ def test_images_are_inlined(report_dir):
     assert "figures/" not in " ".join(a["src"] for a in images)
     png, svg = images
     assert png["src"].startswith("data:image/png;base64,")
-    assert base64.b64decode(png["src"].split(",", 1)[1]) == (
-        report_dir / "figures" / "errors.png").read_bytes()
+    assert (
+        base64.b64decode(png["src"].split(",", 1)[1])
+        == (report_dir / "figures" / "errors.png").read_bytes()
+    )
     assert base64.b64decode(svg["src"].split(",", 1)[1]).decode() == SVG
     assert "<figcaption>errors/template_raw</figcaption>" in document
 
@@ -154,12 +156,14 @@ def test_no_network_resources(report_dir):
 def test_odd_characters_are_escaped(tmp_path):
     matplotlib.image.imsave(tmp_path / "x.png", np.zeros((2, 2)))
     caption = """cap <script>alert(1)</script> & "quoted" 'single' > <b>"""
-    text = (f"# A <b>title</b> & more\n\nA < b & <i>c</i>\n\n![{caption}](x.png)\n\n"
-            "| h |\n|---|\n| <td> |\n")
+    text = (
+        f"# A <b>title</b> & more\n\nA < b & <i>c</i>\n\n![{caption}](x.png)\n\n"
+        "| h |\n|---|\n| <td> |\n"
+    )
     document = markdown_to_html(text, base_dir=tmp_path, title='<T> & "t"')
     tags = _tags(document)
     assert [t for t, _ in tags if t in {"script", "b", "i"}] == []
-    assert "<title>&lt;T&gt; &amp; \"t\"</title>" in document
+    assert '<title>&lt;T&gt; &amp; "t"</title>' in document
     (img,) = [a for t, a in tags if t == "img"]
     assert img["alt"] == caption  # escaped in the markup, intact once parsed
     assert "<figcaption>cap &lt;script&gt;alert(1)&lt;/script&gt; &amp;" in document
@@ -177,8 +181,9 @@ def test_write_html_report_beside_markdown(report_dir):
 
 
 def test_write_html_report_destination_and_title(report_dir, tmp_path):
-    out = write_html_report(report_dir / "report.md", tmp_path / "elsewhere" / "r.html",
-                            title="Other")
+    out = write_html_report(
+        report_dir / "report.md", tmp_path / "elsewhere" / "r.html", title="Other"
+    )
     assert out == tmp_path / "elsewhere" / "r.html"
     assert "<title>Other</title>" in out.read_text(encoding="utf-8")
 

@@ -43,47 +43,54 @@ def _report(tmp_path: Path) -> Path:
     _figure(figures / "errors.png", "errors", dpi=PNG_DPI)
     _figure(figures / "kappa.png", "kappa <&>", dpi=PNG_DPI)
     _figure(figures / "curve.svg", "a vector figure")
-    wide_header = "| classifier | " + " | ".join(
-        f"fraction {i / WIDE_COLUMNS:.2f}" for i in range(1, WIDE_COLUMNS + 1)) + " |"
+    wide_header = (
+        "| classifier | "
+        + " | ".join(f"fraction {i / WIDE_COLUMNS:.2f}" for i in range(1, WIDE_COLUMNS + 1))
+        + " |"
+    )
     wide_rule = "|---" * (WIDE_COLUMNS + 1) + "|"
     wide_rows = [
         f"| `naive_bayes_velocity_robust_{r}` | "
-        + " | ".join(f"{-r * i / 7:.2f} ({i + r:.2f}) / {i:.2f} ({r:.2f})"
-                     for i in range(WIDE_COLUMNS)) + " |"
+        + " | ".join(
+            f"{-r * i / 7:.2f} ({i + r:.2f}) / {i:.2f} ({r:.2f})" for i in range(WIDE_COLUMNS)
+        )
+        + " |"
         for r in range(6)
     ]
-    text = "\n".join([
-        "# Chapter 9: a browser test report",
-        "",
-        "Trials: 144 (2 channels x 6001 samples at 4000.0 Hz); a long line of prose that "
-        "must wrap on a phone rather than push the page sideways.",
-        "",
-        "## Kappa",
-        "",
-        "| classifier | angle | speed |",
-        "|---|---|---|",
-        "| `template_raw` | 0.96 / 0.27 | 0.92 / 0.25 |",
-        "| `minirocket` | 0.94 / - | 0.92 / - |",
-        "",
-        "## A wide table",
-        "",
-        wide_header,
-        wide_rule,
-        *wide_rows,
-        "",
-        "## Sequential",
-        "",
-        "| contacts | kappa |",
-        "|---|---|",
-        *[f"| {n} | {0.5 + n / 100:.2f} |" for n in (1, 2, 3, 5, 10)],
-        "",
-        "## Figures",
-        "",
-        "![errors/template_raw](figures/errors.png)",
-        "![kappa <&>](figures/kappa.png)",
-        "![a vector figure](figures/curve.svg)",
-        "",
-    ])
+    text = "\n".join(
+        [
+            "# Chapter 9: a browser test report",
+            "",
+            "Trials: 144 (2 channels x 6001 samples at 4000.0 Hz); a long line of prose that "
+            "must wrap on a phone rather than push the page sideways.",
+            "",
+            "## Kappa",
+            "",
+            "| classifier | angle | speed |",
+            "|---|---|---|",
+            "| `template_raw` | 0.96 / 0.27 | 0.92 / 0.25 |",
+            "| `minirocket` | 0.94 / - | 0.92 / - |",
+            "",
+            "## A wide table",
+            "",
+            wide_header,
+            wide_rule,
+            *wide_rows,
+            "",
+            "## Sequential",
+            "",
+            "| contacts | kappa |",
+            "|---|---|",
+            *[f"| {n} | {0.5 + n / 100:.2f} |" for n in (1, 2, 3, 5, 10)],
+            "",
+            "## Figures",
+            "",
+            "![errors/template_raw](figures/errors.png)",
+            "![kappa <&>](figures/kappa.png)",
+            "![a vector figure](figures/curve.svg)",
+            "",
+        ]
+    )
     md = tmp_path / "report.md"
     md.write_text(text, encoding="utf-8")
     return write_html_report(md)
@@ -102,7 +109,10 @@ def test_report_renders_in_chromium(tmp_path):
     for name, view in result["views"].items():
         images = view["images"]
         assert [img["alt"] for img in images] == [
-            "errors/template_raw", "kappa <&>", "a vector figure"], name
+            "errors/template_raw",
+            "kappa <&>",
+            "a vector figure",
+        ], name
         for img in images:
             assert img["decoded"] and img["complete"], (name, img)
             assert img["natural_width"] > 0 and img["natural_height"] > 0, (name, img)
@@ -112,7 +122,10 @@ def test_report_renders_in_chromium(tmp_path):
         assert (images[0]["natural_width"], images[0]["natural_height"]) == (1200, 600)
         tables = view["tables"]
         assert [(t["body_rows"], t["columns"]) for t in tables] == [
-            (2, 3), (6, WIDE_COLUMNS + 1), (5, 2)], name
+            (2, 3),
+            (6, WIDE_COLUMNS + 1),
+            (5, 2),
+        ], name
         assert all(t["width"] > 0 and t["height"] > 0 for t in tables), name
         assert not view["horizontal_overflow"], name
 

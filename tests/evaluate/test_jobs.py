@@ -64,8 +64,12 @@ def test_folders_of_dead_processes_are_removed(tmp_path, monkeypatch) -> None:
     from vibrissa.evaluate import jobs
 
     monkeypatch.setattr(jobs, "Path", lambda p: tmp_path if p == "/dev/shm" else Path(p))
-    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
-                          capture_output=True, text=True, check=True).stdout.strip()
+    dead = subprocess.run(
+        [sys.executable, "-c", "import os; print(os.getpid())"],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout.strip()
     stale = tmp_path / f"vibrissa-eval-{dead}-abc"
     stale.mkdir()
     (stale / "0.npy").write_bytes(b"x")

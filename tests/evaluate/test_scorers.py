@@ -17,7 +17,8 @@ def _data():
     y = np.array([[r, s] for r in (50.0, 100.0) for s in (36.0, 43.2)] * 8)
     t = np.arange(60)
     X = rng.normal(0, 0.3, size=(len(y), 1, 60)) + (y[:, 0] / 50)[:, None, None] * np.sin(
-        t * y[:, 1][:, None, None] / 100)
+        t * y[:, 1][:, None, None] / 100
+    )
     return X, y, np.repeat(np.arange(4), 8)
 
 
@@ -36,9 +37,12 @@ def test_cross_val_score_on_joint_labels_is_finite() -> None:
 def test_grid_search_with_joint_scorers() -> None:
     X, y, groups = _data()
     g = GridSearchCV(
-        TimeTemplateClassifier(cutoff_hz=None), {"templates": ["all", "mean"]},
-        cv=GroupKFold(4), scoring={"accuracy": joint_accuracy_scorer, "kappa": joint_kappa_scorer},
-        refit="kappa", error_score="raise",
+        TimeTemplateClassifier(cutoff_hz=None),
+        {"templates": ["all", "mean"]},
+        cv=GroupKFold(4),
+        scoring={"accuracy": joint_accuracy_scorer, "kappa": joint_kappa_scorer},
+        refit="kappa",
+        error_score="raise",
     ).fit(X, y, groups=groups)
     assert np.isfinite(g.cv_results_["mean_test_accuracy"]).all()
     assert np.isfinite(g.best_score_) and g.best_params_["templates"] in ("all", "mean")

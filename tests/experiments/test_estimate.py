@@ -12,21 +12,31 @@ from vibrissa.experiments.estimate import format_duration, generation_seconds, s
 from vibrissa.experiments.protocols import get_protocol
 
 
-@pytest.mark.parametrize(("n", "cores", "chunk", "expected"), [
-    (0, 2, 32, 0.0),
-    (32, 2, 32, 32.0),  # one chunk: one core busy
-    (64, 2, 32, 32.0),  # two chunks side by side
-    (96, 2, 32, 64.0),  # the third chunk runs alone
-    (10, 1, 32, 10.0),
-    (100, 8, 10, 20.0),  # 10 chunks on 8 cores: two rounds
-])
+@pytest.mark.parametrize(
+    ("n", "cores", "chunk", "expected"),
+    [
+        (0, 2, 32, 0.0),
+        (32, 2, 32, 32.0),  # one chunk: one core busy
+        (64, 2, 32, 32.0),  # two chunks side by side
+        (96, 2, 32, 64.0),  # the third chunk runs alone
+        (10, 1, 32, 10.0),
+        (100, 8, 10, 20.0),  # 10 chunks on 8 cores: two rounds
+    ],
+)
 def test_generation_seconds_counts_rounds_of_chunks(n, cores, chunk, expected):
     assert generation_seconds(n, 1.0, cores, chunk) == expected
 
 
-@pytest.mark.parametrize(("seconds", "text"), [
-    (0.2, "1 s"), (40, "40 s"), (89, "89 s"), (600, "10 min"), (5400, "1.5 h"),
-])
+@pytest.mark.parametrize(
+    ("seconds", "text"),
+    [
+        (0.2, "1 s"),
+        (40, "40 s"),
+        (89, "89 s"),
+        (600, "10 min"),
+        (5400, "1.5 h"),
+    ],
+)
 def test_format_duration(seconds, text):
     assert format_duration(seconds) == text
 
@@ -40,8 +50,7 @@ def test_seconds_per_trial_skips_the_warm_up_and_stops_at_the_budget(monkeypatch
 
     # every timed trial takes 0.05 s on this fake clock
     monkeypatch.setattr(estimate, "simulate_trials", fake_simulate)
-    monkeypatch.setattr(estimate, "time",
-                        SimpleNamespace(perf_counter=lambda: 0.05 * next(clock)))
+    monkeypatch.setattr(estimate, "time", SimpleNamespace(perf_counter=lambda: 0.05 * next(clock)))
     protocol = SimpleNamespace(n_trials=100)
     assert seconds_per_trial(protocol, budget_s=0.3) == pytest.approx(0.05)
     assert calls[0] == [50]  # the warm-up, at the middle of the grid, not timed
@@ -55,7 +64,6 @@ def test_seconds_per_trial_skips_the_warm_up_and_stops_at_the_budget(monkeypatch
 
 
 def test_seconds_per_trial_measures_the_protocols_own_trials():
-    p = get_protocol("radial-distance", radial_distances_mm=(120.0,), speeds_mm_s=(100.0,),
-                     runs=1)
+    p = get_protocol("radial-distance", radial_distances_mm=(120.0,), speeds_mm_s=(100.0,), runs=1)
     s = seconds_per_trial(p, budget_s=0.0)
     assert math.isfinite(s) and s > 0

@@ -186,9 +186,25 @@ def test_cli_quick_generation(tmp_path):
 
 def test_cli_sensor_options_set_the_protocols_sensor(tmp_path):
     out = tmp_path / "s.nc"
-    args = ["generate", "radial-distance", "--radial-distances", "120", "--speeds", "100",
-            "--runs", "1", "--sample-rate-hz", "2000", "--noise-v", "0", "--out", str(out),
-            "--json", "--workers", "1"]
+    args = [
+        "generate",
+        "radial-distance",
+        "--radial-distances",
+        "120",
+        "--speeds",
+        "100",
+        "--runs",
+        "1",
+        "--sample-rate-hz",
+        "2000",
+        "--noise-v",
+        "0",
+        "--out",
+        str(out),
+        "--json",
+        "--workers",
+        "1",
+    ]
     res = CliRunner().invoke(app, args)
     assert res.exit_code == 0, res.output
     assert '"sample_rate_hz": 2000.0' in res.output
@@ -203,11 +219,14 @@ def test_cli_sensor_options_set_the_protocols_sensor(tmp_path):
 
 
 # ----------------------------------------------------------------- issue 13, finding 4
-@pytest.mark.parametrize(("kwargs", "message"), [
-    ({"workers": 0}, "workers must be a positive integer"),
-    ({"workers": -1}, "workers must be a positive integer"),
-    ({"chunk_size": 0}, "chunk_size must be a positive integer"),
-])
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"workers": 0}, "workers must be a positive integer"),
+        ({"workers": -1}, "workers must be a positive integer"),
+        ({"chunk_size": 0}, "chunk_size must be a positive integer"),
+    ],
+)
 def test_refused_generation_leaves_nothing_on_disk(tmp_path, kwargs, message):
     out = tmp_path / "x.nc"
     with pytest.raises(ValueError, match=message):
@@ -262,12 +281,14 @@ def test_output_under_a_file_is_refused_before_work(tmp_path):
 
 
 # ----------------------------------------------------------------- issue 13, finding 7
-@pytest.mark.parametrize(("kwargs", "message"), [
-    ({"workers": 10_000}, r"workers must be at most \d+ \(4 per core of this machine"),
-    ({"scheduler": "nonsense"}, "scheduler must be a Dask address like tcp://host:8786"),
-])
-def test_workers_beyond_the_machine_and_malformed_schedulers_are_refused(tmp_path, kwargs,
-                                                                         message):
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"workers": 10_000}, r"workers must be at most \d+ \(4 per core of this machine"),
+        ({"scheduler": "nonsense"}, "scheduler must be a Dask address like tcp://host:8786"),
+    ],
+)
+def test_workers_beyond_the_machine_and_malformed_schedulers_are_refused(tmp_path, kwargs, message):
     with pytest.raises(ValueError, match=message):
         generate(small(), tmp_path / "x.nc", **kwargs)
     assert list(tmp_path.iterdir()) == []
@@ -315,9 +336,14 @@ def test_shards_are_assembled_as_concatenate_joins_them_in_any_arrival_order():
     rng = np.random.default_rng(3)
     sizes = [4, 1, 3]
     chunks = np.split(np.arange(8), np.cumsum(sizes)[:-1])
-    shards = [{"signal": rng.normal(size=(n, 2, 5)), "index": idx,
-               "label": np.array(["ab" * (k + 1)] * n)}  # a dtype the shards differ in
-              for k, (n, idx) in enumerate(zip(sizes, chunks, strict=True))]
+    shards = [
+        {
+            "signal": rng.normal(size=(n, 2, 5)),
+            "index": idx,
+            "label": np.array(["ab" * (k + 1)] * n),
+        }  # a dtype the shards differ in
+        for k, (n, idx) in enumerate(zip(sizes, chunks, strict=True))
+    ]
     expect = {key: np.concatenate([s[key] for s in shards]) for key in shards[0]}
     done = _Assembly(chunks)
     for k in (0, 2, 1):  # the label widens on the way
@@ -337,8 +363,10 @@ def test_arrays_of_their_own_length_are_joined_as_concatenate_joins_them():
 
     rng = np.random.default_rng(4)
     chunks = [np.arange(2), np.arange(2, 4), np.arange(4, 6)]
-    shards = [{"index": idx, "state": rng.normal(size=(n, 3)), "scalar": np.arange(1)}
-              for idx, n in zip(chunks, (2, 16, 5), strict=True)]
+    shards = [
+        {"index": idx, "state": rng.normal(size=(n, 3)), "scalar": np.arange(1)}
+        for idx, n in zip(chunks, (2, 16, 5), strict=True)
+    ]
     done = _Assembly(chunks)
     for k in (0, 1, 2):
         done.add(k, shards[k])

@@ -49,10 +49,17 @@ def test_spectral_peak_finds_a_resonance_beside_a_large_slow_pulse():
 
 def _result(x: np.ndarray, peak: int, end_s: float) -> TrialResult:
     return TrialResult(
-        signal_v=np.vstack([2.5 + x, np.full_like(x, 2.5)]), peak_index=peak,
-        contact_onset_s=-0.3, threshold_time_s=-0.28, retract_start_s=-0.01,
-        contact_end_s=end_s, latency_s=0.27, contact_duration_s=0.4, slipped_off=False,
-        saturated=False, peak_deflection_v=float(np.abs(x).max()),
+        signal_v=np.vstack([2.5 + x, np.full_like(x, 2.5)]),
+        peak_index=peak,
+        contact_onset_s=-0.3,
+        threshold_time_s=-0.28,
+        retract_start_s=-0.01,
+        contact_end_s=end_s,
+        latency_s=0.27,
+        contact_duration_s=0.4,
+        slipped_off=False,
+        saturated=False,
+        peak_deflection_v=float(np.abs(x).max()),
     )
 
 
@@ -74,9 +81,15 @@ def observables():
 
 def test_identify_reports_every_observable_of_the_issue(observables):
     assert set(observables) == {
-        "resonance_hz", "mi_latency_ms", "duration_grows_with_speed", "ringing_chapter4",
-        "ringing_chapter5", "contact_duration_chapter5_ms", "closest_usable_contact_mm",
-        "tip_zone_mm", "above_216_mm_s",
+        "resonance_hz",
+        "mi_latency_ms",
+        "duration_grows_with_speed",
+        "ringing_chapter4",
+        "ringing_chapter5",
+        "contact_duration_chapter5_ms",
+        "closest_usable_contact_mm",
+        "tip_zone_mm",
+        "above_216_mm_s",
     }
     for o in observables.values():
         assert math.isfinite(o.value)

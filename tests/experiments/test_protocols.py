@@ -152,18 +152,43 @@ def test_parse_grid_counted_ranges(a, b, num):
 
 
 @settings(max_examples=50, deadline=None)
-@given(values=st.lists(st.floats(-1e6, 1e6), min_size=1, max_size=20,
-                       unique_by=lambda v: float(np.round(v, 9))))
+@given(
+    values=st.lists(
+        st.floats(-1e6, 1e6), min_size=1, max_size=20, unique_by=lambda v: float(np.round(v, 9))
+    )
+)
 def test_parse_grid_lists(values):
     vals = parse_grid(",".join(repr(v) for v in values))
     assert sorted(vals) == sorted(float(np.round(v, 9)) for v in values)
 
 
-_TOKENS = st.sampled_from([":", ",", "#", " ", "-", ".", "e", "1", "0", "5", "nan", "inf",
-                           "1e308", "1e-300", "1e400", "#0", "#-1", "_", "x", "١"])
-_HOSTILE = (st.text(max_size=12)
-            | st.lists(_TOKENS | st.floats().map(repr) | st.integers().map(str),
-                       max_size=7).map("".join))
+_TOKENS = st.sampled_from(
+    [
+        ":",
+        ",",
+        "#",
+        " ",
+        "-",
+        ".",
+        "e",
+        "1",
+        "0",
+        "5",
+        "nan",
+        "inf",
+        "1e308",
+        "1e-300",
+        "1e400",
+        "#0",
+        "#-1",
+        "_",
+        "x",
+        "١",
+    ]
+)
+_HOSTILE = st.text(max_size=12) | st.lists(
+    _TOKENS | st.floats().map(repr) | st.integers().map(str), max_size=7
+).map("".join)
 
 
 @settings(max_examples=50, deadline=None)
@@ -182,13 +207,16 @@ def test_parse_grid_hostile_text_is_a_value_error_or_a_finite_grid(text):
         assert vals and all(math.isfinite(v) for v in vals)
 
 
-@pytest.mark.parametrize(("text", "message"), [
-    ("1:2:#100000000", "more than 10000 values"),
-    ("50:100:0.0000001", "more than 10000 values"),
-    ("100,100,100", "repeats the value"),
-    ("", "empty grid"),
-    ("inf:5:1", "non-finite"),
-])
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("1:2:#100000000", "more than 10000 values"),
+        ("50:100:0.0000001", "more than 10000 values"),
+        ("100,100,100", "repeats the value"),
+        ("", "empty grid"),
+        ("inf:5:1", "non-finite"),
+    ],
+)
 def test_parse_grid_bounds_name_the_limit(text, message):
     with pytest.raises(ValueError, match=message):
         parse_grid(text, "--speeds")

@@ -23,6 +23,5 @@ def test_the_measured_decay_is_the_first_modes():
 
 def test_unfiltered_says_so():
     model = RodModel(preset("xy-robot"), n_elements=12)
-    out = ring_down_test(model, tip_deflection_mm=5.0, duration_s=0.5, dt_s=2.5e-4,
-                         lowpass=False)
+    out = ring_down_test(model, tip_deflection_mm=5.0, duration_s=0.5, dt_s=2.5e-4, lowpass=False)
     assert out["lowpass_hz"] is None and out["frequency_hz"] is not None

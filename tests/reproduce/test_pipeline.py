@@ -84,8 +84,14 @@ def test_the_dataset_is_simulated_on_the_dask_cluster_asked_for(tmp_path, monkey
     from vibrissa.robots.crunchbot import synthetic_record
     from vibrissa.thesis.crunchbot_slam.protocol import CrunchbotProtocol
 
-    p = CrunchbotProtocol(n_runs=1, seconds=5.0, texture_seconds=4.0, seed=2,
-                          simulate_run=synthetic_record, train=None)
+    p = CrunchbotProtocol(
+        n_runs=1,
+        seconds=5.0,
+        texture_seconds=4.0,
+        seed=2,
+        simulate_run=synthetic_record,
+        train=None,
+    )
     seen = []
     own = p.generate_dataset
 
@@ -94,8 +100,9 @@ def test_the_dataset_is_simulated_on_the_dask_cluster_asked_for(tmp_path, monkey
         return own(path, workers=workers, progress=progress, scheduler=scheduler)
 
     object.__setattr__(p, "generate_dataset", spy)
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster:
+    with distributed.LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster:
         ds, _, reused = pipeline.cached_dataset(p, tmp_path, scheduler=cluster.scheduler_address)
     assert seen == [cluster.scheduler_address] and not reused
     assert ds.sizes["trial"] == 2

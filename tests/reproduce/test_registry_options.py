@@ -11,8 +11,9 @@ FLOORS = ("rough-carpet", "vinyl", "smooth-carpet", "tarmac")
 
 
 def _opt() -> Option:
-    return Option("floors", ",".join(FLOORS), "Floors.", minimum=2, choices=FLOORS,
-                  item="floor texture")
+    return Option(
+        "floors", ",".join(FLOORS), "Floors.", minimum=2, choices=FLOORS, item="floor texture"
+    )
 
 
 def test_a_selection_is_parsed_from_text_or_taken_as_names():
@@ -22,13 +23,16 @@ def test_a_selection_is_parsed_from_text_or_taken_as_names():
     assert o.check(o.default) == FLOORS
 
 
-@pytest.mark.parametrize(("value", "match"), [
-    ("vinyl,shag", "--floors: unknown floor texture 'shag'; choose from rough-carpet"),
-    ("vinyl", "--floors needs at least 2"),
-    ("", "--floors needs at least 2"),
-    ("vinyl,vinyl", "each name once"),
-    (3, "comma-separated list"),
-])
+@pytest.mark.parametrize(
+    ("value", "match"),
+    [
+        ("vinyl,shag", "--floors: unknown floor texture 'shag'; choose from rough-carpet"),
+        ("vinyl", "--floors needs at least 2"),
+        ("", "--floors needs at least 2"),
+        ("vinyl,vinyl", "each name once"),
+        (3, "comma-separated list"),
+    ],
+)
 def test_a_bad_selection_names_the_flag(value, match):
     with pytest.raises(ValueError, match=match):
         _opt().check(value)

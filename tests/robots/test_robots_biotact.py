@@ -44,12 +44,15 @@ def test_the_three_whiskers_reach_a_plane_10_mm_ahead_together():
         assert head.contact_direction_deg(i, 5.0) > head.contact_direction_deg(i, 15.0)
 
 
-@pytest.mark.parametrize(("distance", "match"), [
-    (0.0, "places the head inside the surface"),
-    (-4.0, "places the head inside the surface"),
-    (80.0, "beyond the 80 mm whisker's reach"),
-    (float("nan"), "distance_mm"),
-])
+@pytest.mark.parametrize(
+    ("distance", "match"),
+    [
+        (0.0, "places the head inside the surface"),
+        (-4.0, "places the head inside the surface"),
+        (80.0, "beyond the 80 mm whisker's reach"),
+        (float("nan"), "distance_mm"),
+    ],
+)
 def test_surface_placements_the_whisk_cannot_meet_are_refused(distance, match):
     with pytest.raises(ValueError, match=match):
         G1Head().check_distance(distance)
@@ -63,13 +66,16 @@ def test_a_surface_inside_the_reach_at_rest_is_refused():
         head.check_distance(5.0)
 
 
-@pytest.mark.parametrize(("kwargs", "match"), [
-    ({"amplitude_deg": 90.0}, "must be below retracted_deg"),
-    ({"setbacks_mm": (30.0, 46.0)}, "one value per whisker"),
-    ({"setbacks_mm": (-1.0, 46.0, 69.0)}, "setbacks_mm must be >= 0"),
-    ({"cone_half_angle_deg": 90.0}, "cone_half_angle_deg"),
-    ({"amplitude_deg": -5.0}, "amplitude_deg"),
-])
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"amplitude_deg": 90.0}, "must be below retracted_deg"),
+        ({"setbacks_mm": (30.0, 46.0)}, "one value per whisker"),
+        ({"setbacks_mm": (-1.0, 46.0, 69.0)}, "setbacks_mm must be >= 0"),
+        ({"cone_half_angle_deg": 90.0}, "cone_half_angle_deg"),
+        ({"amplitude_deg": -5.0}, "amplitude_deg"),
+    ],
+)
 def test_impossible_heads_are_refused(kwargs, match):
     with pytest.raises(ValueError, match=match):
         G1Head(**kwargs)

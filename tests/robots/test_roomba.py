@@ -84,12 +84,20 @@ def test_a_short_trial_is_quiet_until_the_robot_moves():
     model = RodModel(g, 16)
     sensor = HallSettings(sample_rate_hz=2000.0, calibration_mm=(150.0, 30.0)).calibrate(g, 16)
     r = Roomba(start_delay_s=(0.5, 0.5))
-    res = run_floor_trial(r, model, sensor, make_floor("tarmac", 0, 40.0, 40.0),
-                          FLOORS["tarmac"], "anticlockwise", 1.5, _rng(3))
+    res = run_floor_trial(
+        r,
+        model,
+        sensor,
+        make_floor("tarmac", 0, 40.0, 40.0),
+        FLOORS["tarmac"],
+        "anticlockwise",
+        1.5,
+        _rng(3),
+    )
     assert res.signal_v.shape == (2, 3000)
     assert res.contact_fraction > 0.9  # pressed on the floor throughout
     keep = active_packets(res.signal_v)
     still = int(0.5 * 2000) // PACKET_SAMPLES
     assert not keep[:still].any()  # at rest on the floor: only sensor noise
-    assert keep[still + 2:].mean() > 0.8  # dragged over tarmac
+    assert keep[still + 2 :].mean() > 0.8  # dragged over tarmac
     assert res.moving_fraction == pytest.approx(1.0 / 1.5, abs=0.01)

@@ -38,14 +38,17 @@ def test_rcp_gating_follows_eq_3_3_sample_by_sample():
     assert not rcp_gating(contact, 0.01, 0.0, 0.04).any()
 
 
-@pytest.mark.parametrize(("args", "match"), [
-    (([0.1], 0.01, -0.7, 0.04), "sigma_z"),
-    (([0.1], 0.01, 0.7, 0.0), "tau_z_s"),
-    (([0.1], 0.05, 0.7, 0.04), "at least the step"),
-    (([0.1], 0.0, 0.7, 0.04), "dt_s"),
-    (([[0.1]], 0.01, 0.7, 0.04), "1-D"),
-    (([np.nan], 0.01, 0.7, 0.04), "contact"),
-])
+@pytest.mark.parametrize(
+    ("args", "match"),
+    [
+        (([0.1], 0.01, -0.7, 0.04), "sigma_z"),
+        (([0.1], 0.01, 0.7, 0.0), "tau_z_s"),
+        (([0.1], 0.05, 0.7, 0.04), "at least the step"),
+        (([0.1], 0.0, 0.7, 0.04), "dt_s"),
+        (([[0.1]], 0.01, 0.7, 0.04), "1-D"),
+        (([np.nan], 0.01, 0.7, 0.04), "contact"),
+    ],
+)
 def test_rcp_gating_refuses_bad_input(args, match):
     with pytest.raises(ValueError, match=match):
         rcp_gating(*args)
@@ -84,10 +87,14 @@ def test_whisk_frequency_must_be_positive(f):
         WhiskPattern(f)
 
 
-@pytest.mark.parametrize(("kwargs", "match"), [
-    ({"sigma_z": -0.1}, "sigma_z"), ({"cia_gain": -1.0}, "cia_gain"),
-    ({"tau_z_periods": 0.0}, "tau_z_periods"),
-])
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"sigma_z": -0.1}, "sigma_z"),
+        ({"cia_gain": -1.0}, "cia_gain"),
+        ({"tau_z_periods": 0.0}, "tau_z_periods"),
+    ],
+)
 def test_negative_gains_are_refused(kwargs, match):
     with pytest.raises(ValueError, match=match):
         RCPControl(**kwargs)
@@ -166,7 +173,7 @@ def test_whisking_in_air_gives_no_detected_contacts(model):
         return sensor.read(np.column_stack([res.tan_x[0], 0 * res.tan_x[0]]), rate, rng)[:, 0]
 
     v = volts(air, np.random.default_rng(0))
-    resid = v[: 501] - volts(ref)
+    resid = v[:501] - volts(ref)
     assert np.abs(v - 2.5).max() > 10 * 0.05  # self-motion alone would be a "contact"
     assert count_contacts(np.abs(resid), 0.05) == 0
     assert not air.contact_force_n.any()

@@ -46,9 +46,7 @@ def test_trial_is_aligned_to_its_peak_and_has_the_window(model, sensor):
     assert abs(res.latency_s - lat.latency_s) <= lat.duty_cycle_s / 2
 
 
-def test_events_are_ordered_and_the_retraction_follows_the_threshold_by_the_latency(
-    model, sensor
-):
+def test_events_are_ordered_and_the_retraction_follows_the_threshold_by_the_latency(model, sensor):
     res = trial(model, sensor, r=120.0, v=72.0, seed=5)
     assert res.contact_onset_s < res.threshold_time_s < res.retract_start_s < 0.0
     assert 0.0 < res.contact_end_s  # the peak comes while the stage brakes and returns

@@ -51,20 +51,20 @@ def test_windows_count_the_kept_packets(quiet):
 
 def test_windows_are_the_kept_samples_in_order():
     x = np.tile(np.arange(20 * PACKET_SAMPLES, dtype=float), (2, 1)) * 1e-2
-    x[:, 3 * PACKET_SAMPLES:4 * PACKET_SAMPLES] = 1.0  # one quiet packet (constant)
+    x[:, 3 * PACKET_SAMPLES : 4 * PACKET_SAMPLES] = 1.0  # one quiet packet (constant)
     w = packet_windows(x)
-    kept = np.concatenate([x[:, :3 * PACKET_SAMPLES], x[:, 4 * PACKET_SAMPLES:]], axis=1)
+    kept = np.concatenate([x[:, : 3 * PACKET_SAMPLES], x[:, 4 * PACKET_SAMPLES :]], axis=1)
     assert len(w) == 19 * PACKET_SAMPLES // WINDOW_SAMPLES
     np.testing.assert_array_equal(w[0], kept[:, :WINDOW_SAMPLES])
-    np.testing.assert_array_equal(w[1], kept[:, WINDOW_SAMPLES:2 * WINDOW_SAMPLES])
+    np.testing.assert_array_equal(w[1], kept[:, WINDOW_SAMPLES : 2 * WINDOW_SAMPLES])
 
 
 def test_either_channel_keeps_a_packet_and_the_threshold_is_inclusive():
     base = np.resize([-1.0, 1.0], PACKET_SAMPLES)  # variance exactly 1
     x = np.zeros((2, 3 * PACKET_SAMPLES))
     x[1, :PACKET_SAMPLES] = base * np.sqrt(QUIET_VARIANCE_V2)  # at the threshold: kept
-    x[0, PACKET_SAMPLES:2 * PACKET_SAMPLES] = base * np.sqrt(QUIET_VARIANCE_V2) * 0.999
-    x[0, 2 * PACKET_SAMPLES:] = base * 0.1
+    x[0, PACKET_SAMPLES : 2 * PACKET_SAMPLES] = base * np.sqrt(QUIET_VARIANCE_V2) * 0.999
+    x[0, 2 * PACKET_SAMPLES :] = base * 0.1
     np.testing.assert_array_equal(active_packets(x), [True, False, True])
 
 

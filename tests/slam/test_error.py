@@ -28,7 +28,7 @@ def test_ground_truth_against_itself_is_zero() -> None:
 def test_the_smoothing_is_a_normalised_5x5_gaussian_of_sigma_2_5() -> None:
     k = gaussian_kernel()
     assert k.shape == (5, 5) and k.sum() == pytest.approx(1.0)
-    assert k[2, 2] / k[2, 3] == pytest.approx(np.exp(1 / (2 * 2.5 ** 2)))
+    assert k[2, 2] / k[2, 3] == pytest.approx(np.exp(1 / (2 * 2.5**2)))
     impulse = np.zeros((9, 9))
     impulse[4, 4] = 1.0
     np.testing.assert_allclose(smooth_ground_truth(impulse)[2:7, 2:7], k)

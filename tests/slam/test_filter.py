@@ -26,20 +26,30 @@ from vibrissa.slam.log import SensorLog, WhiskerLayout
 from vibrissa.slam.mappers import MAPPERS, BlobMapper, Mapper, register_mapper
 
 # two whiskers pointing straight ahead from the body's front, 0.1 m apart
-LAYOUT = WhiskerLayout(base_m=np.array([[0.15, 0.05], [0.15, -0.05]]),
-                       angle_rad=np.zeros(2), length_m=np.full(2, 0.14))
+LAYOUT = WhiskerLayout(
+    base_m=np.array([[0.15, 0.05], [0.15, -0.05]]), angle_rad=np.zeros(2), length_m=np.full(2, 0.14)
+)
 
 
-def _log(states: list[str], contact: list[list[bool]], dist: list[list[float]],
-         angle: list[float] | None = None, odometry: np.ndarray | None = None,
-         **kw: object) -> SensorLog:
+def _log(
+    states: list[str],
+    contact: list[list[bool]],
+    dist: list[list[float]],
+    angle: list[float] | None = None,
+    odometry: np.ndarray | None = None,
+    **kw: object,
+) -> SensorLog:
     n = len(states)
     return SensorLog(
-        layout=LAYOUT, state=np.array(states),
+        layout=LAYOUT,
+        state=np.array(states),
         odometry=np.zeros((n, 3)) if odometry is None else odometry,
-        contact=np.array(contact), radial_distance_m=np.array(dist),
+        contact=np.array(contact),
+        radial_distance_m=np.array(dist),
         surface_angle_rad=np.full(n, np.nan) if angle is None else np.array(angle),
-        start_pose=np.array([1.0, 1.0, 0.0]), **kw)
+        start_pose=np.array([1.0, 1.0, 0.0]),
+        **kw,
+    )
 
 
 def test_systematic_resampling_keeps_counts_within_one_of_n_times_the_weight() -> None:
@@ -51,8 +61,9 @@ def test_systematic_resampling_keeps_counts_within_one_of_n_times_the_weight() -
     uniform = systematic_resample(np.zeros(8), np.random.default_rng(0))
     np.testing.assert_array_equal(uniform, np.arange(8))
     a = systematic_resample(np.log(w + 1e-300), np.random.default_rng(3))
-    np.testing.assert_array_equal(a, systematic_resample(np.log(w + 1e-300),
-                                                         np.random.default_rng(3)))
+    np.testing.assert_array_equal(
+        a, systematic_resample(np.log(w + 1e-300), np.random.default_rng(3))
+    )
 
 
 def test_effective_sample_size() -> None:
@@ -81,8 +92,9 @@ def test_bad_settings_are_refused(kw: dict, words: str) -> None:
 
 def test_motion_composes_in_the_robot_frame_and_noise_scales_with_movement() -> None:
     pose = np.array([1.0, 2.0, math.pi / 2])
-    np.testing.assert_allclose(apply_motion(pose, np.array([0.5, 0.1, 0.3])),
-                               [0.9, 2.5, math.pi / 2 + 0.3], atol=1e-12)
+    np.testing.assert_allclose(
+        apply_motion(pose, np.array([0.5, 0.1, 0.3])), [0.9, 2.5, math.pi / 2 + 0.3], atol=1e-12
+    )
     rng = np.random.default_rng(0)
     exact = noisy_increment(np.array([0.2, 0.0, 0.0]), 3, 0.0, 0.0, rng)
     np.testing.assert_array_equal(exact, np.tile([0.2, 0.0, 0.0], (3, 1)))
@@ -99,10 +111,13 @@ def test_the_sensor_log_checks_its_shapes() -> None:
 
 
 def test_back_steps_move_the_particles_but_add_no_evidence() -> None:
-    log = _log(["BACK"] * 3, [[True, True]] * 3, [[0.1, 0.1]] * 3,
-               odometry=np.tile([-0.025, 0.0, 0.0], (3, 1)))
-    run = run_slam(log, SlamSettings(n_particles=5, odometry_error=0.0,
-                                        heading_drift_rad_m=0.0))
+    log = _log(
+        ["BACK"] * 3,
+        [[True, True]] * 3,
+        [[0.1, 0.1]] * 3,
+        odometry=np.tile([-0.025, 0.0, 0.0], (3, 1)),
+    )
+    run = run_slam(log, SlamSettings(n_particles=5, odometry_error=0.0, heading_drift_rad_m=0.0))
     assert not run.visited.any()
     np.testing.assert_allclose(run.pose_estimate[-1], [0.925, 1.0, 0.0], atol=1e-12)
 
@@ -130,8 +145,7 @@ def test_geometric_mode_lays_an_edge_through_two_contacts() -> None:
 
 def test_template_mode_uses_the_reported_surface_angle() -> None:
     # one contact, the template says the surface runs along the robot's heading (angle 0)
-    log = _log(["FWD_1", "HIT_2"], [[True, False]] * 2, [[0.1, np.nan]] * 2,
-               angle=[np.nan, 0.0])
+    log = _log(["FWD_1", "HIT_2"], [[True, False]] * 2, [[0.1, np.nan]] * 2, angle=[np.nan, 0.0])
     run = run_slam(log, SlamSettings(n_particles=2, odometry_error=0.0, mode="template"))
     m = occupancy(run.logodds[0])
     y = int(1.05 / 0.05)
@@ -142,11 +156,20 @@ def test_template_mode_uses_the_reported_surface_angle() -> None:
 def test_floor_texture_likelihoods_weigh_the_particles() -> None:
     floor_map = np.zeros((50, 50), dtype=np.int64)
     floor_map[25:] = 1  # texture 1 for x >= 1.25 m
-    log = _log(["FWD_1"], [[False, False]], [[np.nan, np.nan]],
-               floor_loglik=np.log([[[0.1, 0.9]]]), floor_whisker_m=np.array([[0.0, 0.0]]),
-               textures=("vinyl", "rough-carpet"))
-    pf = ParticleFilter(SlamSettings(n_particles=2, odometry_error=0.0), log.start_pose,
-                        np.random.default_rng(0), floor_map)
+    log = _log(
+        ["FWD_1"],
+        [[False, False]],
+        [[np.nan, np.nan]],
+        floor_loglik=np.log([[[0.1, 0.9]]]),
+        floor_whisker_m=np.array([[0.0, 0.0]]),
+        textures=("vinyl", "rough-carpet"),
+    )
+    pf = ParticleFilter(
+        SlamSettings(n_particles=2, odometry_error=0.0),
+        log.start_pose,
+        np.random.default_rng(0),
+        floor_map,
+    )
     pf.poses = np.array([[1.0, 1.0, 0.0], [1.5, 1.0, 0.0]])
     pf.step(log, 0)
     assert pf.log_weights[1] - pf.log_weights[0] == pytest.approx(math.log(9))
@@ -192,10 +215,18 @@ def test_on_a_known_map_the_filter_localises_where_dead_reckoning_drifts() -> No
 
 def test_a_prior_map_must_be_probabilities_of_the_grid_shape() -> None:
     with pytest.raises(ValueError, match="prior_map must be"):
-        ParticleFilter(SlamSettings(n_particles=2), np.zeros(3), np.random.default_rng(0),
-                       prior_map=np.full((3, 3), 0.5))
-    pf = ParticleFilter(SlamSettings(n_particles=2), np.zeros(3), np.random.default_rng(0),
-                        prior_map=np.full((50, 50), np.nan))
+        ParticleFilter(
+            SlamSettings(n_particles=2),
+            np.zeros(3),
+            np.random.default_rng(0),
+            prior_map=np.full((3, 3), 0.5),
+        )
+    pf = ParticleFilter(
+        SlamSettings(n_particles=2),
+        np.zeros(3),
+        np.random.default_rng(0),
+        prior_map=np.full((50, 50), np.nan),
+    )
     assert not pf.visited.any()
 
 
@@ -228,18 +259,19 @@ def test_a_log_cut_to_its_head_keeps_every_array_in_step() -> None:
 def test_geometric_mode_lays_one_edge_per_episode_and_events_add_nothing() -> None:
     one = [[True, False], [True, True]]
     d = [[0.1, np.nan], [0.1, 0.1]]
-    settings = SlamSettings(n_particles=2, odometry_error=0.0, heading_drift_rad_m=0.0,
-                            mode="geometric")
+    settings = SlamSettings(
+        n_particles=2, odometry_error=0.0, heading_drift_rad_m=0.0, mode="geometric"
+    )
     a = run_slam(_log(["FWD_1", "FWD_2"], one, d), settings)
-    b = run_slam(_log(["FWD_1", "FWD_2", "HIT_2"], [*one, [True, True]], [*d, [0.1, 0.1]]),
-                 settings)
+    b = run_slam(
+        _log(["FWD_1", "FWD_2", "HIT_2"], [*one, [True, True]], [*d, [0.1, 0.1]]), settings
+    )
     np.testing.assert_array_equal(a.logodds, b.logodds)
     assert occupancy(a.logodds[0])[int(1.25 / 0.05), int(1.25 / 0.05)] > 0.6
 
 
 def test_an_aborted_episode_leaves_a_blob_at_its_first_contact() -> None:
-    log = _log(["FWD_1", "HIT_1", "FWD_2", "ABORT"], [[True, False]] * 4,
-               [[0.1, np.nan]] * 4)
+    log = _log(["FWD_1", "HIT_1", "FWD_2", "ABORT"], [[True, False]] * 4, [[0.1, np.nan]] * 4)
     for mode in ("geometric", "template"):
         run = run_slam(log, SlamSettings(n_particles=2, odometry_error=0.0, mode=mode))
         m = occupancy(run.logodds[0])
@@ -274,8 +306,9 @@ def test_the_filter_iterates_one_step_per_next_and_collectors_see_every_frame() 
     log = synthetic_log(PRESETS["slam"], 15.0, seed=5)
     settings = SlamSettings(n_particles=10, mode="geometric")
     steps, frames = _Steps(), Frames()
-    pf = ParticleFilter(settings, log.start_pose, np.random.default_rng(3), log=log,
-                        collect=[steps, frames])
+    pf = ParticleFilter(
+        settings, log.start_pose, np.random.default_rng(3), log=log, collect=[steps, frames]
+    )
     ess = list(pf)
     assert len(ess) == log.n_steps and pf.t == log.n_steps
     with pytest.raises(StopIteration):
@@ -307,9 +340,16 @@ def test_the_last_step_closes_an_open_episode_before_the_last_frame() -> None:
 def test_run_slam_gives_every_collectors_result_by_name() -> None:
     log = _log(**_OPEN)
     calls: list[tuple[int, int]] = []
-    run = run_slam(log, SlamSettings(n_particles=3), seed=1,
-                   collect=[PoseEstimates(), Progress(lambda d, n: calls.append((d, n))),
-                            Frames(name="viewer")])
+    run = run_slam(
+        log,
+        SlamSettings(n_particles=3),
+        seed=1,
+        collect=[
+            PoseEstimates(),
+            Progress(lambda d, n: calls.append((d, n))),
+            Frames(name="viewer"),
+        ],
+    )
     assert set(run.collected) == {"pose_estimate", "progress", "viewer"}
     np.testing.assert_array_equal(run.collected["pose_estimate"], run.pose_estimate)
     assert calls == [(1, 3), (2, 3), (3, 3)] and run.collected["progress"] == 3
@@ -328,8 +368,9 @@ def test_a_filter_without_a_log_is_stepped_by_hand_and_cannot_be_iterated() -> N
 def test_mapping_modes_are_the_registered_mappers(monkeypatch: pytest.MonkeyPatch) -> None:
     assert MODES == ("blob", "geometric", "template") == tuple(MAPPERS)
     for mode in MODES:
-        pf = ParticleFilter(SlamSettings(n_particles=2, mode=mode), np.zeros(3),
-                            np.random.default_rng(0))
+        pf = ParticleFilter(
+            SlamSettings(n_particles=2, mode=mode), np.zeros(3), np.random.default_rng(0)
+        )
         assert type(pf.mapper) is MAPPERS[mode] and pf.mapper.name == mode
     with pytest.raises(ValueError, match="already registered as 'blob'"):
         register_mapper(type("Other", (BlobMapper,), {}))
@@ -352,7 +393,8 @@ def test_mapping_modes_are_the_registered_mappers(monkeypatch: pytest.MonkeyPatc
 
 @pytest.mark.parametrize("n_points", [1, 5, 9])
 def test_each_free_whisker_weighs_once_whatever_the_points_along_its_shaft(
-        n_points: int, monkeypatch: pytest.MonkeyPatch) -> None:
+    n_points: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
     monkeypatch.setattr(filter_module, "SHAFT_POINTS", n_points)
     prior = np.full((50, 50), 0.3)
     prior[22:] = 0.6  # x >= 1.1 m: the free whiskers of particle 0, facing +x

@@ -27,8 +27,15 @@ def _grids(n_particles: int = 1, n: int = 50) -> tuple[np.ndarray, np.ndarray]:
 def test_eq_6_1_blob_at_a_known_contact_by_hand() -> None:
     lo, seen = _grids()
     # a contact anywhere in cell (10, 12): eq. 6.1 centres the blob on that cell
-    add_blob(lo, seen, np.array([[10.3 * CELL, 12.9 * CELL]]), peak_p=0.75, sigma_m=CELL,
-             cell_m=CELL, radius_cells=3)
+    add_blob(
+        lo,
+        seen,
+        np.array([[10.3 * CELL, 12.9 * CELL]]),
+        peak_p=0.75,
+        sigma_m=CELL,
+        cell_m=CELL,
+        radius_cells=3,
+    )
     assert lo[0, 10, 12] == pytest.approx(math.log(3.0))  # logit(0.75)
     one = 0.5 + 0.25 * math.exp(-0.5)  # one cell away, sigma one cell
     assert lo[0, 11, 12] == pytest.approx(math.log(one / (1 - one)))
@@ -53,8 +60,14 @@ def test_negative_evidence_lowers_occupancy_and_evidence_adds_up() -> None:
 
 def test_each_particle_gets_its_own_blob_and_the_map_edge_clips() -> None:
     lo, seen = _grids(2)
-    add_blob(lo, seen, np.array([[5.5 * CELL, 5.5 * CELL], [0.2 * CELL, 49.5 * CELL]]),
-             peak_p=0.75, sigma_m=CELL, cell_m=CELL)
+    add_blob(
+        lo,
+        seen,
+        np.array([[5.5 * CELL, 5.5 * CELL], [0.2 * CELL, 49.5 * CELL]]),
+        peak_p=0.75,
+        sigma_m=CELL,
+        cell_m=CELL,
+    )
     assert lo[0, 5, 5] == pytest.approx(math.log(3)) and lo[1, 5, 5] == 0
     assert lo[1, 0, 49] == pytest.approx(math.log(3)) and lo[0, 0, 49] == 0
 
@@ -63,10 +76,18 @@ def test_eq_6_2_edge_at_a_known_contact_by_hand() -> None:
     lo, seen = _grids()
     sr, st = 0.25, math.pi / 12
     centre = np.array([[25.5 * CELL, 25.5 * CELL]])  # a cell centre
-    add_edge(lo, seen, centre, np.array([0.0]), peak_p=0.75, sigma_r_m=sr,
-             sigma_theta_rad=st, cell_m=CELL)
+    add_edge(
+        lo,
+        seen,
+        centre,
+        np.array([0.0]),
+        peak_p=0.75,
+        sigma_r_m=sr,
+        sigma_theta_rad=st,
+        cell_m=CELL,
+    )
     assert lo[0, 25, 25] == pytest.approx(math.log(3))  # R = 0
-    along = 0.5 + 0.25 * math.exp(-(5 * CELL) ** 2 / (2 * sr ** 2))  # 0.25 m along the edge
+    along = 0.5 + 0.25 * math.exp(-((5 * CELL) ** 2) / (2 * sr**2))  # 0.25 m along the edge
     assert lo[0, 30, 25] == pytest.approx(logit(along))
     assert lo[0, 20, 25] == pytest.approx(lo[0, 30, 25])  # a line: both ways
     assert lo[0, 25, 30] == 0 and not seen[0, 25, 30]  # across the edge: nothing
@@ -78,9 +99,10 @@ def test_eq_6_2_angle_term_by_hand() -> None:
     sr, st = 0.25, math.pi / 12
     r = 0.1
     a = st  # one sigma_theta off the edge's direction
-    p = edge_likelihood(np.array(r * math.cos(a)), np.array(r * math.sin(a)), np.array(0.0),
-                        0.75, sr, st)
-    assert p == pytest.approx(0.5 + 0.25 * math.exp(-r ** 2 / (2 * sr ** 2) - 0.5))
+    p = edge_likelihood(
+        np.array(r * math.cos(a)), np.array(r * math.sin(a)), np.array(0.0), 0.75, sr, st
+    )
+    assert p == pytest.approx(0.5 + 0.25 * math.exp(-(r**2) / (2 * sr**2) - 0.5))
     # an edge at pi/2 is the same line as one at -pi/2
     q1 = edge_likelihood(np.array(0.0), np.array(0.2), np.array(math.pi / 2), 0.75, sr, st)
     q2 = edge_likelihood(np.array(0.0), np.array(0.2), np.array(-math.pi / 2), 0.75, sr, st)
@@ -91,6 +113,7 @@ def test_eq_6_2_angle_term_by_hand() -> None:
 def test_occupancy_at_reads_each_particles_grid_and_half_off_the_map() -> None:
     lo, _ = _grids(2)
     lo[0, 3, 4] = logit(0.9)
-    pts = np.array([[[3.5 * CELL, 4.5 * CELL], [-1.0, 0.0]], [[3.5 * CELL, 4.5 * CELL],
-                                                                [9.0, 9.0]]])
+    pts = np.array(
+        [[[3.5 * CELL, 4.5 * CELL], [-1.0, 0.0]], [[3.5 * CELL, 4.5 * CELL], [9.0, 9.0]]]
+    )
     np.testing.assert_allclose(occupancy_at(lo, pts, CELL), [[0.9, 0.5], [0.5, 0.5]])

@@ -76,13 +76,16 @@ def test_radius_is_linear_taper():
     assert r[0] == pytest.approx(1e-3) and r[-1] == pytest.approx(0.25e-3)
 
 
-@pytest.mark.parametrize(("field", "value", "why"), [
-    ("youngs_modulus_gpa", 1e-300, "soft rubber to diamond"),
-    ("youngs_modulus_gpa", 1e300, "soft rubber to diamond"),
-    ("density_kg_m3", 1e-300, "aerogel to osmium"),
-    ("density_kg_m3", 1e300, "aerogel to osmium"),
-    ("tip_radius_mm", 1e-7, "finer than any whisker's tip"),
-])
+@pytest.mark.parametrize(
+    ("field", "value", "why"),
+    [
+        ("youngs_modulus_gpa", 1e-300, "soft rubber to diamond"),
+        ("youngs_modulus_gpa", 1e300, "soft rubber to diamond"),
+        ("density_kg_m3", 1e-300, "aerogel to osmium"),
+        ("density_kg_m3", 1e300, "aerogel to osmium"),
+        ("tip_radius_mm", 1e-7, "finer than any whisker's tip"),
+    ],
+)
 def test_material_and_radii_lie_in_the_range_of_real_solids(field, value, why):
     """Issue 13: such values gave overflow warnings, LAPACK errors and tracebacks."""
     with pytest.raises(ValueError, match=f"{field} must lie in .*{why}"):

@@ -132,7 +132,8 @@ def test_steps_per_sample_rejects_a_step_that_does_not_divide_the_period(dt_s, r
 
 def test_a_shaft_too_compliant_to_tilt_the_follicle_cannot_be_calibrated():
     """Issue 13: the gain came out infinite and failed later, far from its cause."""
-    g = XY.replace(youngs_modulus_gpa=0.01, base_radius_mm=0.001, tip_radius_mm=0.001,
-                   length_mm=2000)
+    g = XY.replace(
+        youngs_modulus_gpa=0.01, base_radius_mm=0.001, tip_radius_mm=0.001, length_mm=2000
+    )
     with pytest.raises(ValueError, match="does not tilt the follicle"):
         calibrated_gain(g)

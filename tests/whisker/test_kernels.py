@@ -52,8 +52,11 @@ def test_every_kernel_is_cached_and_defined_in_the_kernel_module():
             assert isinstance(deco, ast.Call) and deco.func.id == "njit", node.name
             keywords = [(k.arg, k.value.value) for k in deco.keywords]
             # the two entry points run on threads too (CrunchBot's whiskers side by side)
-            allowed = ([("cache", True), ("nogil", True)]
-                       if node.name in ("run_dynamics", "modal_advance") else [("cache", True)])
+            allowed = (
+                [("cache", True), ("nogil", True)]
+                if node.name in ("run_dynamics", "modal_advance")
+                else [("cache", True)]
+            )
             assert keywords == allowed, node.name
 
 
@@ -154,8 +157,15 @@ def test_the_stretching_springs_iteration_matrix_is_their_exact_derivative():
 def _flat_plane(first_node: int = 1) -> ContactSpec:
     # a flat wall through the origin, its normal +x toward the whisker
     frame = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
-    return ContactSpec(_kernels.PLANE, np.array([0.0, 2e4, 0.5, 0.3, 2e-6]), frame,
-                       np.zeros((4, 4)), 1e-3, 1e-3, first_node)
+    return ContactSpec(
+        _kernels.PLANE,
+        np.array([0.0, 2e4, 0.5, 0.3, 2e-6]),
+        frame,
+        np.zeros((4, 4)),
+        1e-3,
+        1e-3,
+        first_node,
+    )
 
 
 def test_an_update_carrying_a_node_into_a_plane_stops_it_at_the_surface():
@@ -226,14 +236,25 @@ def test_newton_stops_within_its_tolerance_of_the_converged_step(steps):
     assert run.contact_force_n[-1] > 0
     ends = []
     for tol in (1e-8, 1e-13):
-        res = simulate(m, c, tr, (steps + 1) * dt, dt, initial_state=run.final_state.copy(),
-                       record_every=1, linear_free_flight=False, max_stride=1, tol_m=tol)
+        res = simulate(
+            m,
+            c,
+            tr,
+            (steps + 1) * dt,
+            dt,
+            initial_state=run.final_state.copy(),
+            record_every=1,
+            linear_free_flight=False,
+            max_stride=1,
+            tol_m=tol,
+        )
         ends.append(res.states_m[-1])
     assert np.abs(ends[0] - ends[1]).max() <= 1e-8
 
 
-def _first_touch_brute_force(kind, params, frame, h_max, traj, x_rest, radius, bound,
-                             margin, first_node):
+def _first_touch_brute_force(
+    kind, params, frame, h_max, traj, x_rest, radius, bound, margin, first_node
+):
     """Every row and every segment or node: the definition first_possible_contact
     skips its way through."""
     n = x_rest.shape[0]
@@ -244,8 +265,12 @@ def _first_touch_brute_force(kind, params, frame, h_max, traj, x_rest, radius, b
                 b = x_rest[j + 1, [0, 2]] - a
                 p = traj[t, 0:2]
                 u = min(1.0, max(0.0, float((p - a) @ b / (b @ b))))
-                clear = (np.hypot(*(a + u * b - p)) - params[0]
-                         - max(radius[j], radius[j + 1]) - max(bound[j], bound[j + 1]))
+                clear = (
+                    np.hypot(*(a + u * b - p))
+                    - params[0]
+                    - max(radius[j], radius[j + 1])
+                    - max(bound[j], bound[j + 1])
+                )
                 if clear <= margin:
                     return t
         else:

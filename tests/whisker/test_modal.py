@@ -74,6 +74,7 @@ def test_amplitudes_round_trip_a_state_of_the_kept_modes(model):
 
 def _numpy_amplitudes(lm, x, v):
     """LinearModes.amplitudes written out in NumPy, as the documentation states it."""
+
     def transverse(u):
         uu = u.reshape(-1, 3)
         return (uu - np.sum(uu * lm.tangents, axis=1)[:, None] * lm.tangents).reshape(-1)
@@ -149,9 +150,15 @@ def test_hand_over_keeps_energy_and_base_signal(model):
     lm = linear_modes(model)
     tested = 0
     for force_n in (2e-3, 5e-3):
-        ring = simulate(model, None, None, 0.3, linear_free_flight=False,
-                        initial_positions_m=model.static_force(force_n, 185).positions_m,
-                        record_every=40)
+        ring = simulate(
+            model,
+            None,
+            None,
+            0.3,
+            linear_free_flight=False,
+            initial_positions_m=model.static_force(force_n, 185).positions_m,
+            record_every=40,
+        )
         peak = np.abs(ring.tan_xy[:, 0]).max()
         for x, v in zip(ring.states_m[1:], ring.velocities_m_s[1:], strict=True):
             z, lost = lm.amplitudes(x, v)
@@ -177,7 +184,8 @@ def test_standard_contact_matches_the_nonlinear_rod(standard_pair):
     assert np.abs(hyb.tan_xy - ref.tan_xy).max() <= 5e-4 * peak
     np.testing.assert_array_equal(hyb.contact_force_n > 0, ref.contact_force_n > 0)
     assert np.abs(hyb.follicle_moment_nm).max() == pytest.approx(
-        np.abs(ref.follicle_moment_nm).max(), rel=1e-6)
+        np.abs(ref.follicle_moment_nm).max(), rel=1e-6
+    )
 
 
 def test_signal_is_continuous_at_every_hand_over(model, standard_pair):
@@ -198,9 +206,15 @@ def test_signal_is_continuous_at_every_hand_over(model, standard_pair):
 def test_ring_down_matches_the_nonlinear_rod(model):
     hyb = free_vibration(model, 5.0, 1.0)  # default long steps too
     assert hyb.tan_xy[0, 0] > 0.0
-    ref = simulate(model, None, None, 1.0, linear_free_flight=False, max_stride=1,
-                   initial_positions_m=model.static_force(
-                       *_tip_force(model, 5.0)).positions_m)
+    ref = simulate(
+        model,
+        None,
+        None,
+        1.0,
+        linear_free_flight=False,
+        max_stride=1,
+        initial_positions_m=model.static_force(*_tip_force(model, 5.0)).positions_m,
+    )
     assert (hyb.newton_iterations == 0).mean() > 0.8
     peak = np.abs(ref.tan_xy).max()
     assert np.abs(hyb.tan_xy - ref.tan_xy).max() <= 1e-3 * peak
@@ -235,8 +249,9 @@ def test_a_ringing_whisker_that_swings_back_into_the_pole_is_caught(model):
     tr = Trajectory.linear((-9.0, 140.0), (0.0, 0.0), 0.5)
     x0 = model.static_force(*_tip_force(model, 30.0)).positions_m
     hyb = simulate(model, c, tr, 0.5, initial_positions_m=x0)
-    ref = simulate(model, c, tr, 0.5, initial_positions_m=x0, linear_free_flight=False,
-                   max_stride=1)
+    ref = simulate(
+        model, c, tr, 0.5, initial_positions_m=x0, linear_free_flight=False, max_stride=1
+    )
     hits_r = np.flatnonzero(ref.contact_force_n > 0)
     assert hits_r.size > 0
     assert np.argmax(hyb.contact_force_n > 0) == hits_r[0]
@@ -264,15 +279,23 @@ def test_surface_contact_after_free_flight_matches(model):
 
 def test_stop_event_fires_on_the_same_step_in_free_flight(model):
     x0 = model.static_force(*_tip_force(model, 3.0)).positions_m
-    ref = simulate(model, None, None, 0.5, initial_positions_m=x0, linear_free_flight=False,
-                   max_stride=1)
+    ref = simulate(
+        model, None, None, 0.5, initial_positions_m=x0, linear_free_flight=False, max_stride=1
+    )
     # a level the decaying ring-down crosses late, in free flight
     level = 0.3 * np.abs(ref.tan_xy[:, 0]).max()
     late = np.flatnonzero(np.abs(ref.tan_xy[400:, 0]) >= level)[0] + 400
-    a = simulate(model, None, None, 0.5, initial_positions_m=x0,
-                 stop_when_tan_x_exceeds=level)
-    b = simulate(model, None, None, 0.5, initial_positions_m=x0, linear_free_flight=False,
-                 max_stride=1, stop_when_tan_x_exceeds=level)
+    a = simulate(model, None, None, 0.5, initial_positions_m=x0, stop_when_tan_x_exceeds=level)
+    b = simulate(
+        model,
+        None,
+        None,
+        0.5,
+        initial_positions_m=x0,
+        linear_free_flight=False,
+        max_stride=1,
+        stop_when_tan_x_exceeds=level,
+    )
     assert a.stopped_early and b.stopped_early
     assert a.time_s.size == b.time_s.size
     assert late > 0
@@ -330,8 +353,9 @@ def test_whisking_in_air_is_linear_free_flight_seen_from_the_housing(scratchbot)
     the nonlinear rod throughout to 1e-3 of the peak, with nearly every step modal."""
     bm = _whisk(2.0)
     hyb = simulate(scratchbot, None, None, 1.5, base_motion=bm)
-    ref = simulate(scratchbot, None, None, 1.5, base_motion=bm, linear_free_flight=False,
-                   max_stride=1)
+    ref = simulate(
+        scratchbot, None, None, 1.5, base_motion=bm, linear_free_flight=False, max_stride=1
+    )
     assert (hyb.newton_iterations == 0).mean() > 0.95
     peak = np.abs(ref.tan_xy[:, 0]).max()
     assert peak > 1e-3  # the whisking itself bends the whisker
@@ -373,8 +397,15 @@ def test_a_whisk_into_a_pole_touches_on_the_same_step(scratchbot):
     bm = _whisk(2.0)
     ws = pole_whisker(scratchbot, 130.0, 6.0)
     hyb = simulate(scratchbot, ws.contact, ws.trajectory, 1.0, base_motion=bm)
-    ref = simulate(scratchbot, ws.contact, ws.trajectory, 1.0, base_motion=bm,
-                   linear_free_flight=False, max_stride=1)
+    ref = simulate(
+        scratchbot,
+        ws.contact,
+        ws.trajectory,
+        1.0,
+        base_motion=bm,
+        linear_free_flight=False,
+        max_stride=1,
+    )
     assert (hyb.newton_iterations == 0).mean() > 0.3
     on_h = np.flatnonzero(np.diff((hyb.contact_force_n > 0).astype(int)) == 1)
     on_r = np.flatnonzero(np.diff((ref.contact_force_n > 0).astype(int)) == 1)

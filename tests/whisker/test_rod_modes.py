@@ -49,7 +49,8 @@ def test_damping_design_hits_the_configured_first_mode_damping():
 
 def test_a_first_mode_overdamped_by_the_material_is_refused():
     """Issue 13: a light, stiff, clamped whisker had no oscillating first mode (IndexError)."""
-    g = PRESETS["xy-robot"].replace(youngs_modulus_gpa=1200, density_kg_m3=1,
-                                    base_radius_mm=0.5, tip_radius_mm=0.001)
+    g = PRESETS["xy-robot"].replace(
+        youngs_modulus_gpa=1200, density_kg_m3=1, base_radius_mm=0.5, tip_radius_mm=0.001
+    )
     with pytest.raises(ValueError, match="overdamped by the shaft's own material damping"):
         _ = RodModel(g, rigid_follicle=True).damping

@@ -167,13 +167,17 @@ def test_push_bad_input(tapered):
         RodModel(TAPERED, n_elements=2)
 
 
-@pytest.mark.parametrize(("at_mm", "radius_mm", "displacement_mm"), [
-    (180.0, 170.0, 60.0),
-    (180.0, 150.0, 80.0),
-    (170.0, 120.0, 100.0),
-])
-def test_push_refuses_a_pole_the_whisker_would_wrap_around(tapered, at_mm, radius_mm,
-                                                           displacement_mm):
+@pytest.mark.parametrize(
+    ("at_mm", "radius_mm", "displacement_mm"),
+    [
+        (180.0, 170.0, 60.0),
+        (180.0, 150.0, 80.0),
+        (170.0, 120.0, 100.0),
+    ],
+)
+def test_push_refuses_a_pole_the_whisker_would_wrap_around(
+    tapered, at_mm, radius_mm, displacement_mm
+):
     """Issue 13, finding 8: a pole large for the push, though smaller than the contact's
     distance, touches the shaft a second time (the whisker wraps around it); the push
     failed to converge and now names the cause."""

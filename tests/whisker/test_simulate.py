@@ -179,9 +179,15 @@ def test_bad_simulation_input(model):
         PoleContact(friction=-1)
     with pytest.raises(ValueError, match="angle_deg"):
         SurfaceContact(make_surface("p80"), angle_deg=95)
-    for name, bad in (("max_stride", 0), ("max_stride", 2.5), ("max_iterations", 0),
-                      ("refactor_every", True), ("max_halvings", -1), ("tol_m", 0.0),
-                      ("stride_tol_m", float("nan"))):
+    for name, bad in (
+        ("max_stride", 0),
+        ("max_stride", 2.5),
+        ("max_iterations", 0),
+        ("refactor_every", True),
+        ("max_halvings", -1),
+        ("tol_m", 0.0),
+        ("stride_tol_m", float("nan")),
+    ):
         with pytest.raises(ValueError, match=name):
             simulate(model, None, None, 0.01, **{name: bad})
 
@@ -207,20 +213,24 @@ def test_a_whisker_dragged_along_a_frictionless_wall_by_its_turning_housing_conv
     # a step that raises the residual is now shortened (a line search)
     model = RodModel(PRESETS["crunchbot"], n_elements=16)
     t = np.linspace(0.0, 0.5, 1001)
-    push = Trajectory(t, np.column_stack([np.zeros_like(t),
-                                          135.0 - 40.0 * np.minimum(t / 0.25, 1.0)]))
+    push = Trajectory(
+        t, np.column_stack([np.zeros_like(t), 135.0 - 40.0 * np.minimum(t / 0.25, 1.0)])
+    )
     turn = BaseMotion(t, 0.3 * t, np.full_like(t, 0.3))
-    wall = SurfaceContact(Surface(np.zeros((4, 4)), 1e-3, 0.0, "wall"), angle_deg=60.0,
-                          friction=0.0)
+    wall = SurfaceContact(
+        Surface(np.zeros((4, 4)), 1e-3, 0.0, "wall"), angle_deg=60.0, friction=0.0
+    )
     res = simulate(model, wall, push, 0.5, 2.5e-4, base_motion=turn)
     assert res.contact_force_n.max() > 0.0
     assert np.all(np.isfinite(res.tan_xy))
 
 
-@pytest.mark.parametrize(("angle_deg", "speed_mm_s", "turn_rad_s"), [(80.0, 40.0, 0.5),
-                                                                     (77.0, 60.0, -1.0)])
+@pytest.mark.parametrize(
+    ("angle_deg", "speed_mm_s", "turn_rad_s"), [(80.0, 40.0, 0.5), (77.0, 60.0, -1.0)]
+)
 def test_a_whisker_driven_head_on_into_a_wall_presses_on_it_below_its_buckling_load(
-        angle_deg, speed_mm_s, turn_rad_s):
+    angle_deg, speed_mm_s, turn_rad_s
+):
     # CrunchBot pushing into a wall and turning. Pushed near end-on, a whisker buckles:
     # the wall cannot load it much beyond the Euler load of a uniform rod with the
     # base's stiffness clamped at both ends (taper and the soft follicle only lower
@@ -232,11 +242,11 @@ def test_a_whisker_driven_head_on_into_a_wall_presses_on_it_below_its_buckling_l
     ei = g.youngs_modulus_gpa * 1e9 * math.pi * (g.base_radius_mm * 1e-3) ** 4 / 4
     euler_n = 4 * math.pi**2 * ei / (g.length_mm * 1e-3) ** 2
     t = np.linspace(0.0, 0.5, 1001)
-    push = Trajectory(t, np.column_stack([np.zeros_like(t),
-                                          g.length_mm - 5.0 - speed_mm_s * t]))
+    push = Trajectory(t, np.column_stack([np.zeros_like(t), g.length_mm - 5.0 - speed_mm_s * t]))
     turn = BaseMotion(t, turn_rad_s * t, np.full_like(t, turn_rad_s))
-    wall = SurfaceContact(Surface(np.zeros((4, 4)), 1e-3, 0.3, "wall"), angle_deg=angle_deg,
-                          friction=0.3)
+    wall = SurfaceContact(
+        Surface(np.zeros((4, 4)), 1e-3, 0.3, "wall"), angle_deg=angle_deg, friction=0.3
+    )
     res = simulate(model, wall, push, 0.5, 2.5e-4, base_motion=turn)
     touching = res.contact_force_n > 0
     first = int(np.argmax(touching))
@@ -246,19 +256,28 @@ def test_a_whisker_driven_head_on_into_a_wall_presses_on_it_below_its_buckling_l
     assert iterations.sum() / iterations.size < 6
 
 
-@pytest.mark.parametrize("times", [np.linspace(-0.5, 2.5, 61), np.array(0.25), 0.75,
-                                   np.array([[0.1, 1.0, 1.9]]), np.array([1.5, 0.2, 2.0])])
+@pytest.mark.parametrize(
+    "times",
+    [
+        np.linspace(-0.5, 2.5, 61),
+        np.array(0.25),
+        0.75,
+        np.array([[0.1, 1.0, 1.9]]),
+        np.array([1.5, 0.2, 2.0]),
+    ],
+)
 def test_trajectory_samples_as_numpy_interp_does(times):
     """Sampling a trajectory gives np.interp's values and shapes, bytes included, at
     increasing, unordered, scalar and 2-D times, knots and ends."""
-    t = Trajectory(np.array([0.0, 0.3, 1.0, 2.0]),
-                   np.array([[0.0, 1.0], [0.7, 3.0], [1.0, 2.5], [2.0, 2.0]]),
-                   lateral_mm=np.array([0.0, -1.0, 0.5, 0.25]))
+    t = Trajectory(
+        np.array([0.0, 0.3, 1.0, 2.0]),
+        np.array([[0.0, 1.0], [0.7, 3.0], [1.0, 2.5], [2.0, 2.0]]),
+        lateral_mm=np.array([0.0, -1.0, 0.5, 0.25]),
+    )
     p, v = t.sample(times)
     y, vy = t.sample_lateral(times)
     ref_p = np.column_stack([np.interp(times, t.time_s, t.position_mm[:, i]) for i in range(2)])
-    ref_v = np.column_stack([np.interp(times, t.time_s, t.velocity_mm_s[:, i])
-                             for i in range(2)])
+    ref_v = np.column_stack([np.interp(times, t.time_s, t.velocity_mm_s[:, i]) for i in range(2)])
     np.testing.assert_array_equal(p, ref_p)
     np.testing.assert_array_equal(v, ref_v)
     np.testing.assert_array_equal(y, np.interp(times, t.time_s, t.lateral_mm))

@@ -39,8 +39,14 @@ def _ramp(t0: float, rise: float, angle: float, end: float = 5.0) -> BaseMotion:
 def test_zero_rotation_gives_the_fixed_follicle_bytes(model):
     traj = Trajectory.linear((-5.0, 120.0), (60.0, 0.0), 0.35)
     fixed = simulate(model, PoleContact(), traj, 0.35, linear_free_flight=False)
-    still = simulate(model, PoleContact(), traj, 0.35, linear_free_flight=False,
-                     base_motion=BaseMotion(np.array([0.0, 1.0]), np.zeros(2)))
+    still = simulate(
+        model,
+        PoleContact(),
+        traj,
+        0.35,
+        linear_free_flight=False,
+        base_motion=BaseMotion(np.array([0.0, 1.0]), np.zeros(2)),
+    )
     assert fixed.contact_force_n.max() > 0.0
     assert fixed.tan_xy.tobytes() == still.tan_xy.tobytes()
     assert fixed.contact_force_n.tobytes() == still.contact_force_n.tobytes()
@@ -58,8 +64,14 @@ def test_constant_rate_rotation_is_followed_with_the_derived_lag(alpha):
     m.__dict__["damping"] = (alpha, beta_s, beta_f)  # add air drag to see a lag
     omega = 0.4
     t = np.array([0.0, 3.0])
-    res = simulate(m, None, None, 1.5, base_motion=BaseMotion(t, omega * t, np.full(2, omega)),
-                   record_every=200)
+    res = simulate(
+        m,
+        None,
+        None,
+        1.5,
+        base_motion=BaseMotion(t, omega * t, np.full(2, omega)),
+        record_every=200,
+    )
     r = m.x_rest - m.x_rest[0]
     inertia = float(np.sum(m.mass[m.free] * np.sum(r[m.free] ** 2, axis=1)))
     lag = alpha * inertia * omega / m.kf
@@ -67,8 +79,7 @@ def test_constant_rate_rotation_is_followed_with_the_derived_lag(alpha):
     assert res.tan_xy[-1, 0] == pytest.approx(-math.tan(lag), rel=0.02, abs=1e-9)
     # and the tip is where the housing points, turned by 0.6 rad
     tip = res.states_m[-1, -1]
-    assert math.atan2(tip[0], tip[2] - m.x_rest[0, 2]) == pytest.approx(
-        omega * 1.5 - lag, abs=2e-3)
+    assert math.atan2(tip[0], tip[2] - m.x_rest[0, 2]) == pytest.approx(omega * 1.5 - lag, abs=2e-3)
 
 
 def test_a_quick_step_rings_at_the_first_damped_frequency(model):
@@ -113,14 +124,19 @@ def test_resuming_in_pieces_follows_the_same_path(model):
     assert second.base_angle_rad[0] == pytest.approx(bm.sample(np.array([0.1]))[0][0])
 
 
-@pytest.mark.parametrize(("kwargs", "match"), [
-    ({"time_s": np.array([0.0, 0.0]), "angle_rad": np.zeros(2)}, "strictly increasing"),
-    ({"time_s": np.array([0.0, 1.0]), "angle_rad": np.zeros(3)}, "angle_rad must have"),
-    ({"time_s": np.array([0.0, 1.0]), "angle_rad": np.array([0.0, 2.0])}, "pi/2"),
-    ({"time_s": np.array([0.0, 1.0]), "angle_rad": np.zeros(2), "rate_rad_s": np.zeros(1)},
-     "rate_rad_s must have"),
-    ({"time_s": np.array([0.0, np.nan]), "angle_rad": np.zeros(2)}, "time_s"),
-])
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"time_s": np.array([0.0, 0.0]), "angle_rad": np.zeros(2)}, "strictly increasing"),
+        ({"time_s": np.array([0.0, 1.0]), "angle_rad": np.zeros(3)}, "angle_rad must have"),
+        ({"time_s": np.array([0.0, 1.0]), "angle_rad": np.array([0.0, 2.0])}, "pi/2"),
+        (
+            {"time_s": np.array([0.0, 1.0]), "angle_rad": np.zeros(2), "rate_rad_s": np.zeros(1)},
+            "rate_rad_s must have",
+        ),
+        ({"time_s": np.array([0.0, np.nan]), "angle_rad": np.zeros(2)}, "time_s"),
+    ],
+)
 def test_bad_base_motion(kwargs, match):
     with pytest.raises(ValueError, match=match):
         BaseMotion(**kwargs)

@@ -502,8 +502,11 @@ class TrialClassifier(SampleRateMixin, ClassifierMixin, BaseEstimator):
             # mixed columns (numbers and strings, see vibrissa.data.as_arrays): each
             # column is sorted on its own, rows in lexicographic order of the columns
             codes = np.column_stack(
-                [np.unique(y_arr[:, k], return_inverse=True)[1].ravel()
-                 for k in range(y_arr.shape[1])])
+                [
+                    np.unique(y_arr[:, k], return_inverse=True)[1].ravel()
+                    for k in range(y_arr.shape[1])
+                ]
+            )
             _, first, y_idx = np.unique(codes, axis=0, return_index=True, return_inverse=True)
             classes = y_arr[first]
         else:

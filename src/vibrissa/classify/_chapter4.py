@@ -100,8 +100,12 @@ def peak_window(fs: float, half_width_s: float = 0.325) -> RecordingWindow:
     """The text's window: both channels, ``half_width_s`` either side of the peak (4.2)."""
     n = int(round(half_width_s * fs))
     return RecordingWindow(
-        align="peak", offset_samples=-n, n_samples=2 * n + 1, channels=None,
-        sample_rate_hz=fs, rest_v=_REST_V,
+        align="peak",
+        offset_samples=-n,
+        n_samples=2 * n + 1,
+        channels=None,
+        sample_rate_hz=fs,
+        rest_v=_REST_V,
     )
 
 
@@ -146,70 +150,126 @@ def chapter4_classifiers(
     fs = positive("sample_rate_hz", sample_rate_hz)
     if preset not in ("thesis", "vibrissa"):
         raise ValueError(f"preset must be 'thesis' or 'vibrissa', got {preset!r}")
-    robust = Pipeline([
-        ("window", peak_window(fs)),
-        ("naive_bayes", StationaryNaiveBayes(signal="velocity", sample_rate_hz=fs)),
-    ])
+    robust = Pipeline(
+        [
+            ("window", peak_window(fs)),
+            ("naive_bayes", StationaryNaiveBayes(signal="velocity", sample_rate_hz=fs)),
+        ]
+    )
     if preset == "vibrissa":
+
         def peak(est: BaseEstimator) -> Pipeline:
             return Pipeline([("window", peak_window(fs)), ("classifier", est)])
 
         return {
-            "static_beam_measured": peak(StaticBeamClassifier(whisker=whisker,
-                                                              sample_rate_hz=fs)),
-            "static_beam_fitted": peak(StaticBeamClassifier(whisker=whisker,
-                                                            fit_parameters=True,
-                                                            sample_rate_hz=fs)),
+            "static_beam_measured": peak(StaticBeamClassifier(whisker=whisker, sample_rate_hz=fs)),
+            "static_beam_fitted": peak(
+                StaticBeamClassifier(whisker=whisker, fit_parameters=True, sample_rate_hz=fs)
+            ),
             "frequency": peak(FrequencyTemplateClassifier(sample_rate_hz=fs)),
             "template": peak(TimeTemplateClassifier(sample_rate_hz=fs)),
             "feature": peak(FeatureRegressionClassifier(sample_rate_hz=fs, degree=5)),
             "naive_bayes_raw": peak(StationaryNaiveBayes(signal="raw", sample_rate_hz=fs)),
             "naive_bayes_velocity": peak(
-                StationaryNaiveBayes(signal="velocity", sample_rate_hz=fs)),
+                StationaryNaiveBayes(signal="velocity", sample_rate_hz=fs)
+            ),
             "naive_bayes_velocity_robust": robust,
         }
 
     eps = float(np.finfo(float).eps)
-    nb_thesis = dict(n_bins=500, smoothing_sigma=1.0, smoothing_radius_bins=10,
-                     likelihood_floor=eps, sample_rate_hz=fs, signal="raw")
+    nb_thesis = dict(
+        n_bins=500,
+        smoothing_sigma=1.0,
+        smoothing_radius_bins=10,
+        likelihood_floor=eps,
+        sample_rate_hz=fs,
+        signal="raw",
+    )
     return {
-        "static_beam_measured": Pipeline([
-            ("window", onset_window(fs)),
-            ("classifier", StaticBeamClassifier(whisker=whisker, fit_parameters=False,
-                                                sample_rate_hz=fs)),
-        ]),
-        "static_beam_fitted": Pipeline([
-            ("window", onset_window(fs)),
-            ("classifier", StaticBeamClassifier(whisker=whisker, fit_parameters=True,
-                                                sample_rate_hz=fs)),
-        ]),
-        "frequency": Pipeline([
-            ("window", onset_window(fs, start_at_1khz=500, n_at_1khz=250)),
-            ("classifier", FrequencyTemplateClassifier(
-                sample_rate_hz=fs, cutoff_hz=None, spectrum="abs_real", one_sided=False,
-                zero_dc=True, distance="l1")),
-        ]),
-        "template": Pipeline([
-            ("window", onset_window(fs, signal="lowpass", lowpass_hz=20.0, lowpass_order=10)),
-            ("classifier", TimeTemplateClassifier(sample_rate_hz=fs, cutoff_hz=None,
-                                                  distance="l1")),
-        ]),
-        "feature": Pipeline([
-            ("window", onset_window(fs)),
-            ("classifier", FeatureRegressionClassifier(
-                sample_rate_hz=fs, threshold_v=0.05, degree=4, duration_mode="peak",
-                duration_smoothing_span=5, min_duration_s=0.35)),
-        ]),
-        "naive_bayes_raw": Pipeline([
-            ("window", onset_window(fs)),
-            ("naive_bayes", StationaryNaiveBayes(
-                value_range=(_REST_V - 2.5, _REST_V + 2.5), **nb_thesis)),
-        ]),
-        "naive_bayes_velocity": Pipeline([
-            ("window", onset_window(fs, signal="velocity", velocity_sigma_samples=15.0,
-                                    velocity_half_width_samples=50)),
-            ("naive_bayes", StationaryNaiveBayes(
-                value_range=(-0.1 * fs, 0.1 * fs), **nb_thesis)),
-        ]),
+        "static_beam_measured": Pipeline(
+            [
+                ("window", onset_window(fs)),
+                (
+                    "classifier",
+                    StaticBeamClassifier(whisker=whisker, fit_parameters=False, sample_rate_hz=fs),
+                ),
+            ]
+        ),
+        "static_beam_fitted": Pipeline(
+            [
+                ("window", onset_window(fs)),
+                (
+                    "classifier",
+                    StaticBeamClassifier(whisker=whisker, fit_parameters=True, sample_rate_hz=fs),
+                ),
+            ]
+        ),
+        "frequency": Pipeline(
+            [
+                ("window", onset_window(fs, start_at_1khz=500, n_at_1khz=250)),
+                (
+                    "classifier",
+                    FrequencyTemplateClassifier(
+                        sample_rate_hz=fs,
+                        cutoff_hz=None,
+                        spectrum="abs_real",
+                        one_sided=False,
+                        zero_dc=True,
+                        distance="l1",
+                    ),
+                ),
+            ]
+        ),
+        "template": Pipeline(
+            [
+                ("window", onset_window(fs, signal="lowpass", lowpass_hz=20.0, lowpass_order=10)),
+                (
+                    "classifier",
+                    TimeTemplateClassifier(sample_rate_hz=fs, cutoff_hz=None, distance="l1"),
+                ),
+            ]
+        ),
+        "feature": Pipeline(
+            [
+                ("window", onset_window(fs)),
+                (
+                    "classifier",
+                    FeatureRegressionClassifier(
+                        sample_rate_hz=fs,
+                        threshold_v=0.05,
+                        degree=4,
+                        duration_mode="peak",
+                        duration_smoothing_span=5,
+                        min_duration_s=0.35,
+                    ),
+                ),
+            ]
+        ),
+        "naive_bayes_raw": Pipeline(
+            [
+                ("window", onset_window(fs)),
+                (
+                    "naive_bayes",
+                    StationaryNaiveBayes(value_range=(_REST_V - 2.5, _REST_V + 2.5), **nb_thesis),
+                ),
+            ]
+        ),
+        "naive_bayes_velocity": Pipeline(
+            [
+                (
+                    "window",
+                    onset_window(
+                        fs,
+                        signal="velocity",
+                        velocity_sigma_samples=15.0,
+                        velocity_half_width_samples=50,
+                    ),
+                ),
+                (
+                    "naive_bayes",
+                    StationaryNaiveBayes(value_range=(-0.1 * fs, 0.1 * fs), **nb_thesis),
+                ),
+            ]
+        ),
         "naive_bayes_velocity_robust": robust,
     }

@@ -56,6 +56,7 @@ __all__ = [
 #: Columns of the chapter-5 label rows ``y``.
 CHAPTER5_TARGETS = ("angle_deg", "speed_mm_s", "texture")
 
+
 def resonance_hz(whisker: Mapping[str, Any] | str) -> float:
     """The whisker's resonance in chapter-5 recordings, Hz (the notch frequency of 5.3.1).
 
@@ -171,9 +172,7 @@ class SignalTransform(SampleRateMixin, TransformerMixin, BaseEstimator):
         ok = not isinstance(ds, bool) and isinstance(ds, int | np.integer) and ds >= 1
         return sample_rate_hz / int(ds) if ok else sample_rate_hz
 
-    def fit(
-        self, X: Any, y: Any = None, sample_rate_hz: float | None = None
-    ) -> SignalTransform:
+    def fit(self, X: Any, y: Any = None, sample_rate_hz: float | None = None) -> SignalTransform:
         """Validate the parameters and record the shape of a trial and the rate.
 
         Parameters
@@ -212,11 +211,15 @@ class SignalTransform(SampleRateMixin, TransformerMixin, BaseEstimator):
             validate_data(self, X, reset=False, dtype=np.float64, ensure_all_finite=True)
         name = type(self).__name__
         if X3.shape[1] != self.n_channels_:
-            raise ValueError(f"X has {X3.shape[1]} channels, but {name} is expecting "
-                             f"{self.n_channels_} channels as input")
+            raise ValueError(
+                f"X has {X3.shape[1]} channels, but {name} is expecting "
+                f"{self.n_channels_} channels as input"
+            )
         if X3.shape[2] != self.n_timepoints_:
-            raise ValueError(f"X has {X3.shape[2]} timepoints (features), but {name} is "
-                             f"expecting {self.n_timepoints_} timepoints as input")
+            raise ValueError(
+                f"X has {X3.shape[2]} timepoints (features), but {name} is "
+                f"expecting {self.n_timepoints_} timepoints as input"
+            )
         return X3
 
     def transform(self, X: Any, sample_rate_hz: float | None = None) -> np.ndarray:
@@ -342,8 +345,11 @@ class SpeedFirstClassifier(TrialClassifier):
         return tags
 
     def _rate_parts(self) -> list[tuple[str, Any]]:
-        return [(k, e) for k, e in (("speed_estimator", self.speed_estimator),
-                                    ("estimator", self.estimator)) if e is not None]
+        return [
+            (k, e)
+            for k, e in (("speed_estimator", self.speed_estimator), ("estimator", self.estimator))
+            if e is not None
+        ]
 
     def _speed_column(self) -> int:
         """Column of ``classes_`` (as 2-D) holding the speed; 0 for a single column."""
@@ -361,26 +367,40 @@ class SpeedFirstClassifier(TrialClassifier):
 
     def _fit(self, X: np.ndarray, y: object, y_idx: np.ndarray) -> None:
         col = self.speed_column
-        if self.classes_.ndim == 2 and self.classes_.shape[1] > 1 and (
-                isinstance(col, bool) or not isinstance(col, int | np.integer)
-                or not 0 <= int(col) < self.classes_.shape[1]):
-            raise ValueError(f"speed_column must lie in [0, {self.classes_.shape[1] - 1}], "
-                             f"got {col!r}")
+        if (
+            self.classes_.ndim == 2
+            and self.classes_.shape[1] > 1
+            and (
+                isinstance(col, bool)
+                or not isinstance(col, int | np.integer)
+                or not 0 <= int(col) < self.classes_.shape[1]
+            )
+        ):
+            raise ValueError(
+                f"speed_column must lie in [0, {self.classes_.shape[1] - 1}], got {col!r}"
+            )
         speeds = np.unique(self._class_speeds())
         fs = float(self.sample_rate_hz)
         y_rows = self.classes_[y_idx]
-        est = (StationaryNaiveBayes(signal="velocity", sample_rate_hz=fs)
-               if self.estimator is None else self.estimator)
+        est = (
+            StationaryNaiveBayes(signal="velocity", sample_rate_hz=fs)
+            if self.estimator is None
+            else self.estimator
+        )
         self.estimator_ = clone(est).fit(X, y_rows, **sample_rate_fit_params(est, fs))
         if not np.array_equal(self.estimator_.classes_, self.classes_):
             raise ValueError("estimator must keep the joint classes of y (rows of classes_)")
         if len(speeds) < 2:
             self.speed_estimator_ = None
             return
-        sp = (FeaturePolynomialClassifier(sample_rate_hz=fs, features=(("f1",),), degree=2)
-              if self.speed_estimator is None else self.speed_estimator)
-        y_speed = (y_rows[:, [self._speed_column()]] if y_rows.ndim == 2
-                   else y_rows[:, None]).astype(float)
+        sp = (
+            FeaturePolynomialClassifier(sample_rate_hz=fs, features=(("f1",),), degree=2)
+            if self.speed_estimator is None
+            else self.speed_estimator
+        )
+        y_speed = (
+            y_rows[:, [self._speed_column()]] if y_rows.ndim == 2 else y_rows[:, None]
+        ).astype(float)
         self.speed_estimator_ = clone(sp).fit(X, y_speed, **sample_rate_fit_params(sp, fs))
 
     def predict_speed(self, X: Any, sample_rate_hz: float | None = None) -> np.ndarray:
@@ -473,18 +493,27 @@ class JointLikelihoodNaiveBayes(TrialClassifier):
         return tags
 
     def _rate_parts(self) -> list[tuple[str, Any]]:
-        return [(k, e) for k, e in (("histogram", self.histogram),
-                                    ("template_signal", self.template_signal)) if e is not None]
+        return [
+            (k, e)
+            for k, e in (("histogram", self.histogram), ("template_signal", self.template_signal))
+            if e is not None
+        ]
 
     def _fit(self, X: np.ndarray, y: object, y_idx: np.ndarray) -> None:
         w = float(self.template_weight)
         if not np.isfinite(w) or w < 0:
             raise ValueError(f"template_weight must be >= 0, got {self.template_weight!r}")
         fs = float(self.sample_rate_hz)
-        hist = (StationaryNaiveBayes(signal="velocity", sample_rate_hz=fs)
-                if self.histogram is None else self.histogram)
-        ts = (SignalTransform("lowpass", sample_rate_hz=fs, downsample=20)
-              if self.template_signal is None else self.template_signal)
+        hist = (
+            StationaryNaiveBayes(signal="velocity", sample_rate_hz=fs)
+            if self.histogram is None
+            else self.histogram
+        )
+        ts = (
+            SignalTransform("lowpass", sample_rate_hz=fs, downsample=20)
+            if self.template_signal is None
+            else self.template_signal
+        )
         self.histogram_ = clone(hist).fit(X, y_idx, **sample_rate_fit_params(hist, fs))
         self.template_signal_ = clone(ts).fit(X, **sample_rate_fit_params(ts, fs))
         S = self.template_signal_.transform(X)
@@ -516,7 +545,8 @@ class JointLikelihoodNaiveBayes(TrialClassifier):
         scale = 1.0 / np.sqrt(self.variance_)[None, :, None]
         F = (S * scale).reshape(S.shape[0], -1)
         T = (self.templates_.reshape(len(self.classes_), *S.shape[1:]) * scale).reshape(
-            len(self.classes_), -1)
+            len(self.classes_), -1
+        )
         sse = nearest_template_scores(F, T, np.arange(len(self.classes_)), len(self.classes_))
         const = -0.5 * self.n_template_samples_ * np.sum(np.log(2 * np.pi * self.variance_))
         return const - 0.5 * sse
@@ -550,7 +580,8 @@ CHAPTER5_KEYS = (
 
 
 def chapter5_classifiers(
-    sample_rate_hz: float, whisker: Mapping[str, Any] | str | None = None,
+    sample_rate_hz: float,
+    whisker: Mapping[str, Any] | str | None = None,
     notch_hz: float | None = None,
 ) -> dict[str, BaseEstimator]:
     """Unfitted estimators of chapter 5 (5.3.1-5.3.5) and four additions beyond it.
@@ -582,18 +613,30 @@ def chapter5_classifiers(
         notch_hz = resonance_hz(whisker)
     f0 = positive("notch_hz", notch_hz)
     lp_down = max(1, int(fs // 200))  # 20 Hz low-pass -> 200 Hz samples
-    nb_thesis = dict(n_bins=500, smoothing_sigma=1.0, smoothing_radius_bins=10,
-                     likelihood_floor=float(np.finfo(float).eps), sample_rate_hz=fs)
+    nb_thesis = dict(
+        n_bins=500,
+        smoothing_sigma=1.0,
+        smoothing_radius_bins=10,
+        likelihood_floor=float(np.finfo(float).eps),
+        sample_rate_hz=fs,
+    )
 
     def tmpl(kind: str, notch: float | None = None, down: int = 1) -> Pipeline:
-        return Pipeline([
-            ("signal", SignalTransform(kind, sample_rate_hz=fs, notch_hz=notch, downsample=down)),
-            ("template", TimeTemplateClassifier(sample_rate_hz=fs / down, cutoff_hz=None)),
-        ])
+        return Pipeline(
+            [
+                (
+                    "signal",
+                    SignalTransform(kind, sample_rate_hz=fs, notch_hz=notch, downsample=down),
+                ),
+                ("template", TimeTemplateClassifier(sample_rate_hz=fs / down, cutoff_hz=None)),
+            ]
+        )
 
     def feat(texture: tuple[str, ...], degree: int = 2) -> FeaturePolynomialClassifier:
         return FeaturePolynomialClassifier(
-            sample_rate_hz=fs, notch_hz=f0, features=(("f2",), ("f1",), texture),
+            sample_rate_hz=fs,
+            notch_hz=f0,
+            features=(("f2",), ("f1",), texture),
             degree=(2, 2, degree),
         )
 
@@ -603,11 +646,17 @@ def chapter5_classifiers(
         "template_highpass": tmpl("highpass", f0),
         "template_velocity": tmpl("velocity"),
         "template_acceleration": tmpl("acceleration"),
-        "frequency": Pipeline([
-            ("signal", SignalTransform("raw", sample_rate_hz=fs, notch_hz=f0)),
-            ("template", FrequencyTemplateClassifier(
-                sample_rate_hz=fs, cutoff_hz=None, max_frequency_hz=1000.0)),
-        ]),
+        "frequency": Pipeline(
+            [
+                ("signal", SignalTransform("raw", sample_rate_hz=fs, notch_hz=f0)),
+                (
+                    "template",
+                    FrequencyTemplateClassifier(
+                        sample_rate_hz=fs, cutoff_hz=None, max_frequency_hz=1000.0
+                    ),
+                ),
+            ]
+        ),
         "feature": feat(("f3",)),
         "feature_f4": feat(("f4",)),
         "feature_f5": feat(("f5",)),
@@ -617,25 +666,35 @@ def chapter5_classifiers(
         # truncated at 10, log(l + eps); raw over rest +/- 2.5 V (the text's range),
         # velocity over +/-0.1 V per sample; acceleration (no code, no range given)
         # over the training data's full range (the text's 4.3.5 reading)
-        "naive_bayes_raw": StationaryNaiveBayes(
-            signal="raw", value_range=(0.0, 5.0), **nb_thesis),
-        "naive_bayes_velocity": Pipeline([
-            ("signal", SignalTransform("causal_velocity", sample_rate_hz=fs)),
-            ("naive_bayes", StationaryNaiveBayes(
-                signal="raw", value_range=(-0.1 * fs, 0.1 * fs), **nb_thesis)),
-        ]),
-        "naive_bayes_acceleration": Pipeline([
-            ("signal", SignalTransform("acceleration", sample_rate_hz=fs)),
-            ("naive_bayes", StationaryNaiveBayes(signal="raw", value_range=None, **nb_thesis)),
-        ]),
+        "naive_bayes_raw": StationaryNaiveBayes(signal="raw", value_range=(0.0, 5.0), **nb_thesis),
+        "naive_bayes_velocity": Pipeline(
+            [
+                ("signal", SignalTransform("causal_velocity", sample_rate_hz=fs)),
+                (
+                    "naive_bayes",
+                    StationaryNaiveBayes(
+                        signal="raw", value_range=(-0.1 * fs, 0.1 * fs), **nb_thesis
+                    ),
+                ),
+            ]
+        ),
+        "naive_bayes_acceleration": Pipeline(
+            [
+                ("signal", SignalTransform("acceleration", sample_rate_hz=fs)),
+                ("naive_bayes", StationaryNaiveBayes(signal="raw", value_range=None, **nb_thesis)),
+            ]
+        ),
         "combined": SpeedFirstClassifier(
             speed_estimator=FeaturePolynomialClassifier(
-                sample_rate_hz=fs, notch_hz=f0, features=(("f1",),), degree=2),
+                sample_rate_hz=fs, notch_hz=f0, features=(("f1",),), degree=2
+            ),
             estimator=StationaryNaiveBayes(signal="velocity", sample_rate_hz=fs),
-            speed_column=1, sample_rate_hz=fs,
+            speed_column=1,
+            sample_rate_hz=fs,
         ),
         "naive_bayes_velocity_robust": StationaryNaiveBayes(
-            signal="velocity", sample_rate_hz=fs, value_range="robust"),
+            signal="velocity", sample_rate_hz=fs, value_range="robust"
+        ),
         "joint_likelihood_nb": JointLikelihoodNaiveBayes(
             template_signal=SignalTransform("lowpass", sample_rate_hz=fs, downsample=lp_down),
             sample_rate_hz=fs,

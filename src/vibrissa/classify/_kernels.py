@@ -61,22 +61,22 @@ def l1_distances(F, TT, out):  # pragma: no cover - compiled
             j1 = min(d, j0 + _FEATURES)
             i = 0
             while i + 1 < n:  # two test rows share each load of the templates
-                o1 = out[i, t0:t0 + w]
-                o2 = out[i + 1, t0:t0 + w]
+                o1 = out[i, t0 : t0 + w]
+                o2 = out[i + 1, t0 : t0 + w]
                 for j in range(j0, j1):
                     a1 = F[i, j]
                     a2 = F[i + 1, j]
-                    row = TT[j, t0:t0 + w]
+                    row = TT[j, t0 : t0 + w]
                     for t in range(w):
                         r = row[t]
                         o1[t] += abs(a1 - r)
                         o2[t] += abs(a2 - r)
                 i += 2
             if i < n:
-                o1 = out[i, t0:t0 + w]
+                o1 = out[i, t0 : t0 + w]
                 for j in range(j0, j1):
                     a1 = F[i, j]
-                    row = TT[j, t0:t0 + w]
+                    row = TT[j, t0 : t0 + w]
                     for t in range(w):
                         o1[t] += abs(a1 - row[t])
 
@@ -101,8 +101,9 @@ def _first_at_or_below(c, two_l, m_sorted, thr, g):  # pragma: no cover - compil
 
 
 @njit(cache=True, nogil=True)
-def beam_grid_errors(kappa, length_mm, length_m2, m_sorted, mid, G, lookup, scale,
-                     out):  # pragma: no cover - compiled
+def beam_grid_errors(
+    kappa, length_mm, length_m2, m_sorted, mid, G, lookup, scale, out
+):  # pragma: no cover - compiled
     """Mean absolute error of the snapped radius at every grid point ``(kappa[i], length[j])``.
 
     Parameters
@@ -159,7 +160,7 @@ def beam_grid_errors(kappa, length_mm, length_m2, m_sorted, mid, G, lookup, scal
                     guess = n
                 else:
                     lo = lookup[int(fb)]
-                    guess = lo + np.searchsorted(m_sorted[lo:lookup[int(fb) + 1]], x)
+                    guess = lo + np.searchsorted(m_sorted[lo : lookup[int(fb) + 1]], x)
                 g = _first_at_or_below(c, two_l, m_sorted, thr, min(guess, g))
                 bound[k] = g
             total = 0.0

@@ -164,8 +164,12 @@ class MiniRocketClassifier(TransformerMixin, TrialClassifier):
         if self.head not in ("logistic", "ridge"):
             raise ValueError(f"head must be 'logistic' or 'ridge', got {self.head!r}")
         c = self.C
-        if (isinstance(c, bool) or not isinstance(c, int | float | np.number)
-                or not np.isfinite(c) or c <= 0):
+        if (
+            isinstance(c, bool)
+            or not isinstance(c, int | float | np.number)
+            or not np.isfinite(c)
+            or c <= 0
+        ):
             raise ValueError(f"C must be a positive finite number, got {c!r}")
 
     def _ppv(self, Z: np.ndarray) -> np.ndarray:
@@ -201,7 +205,8 @@ class MiniRocketClassifier(TransformerMixin, TrialClassifier):
         t = Z.shape[-1]
         max_exp = np.log2(max((t - 1) / 8.0, 1.0))
         self.dilations_ = np.unique(
-            np.floor(2.0 ** np.linspace(0, max_exp, int(self.n_dilations))).astype(int))
+            np.floor(2.0 ** np.linspace(0, max_exp, int(self.n_dilations))).astype(int)
+        )
         rng = np.random.default_rng(self.random_state)
         K = minirocket_kernels()
         nd, c, nb = len(self.dilations_), Z.shape[1], int(self.n_biases)
@@ -248,9 +253,11 @@ class MiniRocketClassifier(TransformerMixin, TrialClassifier):
             # without the underflow of log(predict_proba)
             dec = np.asarray(h.decision_function(F), dtype=float)
             if dec.ndim == 1:  # binary: decision value of class 1
-                dec = (np.column_stack([np.zeros_like(dec), dec])
-                       if isinstance(h, LogisticRegression)
-                       else np.column_stack([-dec, dec]) / 2.0)
+                dec = (
+                    np.column_stack([np.zeros_like(dec), dec])
+                    if isinstance(h, LogisticRegression)
+                    else np.column_stack([-dec, dec]) / 2.0
+                )
             lp = log_softmax(dec, axis=1)
             scores += lp[:, self.target_index_[:, k]]
         return scores

@@ -74,9 +74,7 @@ def accumulate_evidence(
     return np.argmax(final, axis=1), stop + 1, np.exp(final)
 
 
-def draw_sequences(
-    labels: Any, n_contacts: int, seed: int | np.random.Generator = 0
-) -> np.ndarray:
+def draw_sequences(labels: Any, n_contacts: int, seed: int | np.random.Generator = 0) -> np.ndarray:
     """Sequences of trials with the same label, one starting at each trial.
 
     Sequence ``i`` starts with trial ``i`` and continues with ``n_contacts - 1``
@@ -95,8 +93,11 @@ def draw_sequences(
         Trial indices.
     """
     lab = np.asarray(labels)
-    if (isinstance(n_contacts, bool) or not isinstance(n_contacts, int | np.integer)
-            or n_contacts < 1):
+    if (
+        isinstance(n_contacts, bool)
+        or not isinstance(n_contacts, int | np.integer)
+        or n_contacts < 1
+    ):
         raise ValueError(f"n_contacts must be a positive integer, got {n_contacts!r}")
     rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
     out = np.empty((lab.shape[0], int(n_contacts)), dtype=np.intp)
@@ -192,7 +193,10 @@ class SequentialEvidenceClassifier(SampleRateMixin, ClassifierMixin, BaseEstimat
 
     @classmethod
     def from_fitted(
-        cls, estimator: Any, target_column: int | None = 2, threshold: float = 0.99,
+        cls,
+        estimator: Any,
+        target_column: int | None = 2,
+        threshold: float = 0.99,
         min_probability: float = 1e-3,
     ) -> SequentialEvidenceClassifier:
         """Wrap an already fitted classifier without refitting it.
@@ -218,8 +222,9 @@ class SequentialEvidenceClassifier(SampleRateMixin, ClassifierMixin, BaseEstimat
         if not 0 < float(self.min_probability) < 1:
             raise ValueError(f"min_probability must lie in (0, 1), got {self.min_probability!r}")
         self.estimator_ = fitted
-        self.sample_rate_hz_ = (fitted_sample_rate(fitted) if sample_rate_hz is None
-                                else sample_rate_hz)
+        self.sample_rate_hz_ = (
+            fitted_sample_rate(fitted) if sample_rate_hz is None else sample_rate_hz
+        )
         jc = np.asarray(self.estimator_.classes_)
         if self.target_column is None and jc.ndim == 2:
             # no target column chosen: accumulate the joint classes themselves
@@ -307,7 +312,10 @@ class SequentialEvidenceClassifier(SampleRateMixin, ClassifierMixin, BaseEstimat
         return super().score(X, y, sample_weight=sample_weight)
 
     def predict_sequences(
-        self, X: Any, sequences: Any, n_contacts: int | None = None,
+        self,
+        X: Any,
+        sequences: Any,
+        n_contacts: int | None = None,
         sample_rate_hz: float | None = None,
     ) -> tuple[np.ndarray, np.ndarray]:
         """Classify sequences of contacts with the same (unknown) target value.

@@ -434,10 +434,15 @@ class StaticBeamClassifier(TrialClassifier):
         """
         radii = self.radii_mm_
         n, n_cls = moment.size, radii.size
-        if not (np.all(np.isfinite(moment)) and np.all(moment >= 0)
-                and np.all(np.isfinite(kappa)) and np.all(kappa > 0)):
-            return np.column_stack([self._snapped_errors(kappa, L, moment, r_true)
-                                    for L in lengths_mm])
+        if not (
+            np.all(np.isfinite(moment))
+            and np.all(moment >= 0)
+            and np.all(np.isfinite(kappa))
+            and np.all(kappa > 0)
+        ):
+            return np.column_stack(
+                [self._snapped_errors(kappa, L, moment, r_true) for L in lengths_mm]
+            )
         order = np.argsort(moment, kind="stable")
         prefix = np.zeros((n + 1, n_cls))
         np.cumsum(np.abs(radii[None, :] - r_true[order][:, None]), axis=0, out=prefix[1:])
@@ -446,13 +451,22 @@ class StaticBeamClassifier(TrialClassifier):
         span = float(m_sorted[-1] - m_sorted[0])
         n_buckets = 4 * n if span > 0 else 1
         scale = n_buckets / span if span > 0 else 0.0
-        lookup = (np.searchsorted(m_sorted, m_sorted[0] + np.arange(n_buckets + 1) / scale)
-                  if span > 0 else np.array([0, n]))
+        lookup = (
+            np.searchsorted(m_sorted, m_sorted[0] + np.arange(n_buckets + 1) / scale)
+            if span > 0
+            else np.array([0, n])
+        )
         fast = np.empty((kappa.size, lengths_mm.size))
         _kernels.beam_grid_errors(
-            np.ascontiguousarray(kappa, dtype=float), np.ascontiguousarray(lengths_mm, dtype=float),
-            np.array([(L * 1e-3) ** 2 for L in lengths_mm]), m_sorted,
-            0.5 * (radii[1:] + radii[:-1]), prefix, lookup.astype(np.int64), scale, fast,
+            np.ascontiguousarray(kappa, dtype=float),
+            np.ascontiguousarray(lengths_mm, dtype=float),
+            np.array([(L * 1e-3) ** 2 for L in lengths_mm]),
+            m_sorted,
+            0.5 * (radii[1:] + radii[:-1]),
+            prefix,
+            lookup.astype(np.int64),
+            scale,
+            fast,
         )
         # |fast - exact| <= (2 n_cls + 1) n eps max|error| (prefix sums against NumPy's
         # pairwise mean): twice that, generously rounded, plus the tie tolerance

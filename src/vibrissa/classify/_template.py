@@ -120,7 +120,8 @@ def nearest_template_l1(
         a = F[s : s + chunk_size]
         _kernels.l1_distances(a, TT, d[: a.shape[0]])
         out[s : s + chunk_size] = (
-            d[: a.shape[0]] if len(T) == n_classes
+            d[: a.shape[0]]
+            if len(T) == n_classes
             else np.minimum.reduceat(d[: a.shape[0]], starts, axis=1)
         )
     return out

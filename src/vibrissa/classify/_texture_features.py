@@ -246,8 +246,13 @@ class FeaturePolynomialClassifier(TrialClassifier):
         if isinstance(self.channel, bool) or not 0 <= int(self.channel) < X.shape[1]:
             raise ValueError(f"channel must lie in [0, {X.shape[1] - 1}], got {self.channel!r}")
         return chapter5_features(
-            X, self.sample_rate_hz, self.notch_hz, self.notch_quality, int(self.channel),
-            self.rest_v, self.onset_fraction,
+            X,
+            self.sample_rate_hz,
+            self.notch_hz,
+            self.notch_quality,
+            int(self.channel),
+            self.rest_v,
+            self.onset_fraction,
         )
 
     def _design(self, F: np.ndarray, k: int) -> np.ndarray:
@@ -295,9 +300,7 @@ class FeaturePolynomialClassifier(TrialClassifier):
 
     def _estimates(self, X: np.ndarray) -> np.ndarray:
         F = self._all_features(X)
-        return np.column_stack(
-            [self._design(F, k) @ self.coef_[k] for k in range(len(self.coef_))]
-        )
+        return np.column_stack([self._design(F, k) @ self.coef_[k] for k in range(len(self.coef_))])
 
     def _joint_scores(self, X: np.ndarray) -> np.ndarray:
         est = self._estimates(X)

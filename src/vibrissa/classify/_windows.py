@@ -47,8 +47,7 @@ def trials_3d(X: Any) -> np.ndarray:
             "X must have shape (n_trials, n_channels, n_timepoints) or "
             f"(n_trials, n_timepoints), got {nd}-D input"
         )
-    a = check_array(arr, allow_nd=True, dtype=np.float64, ensure_all_finite=True,
-                    input_name="X")
+    a = check_array(arr, allow_nd=True, dtype=np.float64, ensure_all_finite=True, input_name="X")
     check_magnitude(a)
     return a if a.ndim == 3 else a[:, None, :]
 
@@ -175,9 +174,7 @@ class RecordingWindow(SampleRateMixin, TransformerMixin, BaseEstimator):
         finite("onset_threshold_v", self.onset_threshold_v)
         ref = _int("reference_channel", self.reference_channel, 0)
         if ref >= n_channels:
-            raise ValueError(
-                f"reference_channel={ref} but X has {n_channels} channel(s)"
-            )
+            raise ValueError(f"reference_channel={ref} but X has {n_channels} channel(s)")
         chans = list(range(n_channels)) if self.channels is None else list(self.channels)
         if not chans:
             raise ValueError("channels must name at least one channel (or be None)")
@@ -198,9 +195,7 @@ class RecordingWindow(SampleRateMixin, TransformerMixin, BaseEstimator):
             )
         return X3
 
-    def fit(
-        self, X: Any, y: Any = None, sample_rate_hz: float | None = None
-    ) -> RecordingWindow:
+    def fit(self, X: Any, y: Any = None, sample_rate_hz: float | None = None) -> RecordingWindow:
         """Validate the parameters against ``X`` (nothing is learned).
 
         Parameters

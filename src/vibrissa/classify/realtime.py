@@ -62,8 +62,10 @@ def _check_rate(owner: object, sample_rate_hz: float | None) -> None:
     rate = positive("sample_rate_hz", sample_rate_hz)
     fitted = owner.sample_rate_hz_  # type: ignore[attr-defined]
     if not np.isclose(rate, fitted, rtol=1e-9, atol=0.0):
-        raise ValueError(f"{type(owner).__name__} was fitted at {fitted:g} Hz, but the data "
-                         f"are sampled at {rate:g} Hz")
+        raise ValueError(
+            f"{type(owner).__name__} was fitted at {fitted:g} Hz, but the data "
+            f"are sampled at {rate:g} Hz"
+        )
 
 
 def _fitted(owner: object, attribute: str) -> None:
@@ -124,9 +126,14 @@ class FloorTextureNB:
         The fitted estimator (its ``predict`` gives the same decisions).
     """
 
-    def __init__(self, signal: Literal["velocity", "raw"] = "velocity", n_bins: int = 100,
-                 value_range: tuple[float, float] | str | None = "robust",
-                 smoothing_sigma: float = 1.0, derivative_sigma_samples: float = 3.0) -> None:
+    def __init__(
+        self,
+        signal: Literal["velocity", "raw"] = "velocity",
+        n_bins: int = 100,
+        value_range: tuple[float, float] | str | None = "robust",
+        smoothing_sigma: float = 1.0,
+        derivative_sigma_samples: float = 3.0,
+    ) -> None:
         self.signal = signal
         self.n_bins = n_bins
         self.value_range = value_range
@@ -148,14 +155,18 @@ class FloorTextureNB:
         fs = positive("sample_rate_hz", sample_rate_hz)
         y = np.asarray(labels, dtype=object)
         if y.shape != (w.shape[0],):
-            raise ValueError(f"labels must hold one texture per window ({w.shape[0]}), got "
-                             f"shape {y.shape}")
+            raise ValueError(
+                f"labels must hold one texture per window ({w.shape[0]}), got shape {y.shape}"
+            )
         if w.shape[1] < 2:
             raise ValueError(f"windows need at least 2 samples, got {w.shape[1]}")
         y = y.astype(str)
         est = StationaryNaiveBayes(
-            signal=self.signal, n_bins=self.n_bins, value_range=self.value_range,
-            smoothing_sigma=self.smoothing_sigma, sample_rate_hz=fs,
+            signal=self.signal,
+            n_bins=self.n_bins,
+            value_range=self.value_range,
+            smoothing_sigma=self.smoothing_sigma,
+            sample_rate_hz=fs,
             derivative_sigma_samples=self.derivative_sigma_samples,
         ).fit(np.ascontiguousarray(np.moveaxis(w, 2, 1)), y, sample_rate_hz=fs)
         edges = est.bin_edges_
@@ -199,8 +210,10 @@ class FloorTextureNB:
         _check_rate(self, sample_rate_hz)
         x = _array("window", window, 2)
         if x.shape != (self.n_samples_, self.n_channels_):
-            raise ValueError(f"window must have shape ({self.n_samples_}, {self.n_channels_}) "
-                             f"as in training, got {x.shape}")
+            raise ValueError(
+                f"window must have shape ({self.n_samples_}, {self.n_channels_}) "
+                f"as in training, got {x.shape}"
+            )
         s = self._transform(x.T)
         k = np.clip(np.floor((s - self._lo) / self._width), 0, self._top).astype(np.intp)
         return self._table[self._channel, k].sum(axis=(0, 1))
@@ -229,8 +242,9 @@ class RadialDistanceLinear:
         p = _array("peak", peak, 1)
         d = _array("distance_m", distance_m, 1)
         if p.shape != d.shape:
-            raise ValueError(f"peak and distance_m must have the same length, got {p.size} "
-                             f"and {d.size}")
+            raise ValueError(
+                f"peak and distance_m must have the same length, got {p.size} and {d.size}"
+            )
         if p.size < 3:
             raise ValueError(f"peak: at least 3 contacts are needed, got {p.size}")
         if np.ptp(p) == 0:
@@ -293,8 +307,13 @@ class SurfaceAngleTemplates:
     sample_rate_hz_ : float
     """
 
-    def __init__(self, cutoff_hz: float = ANGLE_LOWPASS_HZ, order: int = 4,
-                 smoothing_samples: int = ANGLE_SMOOTHING_SAMPLES, n_channels: int = 8) -> None:
+    def __init__(
+        self,
+        cutoff_hz: float = ANGLE_LOWPASS_HZ,
+        order: int = 4,
+        smoothing_samples: int = ANGLE_SMOOTHING_SAMPLES,
+        n_channels: int = 8,
+    ) -> None:
         self.cutoff_hz = cutoff_hz
         self.order = order
         self.smoothing_samples = smoothing_samples
@@ -326,18 +345,21 @@ class SurfaceAngleTemplates:
         a = _array("angles_rad", angles_rad, 1)
         fs = positive("sample_rate_hz", sample_rate_hz)
         if r.shape[2] != self.n_channels:
-            raise ValueError(f"recordings must have {self.n_channels} channels, got "
-                             f"shape {r.shape}")
+            raise ValueError(
+                f"recordings must have {self.n_channels} channels, got shape {r.shape}"
+            )
         if a.shape != (r.shape[0],):
-            raise ValueError(f"angles_rad must hold one angle per recording ({r.shape[0]}), "
-                             f"got shape {a.shape}")
+            raise ValueError(
+                f"angles_rad must hold one angle per recording ({r.shape[0]}), got shape {a.shape}"
+            )
         k = self.smoothing_samples
         if isinstance(k, bool) or not isinstance(k, int | np.integer) or k < 1:
             raise ValueError(f"smoothing_samples must be a positive integer, got {k!r}")
         cut = positive("cutoff_hz", self.cutoff_hz)
         if cut >= fs / 2:
-            raise ValueError(f"cutoff_hz ({cut:g} Hz) must be below the Nyquist frequency "
-                             f"({fs / 2:g} Hz)")
+            raise ValueError(
+                f"cutoff_hz ({cut:g} Hz) must be below the Nyquist frequency ({fs / 2:g} Hz)"
+            )
         self._sos = _sig.butter(int(self.order), cut, btype="lowpass", fs=fs, output="sos")
         angles, idx = np.unique(a, return_inverse=True)
         if angles.size < 2:
@@ -360,8 +382,9 @@ class SurfaceAngleTemplates:
         _check_rate(self, sample_rate_hz)
         x = _array("recording", recording, 2)
         if x.shape[1] != self.templates_.shape[2]:
-            raise ValueError(f"recording must have {self.templates_.shape[2]} channels, "
-                             f"got shape {x.shape}")
+            raise ValueError(
+                f"recording must have {self.templates_.shape[2]} channels, got shape {x.shape}"
+            )
         m = min(x.shape[0], self.templates_.shape[1])
         # sum (T - p)^2 = sum T^2 - 2 T.p + sum p^2, with the templates' running sums of
         # squares made once: one dot product per template, no (templates, samples,
@@ -377,11 +400,14 @@ class SurfaceAngleTemplates:
         """``(n_angles, n_samples + 1)``: each template's sum of squares over its first
         ``k`` samples, at column ``k``."""
         cached = getattr(self, "_energy", None)
-        if cached is None or cached.shape != (self.templates_.shape[0],
-                                               self.templates_.shape[1] + 1):
+        if cached is None or cached.shape != (
+            self.templates_.shape[0],
+            self.templates_.shape[1] + 1,
+        ):
             per_sample = np.sum(self.templates_ * self.templates_, axis=2)
-            cached = np.concatenate([np.zeros((per_sample.shape[0], 1)),
-                                     np.cumsum(per_sample, axis=1)], axis=1)
+            cached = np.concatenate(
+                [np.zeros((per_sample.shape[0], 1)), np.cumsum(per_sample, axis=1)], axis=1
+            )
             self._energy = cached
         return cached
 

@@ -109,9 +109,9 @@ def solver_limits(remedy: str, rename: Callable[[str], str] | None = None) -> Ca
             try:
                 return func(*args, **kwargs)
             except SimulationError as exc:
-                raise ValueError(named(
-                    f"the solver did not converge on these parameters ({exc}); {remedy}"
-                )) from exc
+                raise ValueError(
+                    named(f"the solver did not converge on these parameters ({exc}); {remedy}")
+                ) from exc
             except ValueError as exc:
                 raise ValueError(named(str(exc))) from exc
 

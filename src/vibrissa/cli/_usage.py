@@ -102,8 +102,11 @@ def usage_message(exc: click_errors.UsageError) -> str:
     label = _label(param)
     if isinstance(exc, click_errors.MissingParameter):
         kind = getattr(param, "param_type_name", "option")
-        return f"{label}: missing; this {kind} is required" if label else _sentence(
-            exc.format_message())
+        return (
+            f"{label}: missing; this {kind} is required"
+            if label
+            else _sentence(exc.format_message())
+        )
     if isinstance(exc, click_errors.BadParameter):
         return f"{label}: {_reason(exc)}" if label else _sentence(exc.format_message())
     if isinstance(exc, click_errors.NoSuchOption):

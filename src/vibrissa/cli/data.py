@@ -54,10 +54,17 @@ _IMPORT_HELP = "\n\n".join(
 _FORMATS = ("auto", "mat", "csv", "npz")
 #: Mapping keys and the options that set them.
 _MAPPING_OPTIONS = {
-    "signal": "--signal", "cell_axes": "--axis", "channels": "--channels",
-    "sample_rate_hz": "--sample-rate-hz", "time_axis": "--time-axis", "labels": "--label",
-    "constants": "--const", "ragged": "--crop", "empty": "--skip-empty",
-    "trial_axes": "--trials-last", "t0_s": "--t0-s",
+    "signal": "--signal",
+    "cell_axes": "--axis",
+    "channels": "--channels",
+    "sample_rate_hz": "--sample-rate-hz",
+    "time_axis": "--time-axis",
+    "labels": "--label",
+    "constants": "--const",
+    "ragged": "--crop",
+    "empty": "--skip-empty",
+    "trial_axes": "--trials-last",
+    "t0_s": "--t0-s",
 }
 
 
@@ -168,7 +175,8 @@ def register(app: typer.Typer) -> None:
         ),
         skip_empty: bool = typer.Option(False, "--skip-empty", help="Leave out empty cells."),
         trials_last: bool = typer.Option(
-            False, "--trials-last",
+            False,
+            "--trials-last",
             help="Numeric arrays: trial axes come last (e.g. samples x channels x trials).",
         ),
         t0_s: float | None = typer.Option(
@@ -208,12 +216,24 @@ def register(app: typer.Typer) -> None:
             raw["trial_axes"] = "last"
         if t0_s is not None:
             raw["t0_s"] = t0_s
-        options = {"signal": signal, "cell_axes": axis, "channels": channels,
-                   "sample_rate_hz": sample_rate_hz, "time_axis": time_axis, "labels": label,
-                   "constants": const, "ragged": crop or None, "empty": skip_empty or None,
-                   "trial_axes": trials_last or None, "t0_s": t0_s}
-        given = {key: _MAPPING_OPTIONS[key] for key, v in options.items()
-                 if v is not None or mapping is None}
+        options = {
+            "signal": signal,
+            "cell_axes": axis,
+            "channels": channels,
+            "sample_rate_hz": sample_rate_hz,
+            "time_axis": time_axis,
+            "labels": label,
+            "constants": const,
+            "ragged": crop or None,
+            "empty": skip_empty or None,
+            "trial_axes": trials_last or None,
+            "t0_s": t0_s,
+        }
+        given = {
+            key: _MAPPING_OPTIONS[key]
+            for key, v in options.items()
+            if v is not None or mapping is None
+        }
         try:
             ds = import_file(source, load_mapping(raw), out, format=fmt)
         except ValueError as exc:

@@ -17,14 +17,26 @@ _GRID_HELP = "start:stop:step (inclusive), start:stop:#count, or a comma list"
 
 
 #: The protocol's parameters (in the library's messages) and the options that set them.
-_RENAME = option_renamer({
-    "sample_rate_hz": "--sample-rate-hz", "noise_v": "--noise-v", "drift_fraction": "--drift",
-    "workers": "--workers", "chunk_size": "--chunk-size", "scheduler": "--scheduler",
-})
+_RENAME = option_renamer(
+    {
+        "sample_rate_hz": "--sample-rate-hz",
+        "noise_v": "--noise-v",
+        "drift_fraction": "--drift",
+        "workers": "--workers",
+        "chunk_size": "--chunk-size",
+        "scheduler": "--scheduler",
+    }
+)
 #: Words of a message that does not name an option, and the option it is about.
-_ABOUT = (("unknown protocol", "PROTOCOL"), ("radial_distance_mm", "--radial-distances"),
-          ("speed_mm_s", "--speeds"), ("angle_deg", "--angles"), ("texture", "--textures"),
-          ("whisker", "--whisker"), ("sample period", "--sample-rate-hz"))
+_ABOUT = (
+    ("unknown protocol", "PROTOCOL"),
+    ("radial_distance_mm", "--radial-distances"),
+    ("speed_mm_s", "--speeds"),
+    ("angle_deg", "--angles"),
+    ("texture", "--textures"),
+    ("whisker", "--whisker"),
+    ("sample period", "--sample-rate-hz"),
+)
 
 
 def _name_options(message: str) -> str:
@@ -36,8 +48,9 @@ def _name_options(message: str) -> str:
     return f"{about}: {message}" if about else message
 
 
-def work_statement(protocol: Any, workers: int | None = None, scheduler: str | None = None,
-                   chunk_size: int = 32) -> str:
+def work_statement(
+    protocol: Any, workers: int | None = None, scheduler: str | None = None, chunk_size: int = 32
+) -> str:
     """The work of generating ``protocol`` here: ``"about 3 min on 2 cores, about 14 MB"``.
 
     The time is measured on a few of the protocol's own trials
@@ -54,8 +67,10 @@ def work_statement(protocol: Any, workers: int | None = None, scheduler: str | N
 
     per_trial = seconds_per_trial(protocol)
     if scheduler:
-        time_text = (f"{format_duration(protocol.n_trials * per_trial)} of one core's time "
-                     "on the Dask cluster")
+        time_text = (
+            f"{format_duration(protocol.n_trials * per_trial)} of one core's time "
+            "on the Dask cluster"
+        )
     else:
         cores = workers if workers is not None else (os.cpu_count() or 1)
         seconds = generation_seconds(protocol.n_trials, per_trial, cores, chunk_size)
@@ -87,8 +102,10 @@ class _ProgressBar:
             from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 
             self._progress = Progress(
-                TextColumn("[bold]{task.description}"), BarColumn(),
-                TextColumn("{task.completed}/{task.total} trials"), TimeRemainingColumn(),
+                TextColumn("[bold]{task.description}"),
+                BarColumn(),
+                TextColumn("{task.completed}/{task.total} trials"),
+                TimeRemainingColumn(),
                 console=Console(stderr=True),
             )
             self._progress.start()
@@ -175,7 +192,8 @@ def register(app: typer.Typer) -> None:
                 raise ValueError("--textures: empty list; name at least one texture")
         try:
             overrides = dict(
-                radial_distances_mm=None if radial_distances is None
+                radial_distances_mm=None
+                if radial_distances is None
                 else parse_grid(radial_distances, "--radial-distances"),
                 speeds_mm_s=None if speeds is None else parse_grid(speeds, "--speeds"),
                 angles_deg=None if angles is None else parse_grid(angles, "--angles"),
@@ -202,16 +220,22 @@ def register(app: typer.Typer) -> None:
             if kept[0] is None:
                 if not parts.exists():
                     return "before any trial was simulated; nothing was written"
-                return (f"before the generation started; {parts}/ is kept as it was; rerun "
-                        "the same command to resume")
-            return (f"{kept_trials(out)} of {proto.n_trials} trials kept in {parts}/; rerun "
-                    "the same command to resume")
+                return (
+                    f"before the generation started; {parts}/ is kept as it was; rerun "
+                    "the same command to resume"
+                )
+            return (
+                f"{kept_trials(out)} of {proto.n_trials} trials kept in {parts}/; rerun "
+                "the same command to resume"
+            )
 
         with interruptible(interrupted):
             # every option is checked: state the work, then start it
-            typer.echo(f"{proto.name}: {proto.n_trials} trials, "
-                       f"{work_statement(proto, workers, scheduler, chunk_size)} -> {out}",
-                       err=True)
+            typer.echo(
+                f"{proto.name}: {proto.n_trials} trials, "
+                f"{work_statement(proto, workers, scheduler, chunk_size)} -> {out}",
+                err=True,
+            )
             t0 = time.perf_counter()
             with _ProgressBar(f"generate {proto.name}", enabled=not json_out) as bar:
 

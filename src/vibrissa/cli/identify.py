@@ -50,18 +50,24 @@ def register(app: typer.Typer) -> None:
         if not json_out:
             err.print(f"identify: simulating {n} trials on the current parameters")
         with Progress(
-            TextColumn("trials"), BarColumn(), MofNCompleteColumn(), console=err,
-            disable=not sys.stderr.isatty(), transient=True,
+            TextColumn("trials"),
+            BarColumn(),
+            MofNCompleteColumn(),
+            console=err,
+            disable=not sys.stderr.isatty(),
+            transient=True,
         ) as bar:
             task = bar.add_task("trials", total=n)
             obs = identify(quick=quick, progress=lambda k: bar.advance(task, k))
         if json_out:
-            echo_json({
-                "n_trials": n,
-                "quick": quick,
-                "n_within": sum(o.within for o in obs),
-                "observables": {o.key: o.to_dict() for o in obs},
-            })
+            echo_json(
+                {
+                    "n_trials": n,
+                    "quick": quick,
+                    "n_within": sum(o.within for o in obs),
+                    "observables": {o.key: o.to_dict() for o in obs},
+                }
+            )
             return
         table = Table(title="The simulated XY robot against the thesis", show_lines=True)
         for col in ("observable", "thesis", "ours", "tolerance", "within"):

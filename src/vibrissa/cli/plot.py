@@ -38,8 +38,10 @@ def _check_channel(ds: Any, value: str) -> int | str:
     channel: int | str = int(value) if value.strip().lstrip("-").isdigit() else value
     names = [str(c) for c in ds["channel"].values] if "channel" in ds.coords else []
     if (channel not in names) if isinstance(channel, str) else not 0 <= channel < len(names):
-        raise ValueError(f"--channel must be an index in [0, {len(names) - 1}] or a name "
-                         f"({', '.join(names)}) of the dataset's channels, got {value!r}")
+        raise ValueError(
+            f"--channel must be an index in [0, {len(names) - 1}] or a name "
+            f"({', '.join(names)}) of the dataset's channels, got {value!r}"
+        )
     return channel
 
 
@@ -87,8 +89,9 @@ def plot_dataset(
             written.append(vfig.save_figure(fig, out / "traces.png", dpi))
         if angular:
             axs = vfig.angle_texture_traces(ds, channel=channel)
-            written.append(vfig.save_figure(axs.flat[0].figure,
-                                            out / "traces_angle_texture.png", dpi))
+            written.append(
+                vfig.save_figure(axs.flat[0].figure, out / "traces_angle_texture.png", dpi)
+            )
     if kind == "contours" or (kind == "all" and radial):
         if not radial:
             raise ValueError(

@@ -52,17 +52,28 @@ def _group(
         raise typer.Exit()
     for e in entries:
         t = e["trials"]
-        typer.echo(f"{e['name']:<16} chapter {e['chapter']}  {t['quick']:>5} trials quick, "
-                   f"{t['full']:>6} full  {e['description']}")
+        typer.echo(
+            f"{e['name']:<16} chapter {e['chapter']}  {t['quick']:>5} trials quick, "
+            f"{t['full']:>6} full  {e['description']}"
+        )
     raise typer.Exit()
 
 
 _RENAME = option_renamer({"seed": "--seed", "workers": "--workers", "scheduler": "--scheduler"})
 
 
-def _run(exp: Experiment, quick: bool, json_out: bool, out: Path, seed: int,
-         workers: int | None, scheduler: str | None, figures: bool, baseline: Path | None,
-         **options: Any) -> None:
+def _run(
+    exp: Experiment,
+    quick: bool,
+    json_out: bool,
+    out: Path,
+    seed: int,
+    workers: int | None,
+    scheduler: str | None,
+    figures: bool,
+    baseline: Path | None,
+    **options: Any,
+) -> None:
     from rich.console import Console
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
@@ -95,11 +106,15 @@ def _run(exp: Experiment, quick: bool, json_out: bool, out: Path, seed: int,
 
     def interrupted() -> str:
         if "evaluate" in stages or data.exists():
-            return (f"the simulated dataset is kept in {data}; rerun the same command to "
-                    "evaluate it without simulating again")
+            return (
+                f"the simulated dataset is kept in {data}; rerun the same command to "
+                "evaluate it without simulating again"
+            )
         if "generate" in stages:
-            return (f"{kept_trials(data)} of {protocol.n_trials} trials kept in "
-                    f"{parts_dir(data)}/; rerun the same command to resume")
+            return (
+                f"{kept_trials(data)} of {protocol.n_trials} trials kept in "
+                f"{parts_dir(data)}/; rerun the same command to resume"
+            )
         return "before any trial was simulated; rerun the same command to start again"
 
     with interruptible(interrupted):
@@ -113,13 +128,20 @@ def _run(exp: Experiment, quick: bool, json_out: bool, out: Path, seed: int,
         else:
             chunk = chunk_size_of(protocol)
             work = f"simulating {work_statement(protocol, workers, chunk_size=chunk)}"
-        console.print(f"{exp.name}: {protocol.n_trials} trials ({grid} grid), seed {seed}, "
-                      f"{work}; then the evaluation -> {out}", highlight=False, soft_wrap=True)
+        console.print(
+            f"{exp.name}: {protocol.n_trials} trials ({grid} grid), seed {seed}, "
+            f"{work}; then the evaluation -> {out}",
+            highlight=False,
+            soft_wrap=True,
+        )
         labels = {"generate": "simulating trials", "evaluate": "evaluating classifiers"}
         with Progress(
-            TextColumn("[bold]{task.description}"), BarColumn(),
-            TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
-            console=console, disable=os.environ.get("CI") is not None,
+            TextColumn("[bold]{task.description}"),
+            BarColumn(),
+            TextColumn("{task.completed}/{task.total}"),
+            TimeElapsedColumn(),
+            console=console,
+            disable=os.environ.get("CI") is not None,
         ) as bar:
             tasks: dict[str, Any] = {}
 
@@ -130,10 +152,17 @@ def _run(exp: Experiment, quick: bool, json_out: bool, out: Path, seed: int,
                 bar.update(tasks[stage], completed=done, total=total)
 
             res = run_experiment(
-                exp.name, out, quick=quick, seed=seed, workers=workers, scheduler=scheduler,
+                exp.name,
+                out,
+                quick=quick,
+                seed=seed,
+                workers=workers,
+                scheduler=scheduler,
                 progress=progress,
-                figures=figures, baseline=before,
-                command=shlex.join(["vibrissa", *sys.argv[1:]]), **opts,
+                figures=figures,
+                baseline=before,
+                command=shlex.join(["vibrissa", *sys.argv[1:]]),
+                **opts,
             )
     summary = {
         "experiment": exp.name,
@@ -164,33 +193,88 @@ def _command(exp: Experiment) -> Any:
     Opt = inspect.Parameter.KEYWORD_ONLY
     quick_n, full_n = exp.n_trials(True), exp.n_trials(False)
     params = [
-        inspect.Parameter("quick", Opt, annotation=bool, default=typer.Option(
-            False, "--quick", help=f"Small grid: {quick_n} trials instead of {full_n}.")),
-        inspect.Parameter("json_out", Opt, annotation=bool, default=typer.Option(
-            False, "--json", help="Print the results summary as one JSON object.")),
-        inspect.Parameter("out", Opt, annotation=Path, default=typer.Option(
-            Path(f"vibrissa-out/{exp.name}"), "--out",
-            help="Output directory (report, results, figures, data).")),
-        inspect.Parameter("seed", Opt, annotation=int, default=typer.Option(
-            0, "--seed", help="Seed of the simulated session and of the evaluation.")),
-        inspect.Parameter("workers", Opt, annotation=int, default=typer.Option(
-            None, "--workers",
-            help="Processes for simulating and for evaluating (default: all cores).")),
-        inspect.Parameter("scheduler", Opt, annotation=str, default=typer.Option(
-            None, "--scheduler",
-            help="Simulate the dataset on an existing Dask cluster at this address "
-            "(tcp://host:port); the evaluation runs here.")),
-        inspect.Parameter("figures", Opt, annotation=bool, default=typer.Option(
-            True, "--figures/--no-figures", help="Draw the figures.")),
-        inspect.Parameter("baseline", Opt, annotation=Path, default=typer.Option(
-            None, "--baseline",
-            help="An earlier run's results.json (or a compact one, e.g. docs/runs/...): the "
-            "report shows its numbers as 'before' beside the thesis' and this run's.")),
+        inspect.Parameter(
+            "quick",
+            Opt,
+            annotation=bool,
+            default=typer.Option(
+                False, "--quick", help=f"Small grid: {quick_n} trials instead of {full_n}."
+            ),
+        ),
+        inspect.Parameter(
+            "json_out",
+            Opt,
+            annotation=bool,
+            default=typer.Option(
+                False, "--json", help="Print the results summary as one JSON object."
+            ),
+        ),
+        inspect.Parameter(
+            "out",
+            Opt,
+            annotation=Path,
+            default=typer.Option(
+                Path(f"vibrissa-out/{exp.name}"),
+                "--out",
+                help="Output directory (report, results, figures, data).",
+            ),
+        ),
+        inspect.Parameter(
+            "seed",
+            Opt,
+            annotation=int,
+            default=typer.Option(
+                0, "--seed", help="Seed of the simulated session and of the evaluation."
+            ),
+        ),
+        inspect.Parameter(
+            "workers",
+            Opt,
+            annotation=int,
+            default=typer.Option(
+                None,
+                "--workers",
+                help="Processes for simulating and for evaluating (default: all cores).",
+            ),
+        ),
+        inspect.Parameter(
+            "scheduler",
+            Opt,
+            annotation=str,
+            default=typer.Option(
+                None,
+                "--scheduler",
+                help="Simulate the dataset on an existing Dask cluster at this address "
+                "(tcp://host:port); the evaluation runs here.",
+            ),
+        ),
+        inspect.Parameter(
+            "figures",
+            Opt,
+            annotation=bool,
+            default=typer.Option(True, "--figures/--no-figures", help="Draw the figures."),
+        ),
+        inspect.Parameter(
+            "baseline",
+            Opt,
+            annotation=Path,
+            default=typer.Option(
+                None,
+                "--baseline",
+                help="An earlier run's results.json (or a compact one, e.g. docs/runs/...): the "
+                "report shows its numbers as 'before' beside the thesis' and this run's.",
+            ),
+        ),
     ]
     for o in exp.options:
-        params.append(inspect.Parameter(
-            o.name, Opt, annotation=str if o.choices or o.numbers else int,
-            default=typer.Option(o.default, o.flag, help=o.help)))
+        params.append(
+            inspect.Parameter(
+                o.name,
+                Opt,
+                annotation=str if o.choices or o.numbers else int,
+                default=typer.Option(o.default, o.flag, help=o.help),
+            )
+        )
     command.__signature__ = inspect.Signature(params)  # type: ignore[attr-defined]
     command.__name__ = exp.name.replace("-", "_")
     command.__doc__ = (

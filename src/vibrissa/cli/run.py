@@ -10,8 +10,10 @@ import typer
 from vibrissa._atomic import check_writable
 from vibrissa.cli._common import echo_json, user_errors
 
-run_app = typer.Typer(help="Run one robot and watch it: an animation and an interactive "
-                           "HTML page.", no_args_is_help=True)
+run_app = typer.Typer(
+    help="Run one robot and watch it: an animation and an interactive HTML page.",
+    no_args_is_help=True,
+)
 
 
 def register(app: typer.Typer) -> None:
@@ -22,15 +24,14 @@ def register(app: typer.Typer) -> None:
 @run_app.command("crunchbot")
 @user_errors
 def crunchbot_cmd(
-    out: Path = typer.Option(..., "--out", help="Directory for crunchbot.gif and "
-                                                "crunchbot.html."),
-    arena: str = typer.Option("slam", "--arena", help="A preset (slam, tiles) or a .toml/"
-                                                      ".json arena file."),
+    out: Path = typer.Option(..., "--out", help="Directory for crunchbot.gif and crunchbot.html."),
+    arena: str = typer.Option(
+        "slam", "--arena", help="A preset (slam, tiles) or a .toml/.json arena file."
+    ),
     seconds: float = typer.Option(360.0, "--seconds", help="Robot seconds to run."),
     seed: int = typer.Option(0, "--seed", help="Seed of the run and of the filter."),
     particles: int = typer.Option(100, "--particles", help="Particles of the filter."),
-    mode: str = typer.Option("blob", "--mode", help="Mapping mode: blob, geometric or "
-                                                    "template."),
+    mode: str = typer.Option("blob", "--mode", help="Mapping mode: blob, geometric or template."),
     json_out: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
 ) -> None:
     """One CrunchBot run (thesis 6.5), then tactile SLAM over it, then DIR/crunchbot.gif
@@ -49,13 +50,21 @@ def crunchbot_cmd(
         raise ValueError(f"--out: {exc}") from None
     console = Console(stderr=True)
     kind = robot_kind(default_robot()[0])
-    console.print(f"crunchbot: {seconds:g} s of robot time in arena {a.name!r} "
-                  f"({kind}), then SLAM with {particles} particles in {mode} mode over about "
-                  f"{int(seconds * 2)} FSM steps, then an animation and a page -> {out}",
-                  highlight=False, soft_wrap=True)
-    with Progress(TextColumn("[bold]{task.description}"), BarColumn(),
-                  TextColumn("{task.percentage:>3.0f}%"), TimeElapsedColumn(), console=console,
-                  disable=os.environ.get("CI") is not None) as bar:
+    console.print(
+        f"crunchbot: {seconds:g} s of robot time in arena {a.name!r} "
+        f"({kind}), then SLAM with {particles} particles in {mode} mode over about "
+        f"{int(seconds * 2)} FSM steps, then an animation and a page -> {out}",
+        highlight=False,
+        soft_wrap=True,
+    )
+    with Progress(
+        TextColumn("[bold]{task.description}"),
+        BarColumn(),
+        TextColumn("{task.percentage:>3.0f}%"),
+        TimeElapsedColumn(),
+        console=console,
+        disable=os.environ.get("CI") is not None,
+    ) as bar:
         tasks: dict[str, int] = {}
         labels = {"robot": "running the robot", "slam": "tactile SLAM", "draw": "drawing"}
 
@@ -68,6 +77,8 @@ def crunchbot_cmd(
     if json_out:
         echo_json(res)
         return
-    typer.echo(f"map error {res['map_error']:.3f}, trajectory error "
-               f"{res['trajectory_error_mm']:.1f} mm; animation: {res['animation']}; "
-               f"page: {res['html']}")
+    typer.echo(
+        f"map error {res['map_error']:.3f}, trajectory error "
+        f"{res['trajectory_error_mm']:.1f} mm; animation: {res['animation']}; "
+        f"page: {res['html']}"
+    )

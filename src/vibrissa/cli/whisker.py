@@ -83,7 +83,8 @@ TipRadiusOpt = Annotated[
 ModulusOpt = Annotated[
     float | None,
     typer.Option(
-        "--youngs-modulus-gpa", help="Young's modulus of the shaft (GPa).",
+        "--youngs-modulus-gpa",
+        help="Young's modulus of the shaft (GPa).",
         rich_help_panel="Whisker",
     ),
 ]
@@ -187,9 +188,7 @@ def build_geometry(
         return base
     overrides = ", ".join(f"{k}={v:g}" for k, v in changes.items())
     try:
-        return base.replace(
-            **changes, name="custom", source=f"preset {base.name} with {overrides}"
-        )
+        return base.replace(**changes, name="custom", source=f"preset {base.name} with {overrides}")
     except ValueError as exc:
         raise ValueError(_option_names(str(exc))) from None
 
@@ -282,14 +281,27 @@ def presets_cmd(json_out: JsonOpt = False) -> None:
     from rich.table import Table
 
     table = Table(title="whisker presets")
-    for col in ("name", "length mm", "base r mm", "tip r mm", "E GPa", "rho kg/m3",
-                "zeta", "follicle N m/rad"):
+    for col in (
+        "name",
+        "length mm",
+        "base r mm",
+        "tip r mm",
+        "E GPa",
+        "rho kg/m3",
+        "zeta",
+        "follicle N m/rad",
+    ):
         table.add_column(col)
     for d in items:
         table.add_row(
-            d["name"], _fmt(d["length_mm"]), _fmt(d["base_radius_mm"]),
-            _fmt(d["tip_radius_mm"]), _fmt(d["youngs_modulus_gpa"]), _fmt(d["density_kg_m3"]),
-            _fmt(d["damping_ratio"]), _fmt(d["follicle_stiffness_nm_per_rad"]),
+            d["name"],
+            _fmt(d["length_mm"]),
+            _fmt(d["base_radius_mm"]),
+            _fmt(d["tip_radius_mm"]),
+            _fmt(d["youngs_modulus_gpa"]),
+            _fmt(d["density_kg_m3"]),
+            _fmt(d["damping_ratio"]),
+            _fmt(d["follicle_stiffness_nm_per_rad"]),
         )
     con = _console()
     con.print(table)
@@ -323,8 +335,15 @@ def info_cmd(
     """
     from vibrissa.whisker.hall import calibration_point_mm
 
-    g = build_geometry(preset, length_mm, base_radius_mm, tip_radius_mm, youngs_modulus_gpa,
-                       density_kg_m3, damping_ratio)
+    g = build_geometry(
+        preset,
+        length_mm,
+        base_radius_mm,
+        tip_radius_mm,
+        youngs_modulus_gpa,
+        density_kg_m3,
+        damping_ratio,
+    )
     model = build_model(g, n_elements, rigid_follicle)
     alpha, beta_s, beta_f = model.damping
     zetas, fd = model.modal_damping(alpha, beta_s, beta_f, 3)
@@ -355,8 +374,9 @@ def info_cmd(
 
 @whisker_app.command("static")
 @user_errors
-@solver_limits(f"use a smaller --force-n {_STIFFER}",
-               _renamer({"force_n": "--force-n", "at_mm": "--at-mm"}))
+@solver_limits(
+    f"use a smaller --force-n {_STIFFER}", _renamer({"force_n": "--force-n", "at_mm": "--at-mm"})
+)
 def static_cmd(
     force_n: Annotated[
         float,
@@ -382,8 +402,15 @@ def static_cmd(
     (mm), its axial shortening toward the base (mm), the follicle rotation (deg) and
     the noise-free Hall outputs (V; 2.5 V at rest and for a rigid follicle).
     """
-    g = build_geometry(preset, length_mm, base_radius_mm, tip_radius_mm, youngs_modulus_gpa,
-                       density_kg_m3, damping_ratio)
+    g = build_geometry(
+        preset,
+        length_mm,
+        base_radius_mm,
+        tip_radius_mm,
+        youngs_modulus_gpa,
+        density_kg_m3,
+        damping_ratio,
+    )
     f = finite("--force-n", force_n)
     a = _check_at_mm(at_mm, g)
     model = build_model(g, n_elements, rigid_follicle)
@@ -412,8 +439,10 @@ def static_cmd(
 
 @whisker_app.command("push")
 @user_errors
-@solver_limits(f"use a smaller --displacement-mm, --friction or --pole-radius-mm {_STIFFER}",
-               _renamer({"at_mm": "--at-mm", "pole_radius_mm": "--pole-radius-mm"}))
+@solver_limits(
+    f"use a smaller --displacement-mm, --friction or --pole-radius-mm {_STIFFER}",
+    _renamer({"at_mm": "--at-mm", "pole_radius_mm": "--pole-radius-mm"}),
+)
 def push_cmd(
     at_mm: Annotated[
         float,
@@ -451,8 +480,15 @@ def push_cmd(
     2.5 V for a rigid follicle). The Hall calibration push is --at-mm 150
     --displacement-mm 60 (4.75 V).
     """
-    g = build_geometry(preset, length_mm, base_radius_mm, tip_radius_mm, youngs_modulus_gpa,
-                       density_kg_m3, damping_ratio)
+    g = build_geometry(
+        preset,
+        length_mm,
+        base_radius_mm,
+        tip_radius_mm,
+        youngs_modulus_gpa,
+        density_kg_m3,
+        damping_ratio,
+    )
     a = _check_at_mm(at_mm, g)
     d = non_negative("--displacement-mm", displacement_mm)
     mu = non_negative("--friction", friction)
@@ -486,8 +522,9 @@ def push_cmd(
 
 @whisker_app.command("ring")
 @user_errors
-@solver_limits(f"use a smaller --tip-deflection-mm or --dt-ms {_STIFFER}",
-               _renamer({"dt_s": "--dt-ms"}))
+@solver_limits(
+    f"use a smaller --tip-deflection-mm or --dt-ms {_STIFFER}", _renamer({"dt_s": "--dt-ms"})
+)
 def ring_cmd(
     tip_deflection_mm: Annotated[
         float,
@@ -533,8 +570,15 @@ def ring_cmd(
     """
     from vibrissa.experiments.ringdown import ring_down_test
 
-    g = build_geometry(preset, length_mm, base_radius_mm, tip_radius_mm, youngs_modulus_gpa,
-                       density_kg_m3, damping_ratio)
+    g = build_geometry(
+        preset,
+        length_mm,
+        base_radius_mm,
+        tip_radius_mm,
+        youngs_modulus_gpa,
+        density_kg_m3,
+        damping_ratio,
+    )
     tip = finite("--tip-deflection-mm", tip_deflection_mm)
     if tip == 0:
         raise ValueError("--tip-deflection-mm must be non-zero, got 0")
@@ -548,17 +592,23 @@ def ring_cmd(
     dur = in_range("--duration-s", duration_s, 0.0, MAX_RING_DURATION_S, "s")
     dt = in_range("--dt-ms", dt_ms, 1e-4, 1.0, "ms") * 1e-3
     if dur / dt > MAX_RING_STEPS:
-        raise ValueError(f"--duration-s {duration_s:g} at --dt-ms {dt_ms:g} is "
-                         f"{dur / dt:.3g} steps; the limit is {MAX_RING_STEPS:.0e}")
+        raise ValueError(
+            f"--duration-s {duration_s:g} at --dt-ms {dt_ms:g} is "
+            f"{dur / dt:.3g} steps; the limit is {MAX_RING_STEPS:.0e}"
+        )
     if dur < 100 * dt:
         raise ValueError(
             f"--duration-s must cover at least 100 steps of --dt-ms, got {duration_s:g}"
         )
     model = build_model(g, n_elements, rigid_follicle)
-    meas = ring_down_test(model, tip_deflection_mm=tip, duration_s=dur, dt_s=dt,
-                          lowpass=not no_lowpass)
-    f_model, lowpass_hz, signal_name = (meas["model_frequency_hz"], meas["lowpass_hz"],
-                                        meas["signal"])
+    meas = ring_down_test(
+        model, tip_deflection_mm=tip, duration_s=dur, dt_s=dt, lowpass=not no_lowpass
+    )
+    f_model, lowpass_hz, signal_name = (
+        meas["model_frequency_hz"],
+        meas["lowpass_hz"],
+        meas["signal"],
+    )
     fd = [meas["model_damped_frequency_hz"]]
     meas["n_peaks"] = meas["n_peaks_fitted"]
     out: dict[str, Any] = {
@@ -581,34 +631,49 @@ def ring_cmd(
         echo_json(out)
         return
     con = _console()
-    con.print(f"[bold]ring-down of whisker {g.name}[/bold] ({model.n_elements} elements"
-              f"{', rigid follicle' if model.rigid_follicle else ''}): tip deflected "
-              f"{tip:g} mm, released, {dur:g} s simulated at dt = {meas['dt_s'] * 1e3:g} ms")
-    filt = (f", low-passed at {lowpass_hz:.1f} Hz" if lowpass_hz else ", unfiltered")
-    con.print(f"  model:    first natural frequency {f_model:.2f} Hz "
-              f"(damped {fd[0]:.2f} Hz), configured damping ratio {g.damping_ratio:.3f}")
+    con.print(
+        f"[bold]ring-down of whisker {g.name}[/bold] ({model.n_elements} elements"
+        f"{', rigid follicle' if model.rigid_follicle else ''}): tip deflected "
+        f"{tip:g} mm, released, {dur:g} s simulated at dt = {meas['dt_s'] * 1e3:g} ms"
+    )
+    filt = f", low-passed at {lowpass_hz:.1f} Hz" if lowpass_hz else ", unfiltered"
+    con.print(
+        f"  model:    first natural frequency {f_model:.2f} Hz "
+        f"(damped {fd[0]:.2f} Hz), configured damping ratio {g.damping_ratio:.3f}"
+    )
     if meas["frequency_hz"] is None:
-        con.print(f"  measured: too few half cycles ({meas['n_peaks']}) in the {signal_name} "
-                  "to measure; try a longer --duration-s or less damping")
+        con.print(
+            f"  measured: too few half cycles ({meas['n_peaks']}) in the {signal_name} "
+            "to measure; try a longer --duration-s or less damping"
+        )
         return
     f_m, z_m = meas["frequency_hz"], meas["damping_ratio"]
-    z_err = (f"{100 * (z_m / g.damping_ratio - 1):+.1f} %" if g.damping_ratio > 0 else "n/a")
-    con.print(f"  measured: frequency {f_m:.2f} Hz ({100 * (f_m / f_model - 1):+.1f} % vs "
-              f"model), damping ratio {z_m:.4f} ({z_err} vs configured) from "
-              f"{meas['n_peaks']} half-cycle peaks of the {signal_name}{filt}")
+    z_err = f"{100 * (z_m / g.damping_ratio - 1):+.1f} %" if g.damping_ratio > 0 else "n/a"
+    con.print(
+        f"  measured: frequency {f_m:.2f} Hz ({100 * (f_m / f_model - 1):+.1f} % vs "
+        f"model), damping ratio {z_m:.4f} ({z_err} vs configured) from "
+        f"{meas['n_peaks']} half-cycle peaks of the {signal_name}{filt}"
+    )
 
 
 #: Most whisks of one ``whisk`` run (each a few thousand steps).
 MAX_WHISKS = 200
 
-_WHISK_NAMES = _renamer({
-    "frequency_hz": "--frequency-hz", "amplitude_deg": "--amplitude-deg",
-    "retracted_deg": "--retracted-deg", "sigma_z": "--sigma-z",
-    "tau_z_periods": "--tau-z-periods", "radial_distance_mm": "--pole-at-mm",
-    "contact_angle_deg": "--pole-angle-deg", "pole_radius_mm": "--pole-radius-mm",
-    "control_rate_hz": "--control-rate-hz", "motor bandwidth_hz": "--motor-bandwidth-hz",
-    "tau_z_s": "--tau-z-periods",
-})
+_WHISK_NAMES = _renamer(
+    {
+        "frequency_hz": "--frequency-hz",
+        "amplitude_deg": "--amplitude-deg",
+        "retracted_deg": "--retracted-deg",
+        "sigma_z": "--sigma-z",
+        "tau_z_periods": "--tau-z-periods",
+        "radial_distance_mm": "--pole-at-mm",
+        "contact_angle_deg": "--pole-angle-deg",
+        "pole_radius_mm": "--pole-radius-mm",
+        "control_rate_hz": "--control-rate-hz",
+        "motor bandwidth_hz": "--motor-bandwidth-hz",
+        "tau_z_s": "--tau-z-periods",
+    }
+)
 
 
 @whisker_app.command("whisk")
@@ -616,35 +681,46 @@ _WHISK_NAMES = _renamer({
 @solver_limits(f"use a smaller --amplitude-deg or --frequency-hz {_STIFFER}", _WHISK_NAMES)
 def whisk_cmd(
     frequency_hz: Annotated[
-        float, typer.Option("--frequency-hz", help="Whisk frequency (Hz), > 0.")] = 4.0,
+        float, typer.Option("--frequency-hz", help="Whisk frequency (Hz), > 0.")
+    ] = 4.0,
     amplitude_deg: Annotated[
-        float, typer.Option("--amplitude-deg",
-                            help="Protraction from full retraction (deg), > 0.")] = 12.0,
+        float, typer.Option("--amplitude-deg", help="Protraction from full retraction (deg), > 0.")
+    ] = 12.0,
     retracted_deg: Annotated[
-        float, typer.Option("--retracted-deg",
-                            help="Housing angle at full retraction (deg).")] = 0.0,
+        float, typer.Option("--retracted-deg", help="Housing angle at full retraction (deg).")
+    ] = 0.0,
     whisks: Annotated[int, typer.Option("--whisks", help="Whisks simulated.")] = 3,
     pole_at_mm: Annotated[
-        float | None, typer.Option(
-            "--pole-at-mm", help="Radial distance of a vertical pole from the base (mm); "
-            "omitted: whisking in air.")] = None,
+        float | None,
+        typer.Option(
+            "--pole-at-mm",
+            help="Radial distance of a vertical pole from the base (mm); omitted: whisking in air.",
+        ),
+    ] = None,
     pole_angle_deg: Annotated[
-        float, typer.Option(
-            "--pole-angle-deg", help="Housing angle at which the straight whisker touches "
-            "the pole (deg): beyond full retraction, before full protraction.")] = 6.0,
+        float,
+        typer.Option(
+            "--pole-angle-deg",
+            help="Housing angle at which the straight whisker touches "
+            "the pole (deg): beyond full retraction, before full protraction.",
+        ),
+    ] = 6.0,
     pole_radius_mm: Annotated[
-        float, typer.Option("--pole-radius-mm", help="Radius of the pole (mm).")] = 0.5,
+        float, typer.Option("--pole-radius-mm", help="Radius of the pole (mm).")
+    ] = 0.5,
     sigma_z: Annotated[
         float, typer.Option("--sigma-z", help="RCP gain (eq. 3.3), >= 0; 0: unmodulated.")
     ] = 0.0,
     tau_z_periods: Annotated[
-        float, typer.Option("--tau-z-periods",
-                            help="RCP decay time constant, in whisk periods (> 0).")] = 0.25,
+        float,
+        typer.Option("--tau-z-periods", help="RCP decay time constant, in whisk periods (> 0)."),
+    ] = 0.25,
     control_rate_hz: Annotated[
-        float, typer.Option("--control-rate-hz", help="Control loop rate (Hz).")] = 1000.0,
+        float, typer.Option("--control-rate-hz", help="Control loop rate (Hz).")
+    ] = 1000.0,
     motor_bandwidth_hz: Annotated[
-        float, typer.Option("--motor-bandwidth-hz",
-                            help="Bandwidth of the housing's servo (Hz).")] = 20.0,
+        float, typer.Option("--motor-bandwidth-hz", help="Bandwidth of the housing's servo (Hz).")
+    ] = 20.0,
     preset: PresetOpt = None,
     length_mm: LengthOpt = None,
     base_radius_mm: BaseRadiusOpt = None,
@@ -672,8 +748,15 @@ def whisk_cmd(
         run_whisking,
     )
 
-    g = build_geometry(preset, length_mm, base_radius_mm, tip_radius_mm, youngs_modulus_gpa,
-                       density_kg_m3, damping_ratio)
+    g = build_geometry(
+        preset,
+        length_mm,
+        base_radius_mm,
+        tip_radius_mm,
+        youngs_modulus_gpa,
+        density_kg_m3,
+        damping_ratio,
+    )
     try:
         pattern = WhiskPattern(frequency_hz, amplitude_deg, retracted_deg)
         ctrl = RCPControl(sigma_z, tau_z_periods)
@@ -682,15 +765,23 @@ def whisk_cmd(
         positive("control_rate_hz", control_rate_hz)
         positive("motor bandwidth_hz", motor_bandwidth_hz)
         if pole_at_mm is not None:
-            check_pole_placement(pole_at_mm, pole_angle_deg, pattern, pole_radius_mm,
-                                 g.length_mm)
+            check_pole_placement(pole_at_mm, pole_angle_deg, pattern, pole_radius_mm, g.length_mm)
         model = build_model(g, n_elements)
-        setup = (WhiskerSetup(model) if pole_at_mm is None
-                 else pole_whisker(model, pole_at_mm, pole_angle_deg, pole_radius_mm))
+        setup = (
+            WhiskerSetup(model)
+            if pole_at_mm is None
+            else pole_whisker(model, pole_at_mm, pole_angle_deg, pole_radius_mm)
+        )
     except ValueError as exc:
         raise ValueError(_WHISK_NAMES(str(exc))) from None
-    res = run_whisking([setup], pattern, ctrl, whisks / frequency_hz,
-                       control_rate_hz=control_rate_hz, motor_bandwidth_hz=motor_bandwidth_hz)
+    res = run_whisking(
+        [setup],
+        pattern,
+        ctrl,
+        whisks / frequency_hz,
+        control_rate_hz=control_rate_hz,
+        motor_bandwidth_hz=motor_bandwidth_hz,
+    )
     volts = _sensor(model).ideal_volts(np.column_stack([res.tan_x[0], 0 * res.tan_x[0]]))[:, 0]
     whisk_of = np.minimum((res.time_s * frequency_hz).astype(int), whisks - 1)
     touched = np.zeros(whisks, dtype=bool)

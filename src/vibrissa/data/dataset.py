@@ -79,13 +79,25 @@ _COORD_ATTRS: dict[str, tuple[str, str | None]] = {
     "contact_duration_s": ("duration of contact", "s"),
     "peak_deflection_v": ("peak deflection", "V"),
 }
-_UNIT_SUFFIXES = (("_mm_s", "mm/s"), ("_mm", "mm"), ("_ms", "ms"), ("_s", "s"), ("_hz", "Hz"),
-                  ("_deg", "degree"), ("_v", "V"))
+_UNIT_SUFFIXES = (
+    ("_mm_s", "mm/s"),
+    ("_mm", "mm"),
+    ("_ms", "ms"),
+    ("_s", "s"),
+    ("_hz", "Hz"),
+    ("_deg", "degree"),
+    ("_v", "V"),
+)
 
 
-def signal_coords(n_trials: int, channels: Sequence[str], n_samples: int,
-                  sample_rate_hz: float, time_long_name: str,
-                  labels: Mapping[str, Any] | None = None) -> dict[str, Any]:
+def signal_coords(
+    n_trials: int,
+    channels: Sequence[str],
+    n_samples: int,
+    sample_rate_hz: float,
+    time_long_name: str,
+    labels: Mapping[str, Any] | None = None,
+) -> dict[str, Any]:
     """The ``trial``, ``channel`` and ``time`` coordinates of a simulated dataset, and
     per-trial ``labels`` (name -> one value per trial) with their attributes.
 
@@ -95,8 +107,11 @@ def signal_coords(n_trials: int, channels: Sequence[str], n_samples: int,
     coords: dict[str, Any] = {
         "trial": np.arange(int(n_trials)),
         "channel": np.array(list(channels)),
-        "time": ("time", np.arange(int(n_samples)) / float(sample_rate_hz),
-                 {"units": "s", "long_name": time_long_name}),
+        "time": (
+            "time",
+            np.arange(int(n_samples)) / float(sample_rate_hz),
+            {"units": "s", "long_name": time_long_name},
+        ),
     }
     for name, vals in (labels or {}).items():
         coords[name] = ("trial", vals, coordinate_attrs(name, vals))
@@ -365,8 +380,10 @@ def as_arrays(
     X = np.asarray(ds["signal"].values, dtype=float)
     cols = [np.asarray(ds[name].values) for name in labels]
     if encode_textures:
-        cols = [encode_texture(c).astype(float) if name == "texture" else c
-                for name, c in zip(labels, cols, strict=True)]
+        cols = [
+            encode_texture(c).astype(float) if name == "texture" else c
+            for name, c in zip(labels, cols, strict=True)
+        ]
     if not cols:
         return X, np.empty((X.shape[0], 0))
     numeric = [c.dtype.kind in "fiub" for c in cols]
@@ -485,7 +502,11 @@ def concat_datasets(datasets: Sequence[xr.Dataset]) -> xr.Dataset:
     # the first dataset's time coordinate for all (they agree within rounding)
     aligned = [d.assign_coords(time=first["time"]) for d in datasets]
     out = xr.concat(
-        aligned, dim="trial", data_vars="all", coords="different", compat="equals",
+        aligned,
+        dim="trial",
+        data_vars="all",
+        coords="different",
+        compat="equals",
         combine_attrs="override",
         join="exact",
     )

@@ -137,7 +137,6 @@ def _file_kind(p: Path) -> str:
                 return "other"
 
 
-
 def _canonical(value: Any) -> Any:
     """``value`` as plain JSON types, the same before writing and after reading."""
     value = attr_value(value)
@@ -176,8 +175,13 @@ def _values_digest(var: xr.DataArray) -> str:
     if vals.dtype.kind in "OUS":
         # strings: the dtype's width changes on a round trip, the text does not
         h.update(b"str")
-        h.update(_utf8(_json([_canonical(v) if not isinstance(v, str) else v
-                              for v in vals.ravel().tolist()])))
+        h.update(
+            _utf8(
+                _json(
+                    [_canonical(v) if not isinstance(v, str) else v for v in vals.ravel().tolist()]
+                )
+            )
+        )
     else:
         little = vals.dtype.newbyteorder("<") if vals.dtype.byteorder != "|" else vals.dtype
         h.update(little.str.encode())
@@ -199,7 +203,8 @@ def _full_parts(ds: xr.Dataset) -> dict[str, Any]:
         "variable_attrs": {str(k): _attrs_digest(ds[k].attrs) for k in ds.variables},
         "attrs": {
             str(k): hashlib.sha256(_utf8(_json(_canonical(v)))).hexdigest()
-            for k, v in ds.attrs.items() if str(k) not in _UNCOVERED
+            for k, v in ds.attrs.items()
+            if str(k) not in _UNCOVERED
         },
     }
 
@@ -264,9 +269,11 @@ def _differences(ds: xr.Dataset, stored: Mapping[str, Any]) -> list[str]:
     """What differs between ``ds`` and the stored parts, as ``"attribute 'robot'"``..."""
     now = checksum_parts(ds)
     out: list[str] = []
-    for key, what in (("variables", "{kind} {name!r}"),
-                      ("variable_attrs", "attributes of {kind} {name!r}"),
-                      ("attrs", "attribute {name!r}")):
+    for key, what in (
+        ("variables", "{kind} {name!r}"),
+        ("variable_attrs", "attributes of {kind} {name!r}"),
+        ("attrs", "attribute {name!r}"),
+    ):
         old = stored.get(key)
         if not isinstance(old, Mapping):
             continue
@@ -307,7 +314,8 @@ def _integrity_problem(
         return None  # written by other software: nothing to verify
     if not has_schema:
         return DatasetSchemaError(
-            p, "was written by an older vibrissa (file schema 1, this vibrissa reads schema "
+            p,
+            "was written by an older vibrissa (file schema 1, this vibrissa reads schema "
             f"{SCHEMA_VERSION}), whose checksum does not cover the attributes; re-create the "
             "file (rerun the command that made it), or load it with "
             "load_dataset(path, verify=False) and write it again with save_dataset",
@@ -316,24 +324,30 @@ def _integrity_problem(
     version = _schema_version(ds.attrs[_SCHEMA_ATTR])
     if version is None:
         return DatasetSchemaError(
-            p, f"has an unreadable schema version {ds.attrs[_SCHEMA_ATTR]!r} "
+            p,
+            f"has an unreadable schema version {ds.attrs[_SCHEMA_ATTR]!r} "
             f"(attribute {_SCHEMA_ATTR!r}; this vibrissa reads schema {SCHEMA_VERSION})",
         )
     if version > SCHEMA_VERSION:
         return DatasetSchemaError(
-            p, f"was written by a newer vibrissa (file schema {version}, this vibrissa reads "
-            f"schema {SCHEMA_VERSION} and older); upgrade vibrissa to read it", schema=version,
+            p,
+            f"was written by a newer vibrissa (file schema {version}, this vibrissa reads "
+            f"schema {SCHEMA_VERSION} and older); upgrade vibrissa to read it",
+            schema=version,
         )
     if version < SCHEMA_VERSION:
         return DatasetSchemaError(
-            p, f"was written by an older vibrissa (file schema {version}, this vibrissa reads "
+            p,
+            f"was written by an older vibrissa (file schema {version}, this vibrissa reads "
             f"schema {SCHEMA_VERSION}); re-create the file, or load it with verify=False",
             schema=version,
         )
     if stored is None:
         return DatasetModifiedError(
-            p, f"was modified or re-saved outside vibrissa: it has attribute {_SCHEMA_ATTR!r} "
-            f"but no {_CHECKSUM_ATTR!r}", differs=(f"attribute {_CHECKSUM_ATTR!r} (removed)",),
+            p,
+            f"was modified or re-saved outside vibrissa: it has attribute {_SCHEMA_ATTR!r} "
+            f"but no {_CHECKSUM_ATTR!r}",
+            differs=(f"attribute {_CHECKSUM_ATTR!r} (removed)",),
         )
     try:
         parts = json.loads(str(_canonical(parts_raw))) if parts_raw is not None else {}
@@ -344,18 +358,21 @@ def _integrity_problem(
     now_sizes = {str(k): int(v) for k, v in ds.sizes.items()}
     if isinstance(sizes, dict) and sizes != now_sizes:
         return DatasetModifiedError(
-            p, f"was modified or re-saved outside vibrissa: it holds "
+            p,
+            f"was modified or re-saved outside vibrissa: it holds "
             f"{_sizes_text(now_sizes, now_sizes)} but vibrissa wrote "
             f"{_sizes_text(sizes, list(now_sizes))} (a subset saved with xarray's to_netcdf "
             "keeps the old checksum attribute); save subsets with vibrissa.data.save_dataset, "
-            "or load with verify=False", differs=("sizes",),
+            "or load with verify=False",
+            differs=("sizes",),
         )
     if str(_canonical(stored)) == checksum(ds):
         return None
     differs = _differences(ds, parts)
     what = ("; differs: " + ", ".join(differs)) if differs else ""
     return DatasetModifiedError(
-        p, f"was modified after it was written by vibrissa (checksum mismatch){what}",
+        p,
+        f"was modified after it was written by vibrissa (checksum mismatch){what}",
         differs=differs,
     )
 
@@ -489,6 +506,7 @@ def load_dataset(path: str | os.PathLike[str], *, verify: bool = True) -> xr.Dat
             raise problem
         warnings.warn(
             f"{p}: {problem.problem}; loaded anyway (verify=False)",
-            DatasetIntegrityWarning, stacklevel=2,
+            DatasetIntegrityWarning,
+            stacklevel=2,
         )
     return ds

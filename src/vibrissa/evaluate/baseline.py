@@ -32,7 +32,8 @@ def compact_results(results: Mapping[str, Any], label: str) -> dict[str, Any]:
             "label": str(label),
             "n_trials": meta.get("n_trials"),
             "protocol": results.get("protocol", {}).get("name")
-            if isinstance(results.get("protocol"), Mapping) else results.get("protocol"),
+            if isinstance(results.get("protocol"), Mapping)
+            else results.get("protocol"),
             "fingerprint": meta.get("fingerprint"),
         },
         "classifiers": {},

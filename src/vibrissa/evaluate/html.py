@@ -135,8 +135,10 @@ def _only_images(p: ET.Element) -> bool:
 
 def _is_numeric(text: str) -> bool:
     text = text.strip()
-    return bool(text) and _NUMERIC_CELL.fullmatch(text) is not None and (
-        _DIGIT.search(text) is not None or text in _DASHES
+    return (
+        bool(text)
+        and _NUMERIC_CELL.fullmatch(text) is not None
+        and (_DIGIT.search(text) is not None or text in _DASHES)
     )
 
 
@@ -248,8 +250,7 @@ def markdown_to_html(text: str, *, base_dir: Path, title: str) -> str:
         If an image is remote (``http:`` and the like) or of an unsupported type.
     """
     md = markdown.Markdown(
-        extensions=["tables", "fenced_code", "sane_lists", "toc",
-                    _ReportExtension(Path(base_dir))],
+        extensions=["tables", "fenced_code", "sane_lists", "toc", _ReportExtension(Path(base_dir))],
         output_format="html",
     )
     body = md.convert(text)

@@ -72,7 +72,7 @@ def _temporary_folder() -> str:
     shm = Path("/dev/shm")
     base = Path(str(shm) if shm.is_dir() and os.access(shm, os.W_OK) else tempfile.gettempdir())
     for old in base.glob(f"{_PREFIX}*-*"):
-        pid = old.name[len(_PREFIX):].split("-", 1)[0]
+        pid = old.name[len(_PREFIX) :].split("-", 1)[0]
         if pid.isdigit() and not _alive(int(pid)):
             shutil.rmtree(old, ignore_errors=True)
     return tempfile.mkdtemp(prefix=f"{_PREFIX}{os.getpid()}-", dir=base)
@@ -150,8 +150,9 @@ class SharedArrays(Mapping[str, np.ndarray]):
         return _Mapped(self._paths)
 
 
-def _call(func: Callable[..., Any], arrays: Mapping[str, np.ndarray], i: int,
-          job: Mapping[str, Any]) -> tuple[int, Any]:
+def _call(
+    func: Callable[..., Any], arrays: Mapping[str, np.ndarray], i: int, job: Mapping[str, Any]
+) -> tuple[int, Any]:
     return i, func(arrays, **job)
 
 
@@ -199,8 +200,9 @@ def run_jobs(
     from joblib import Parallel, delayed
 
     view = arrays.for_workers()
-    parallel = Parallel(n_jobs=workers, backend="loky", return_as="generator_unordered",
-                        max_nbytes=None)
+    parallel = Parallel(
+        n_jobs=workers, backend="loky", return_as="generator_unordered", max_nbytes=None
+    )
     for i, res in parallel(delayed(_call)(func, view, i, jobs[i]) for i in seq):
         results[i] = res
         if on_done is not None:

@@ -113,8 +113,13 @@ def check_rates(classifiers: Mapping[str, Any], sample_rate_hz: float) -> None:
 
 
 def fit_predict(
-    name: str, estimator: Any, X_train: np.ndarray, y_train: np.ndarray, X_test: np.ndarray,
-    *, sample_rate_hz: float | None = None,
+    name: str,
+    estimator: Any,
+    X_train: np.ndarray,
+    y_train: np.ndarray,
+    X_test: np.ndarray,
+    *,
+    sample_rate_hz: float | None = None,
 ) -> FitRecord:
     """Fit a clone of ``estimator`` on the training set and classify the test set.
 

@@ -133,8 +133,15 @@ def error_summary(y_true: Any, y_pred: Any, ddof: int = 1) -> dict[str, Any]:
     t, p = _pair(y_true, y_pred)
     n = int(t.shape[0])
     if n == 0:
-        return {"mean": None, "std": None, "sem": None, "mean_abs": None, "rmse": None,
-                "exact_hit": None, "n": 0}
+        return {
+            "mean": None,
+            "std": None,
+            "sem": None,
+            "mean_abs": None,
+            "rmse": None,
+            "exact_hit": None,
+            "n": 0,
+        }
     if not np.all(np.isfinite(p)):
         raise ValueError("y_pred contains NaN or infinite values")
     err = p - t
@@ -166,7 +173,9 @@ def _kappa_from_labels(
 
 
 def _cohen_kappa(
-    tc: np.ndarray, pc: np.ndarray, n_labels: int,
+    tc: np.ndarray,
+    pc: np.ndarray,
+    n_labels: int,
     weights: Literal["linear", "quadratic"] | None,
 ) -> float | None:
     """Cohen's kappa of integer codes in ``range(n_labels)``, ``None`` when undefined.

@@ -29,8 +29,13 @@ from typing import Any, ClassVar
 import numpy as np
 import xarray as xr
 
-__all__ = ["DEFAULT_CHUNK_SIZE", "ChunkedTrials", "SelfGenerating", "SimulationProtocol",
-           "chunk_size_of"]
+__all__ = [
+    "DEFAULT_CHUNK_SIZE",
+    "ChunkedTrials",
+    "SelfGenerating",
+    "SimulationProtocol",
+    "chunk_size_of",
+]
 
 #: Trials per chunk of work when the protocol does not set its own.
 DEFAULT_CHUNK_SIZE = 32
@@ -88,9 +93,13 @@ class SelfGenerating(SimulationProtocol):
     accepts_scheduler: ClassVar[bool] = False
 
     @abstractmethod
-    def generate_dataset(self, path: Path, workers: int | None = None,
-                         progress: Callable[[int, int], None] | None = None,
-                         **kwargs: Any) -> xr.Dataset:
+    def generate_dataset(
+        self,
+        path: Path,
+        workers: int | None = None,
+        progress: Callable[[int, int], None] | None = None,
+        **kwargs: Any,
+    ) -> xr.Dataset:
         """Simulate the session into the NetCDF file ``path`` and return its dataset.
 
         ``workers``: processes (``None``: every core); ``progress(done, total)``; with
@@ -101,5 +110,4 @@ class SelfGenerating(SimulationProtocol):
 def chunk_size_of(protocol: SimulationProtocol) -> int:
     """Trials per chunk of work of ``protocol``: its own for :class:`ChunkedTrials`, else
     :data:`DEFAULT_CHUNK_SIZE`."""
-    return int(protocol.chunk_size) if isinstance(protocol, ChunkedTrials) \
-        else DEFAULT_CHUNK_SIZE
+    return int(protocol.chunk_size) if isinstance(protocol, ChunkedTrials) else DEFAULT_CHUNK_SIZE

@@ -189,8 +189,9 @@ def _prepare_parts(protocol: Protocol, out: Path, chunk_size: int, restart: bool
                 "to resume it"
             )
     elif any(parts.glob("chunk-*.npz")):
-        raise GenerationError(f"{parts} holds shards without a manifest; add --restart "
-                              "(restart=True) to discard them")
+        raise GenerationError(
+            f"{parts} holds shards without a manifest; add --restart (restart=True) to discard them"
+        )
     else:
         atomic_write_text(mpath, json.dumps(manifest, indent=2, default=str))
     return parts
@@ -256,21 +257,24 @@ class _Assembly:
         if self.keys is None:
             self.keys = list(shard)
         elif set(shard) != set(self.keys):
-            raise GenerationError(f"shard {k} has the arrays {sorted(shard)}, the others "
-                                  f"{sorted(self.keys)}")
+            raise GenerationError(
+                f"shard {k} has the arrays {sorted(shard)}, the others {sorted(self.keys)}"
+            )
         a, b = int(self.starts[k]), int(self.starts[k + 1])
         for key, part in shard.items():
             out = self.rows.get(key)
-            fits = part.ndim > 0 and part.shape[0] == b - a and (
-                out is None or part.shape[1:] == out.shape[1:])
+            fits = (
+                part.ndim > 0
+                and part.shape[0] == b - a
+                and (out is None or part.shape[1:] == out.shape[1:])
+            )
             if key in self.parts or not fits:
                 self._keep_per_shard(key)
                 self.parts[key][k] = part
                 continue
             if out is None:
                 # zeros, not empty: the pages are only mapped as the rows are written
-                out = self.rows[key] = np.zeros((int(self.starts[-1]), *part.shape[1:]),
-                                                part.dtype)
+                out = self.rows[key] = np.zeros((int(self.starts[-1]), *part.shape[1:]), part.dtype)
             dtype = np.result_type(out.dtype, part.dtype)
             if dtype != out.dtype:
                 out = self.rows[key] = out.astype(dtype)
@@ -281,14 +285,20 @@ class _Assembly:
         if key in self.parts:
             return
         out = self.rows.pop(key, None)
-        self.parts[key] = {} if out is None else {
-            j: out[self.starts[j]:self.starts[j + 1]].copy() for j in self.filled}
+        self.parts[key] = (
+            {}
+            if out is None
+            else {j: out[self.starts[j] : self.starts[j + 1]].copy() for j in self.filled}
+        )
 
     def arrays(self) -> dict[str, np.ndarray]:
         """Every array joined (once every chunk is in)."""
-        return {key: self.rows[key] if key in self.rows else np.concatenate(
-                    [self.parts[key][j] for j in sorted(self.parts[key])])
-                for key in self.keys or []}
+        return {
+            key: self.rows[key]
+            if key in self.rows
+            else np.concatenate([self.parts[key][j] for j in sorted(self.parts[key])])
+            for key in self.keys or []
+        }
 
 
 def _local_results(
@@ -416,8 +426,9 @@ def check_dask() -> None:
         except (ImportError, ValueError):  # a parent missing, or a module without a spec
             found = False
         if not found:
-            raise ValueError("scheduler: needs the 'distributed' extra "
-                             "(pip install 'vibrissa[distributed]')")
+            raise ValueError(
+                "scheduler: needs the 'distributed' extra (pip install 'vibrissa[distributed]')"
+            )
 
 
 def max_workers() -> int:
@@ -468,8 +479,9 @@ def generate(
     try:
         with _exclusive(out):
             _remove_stale_temporaries(out)
-            return _generate_locked(protocol, out, workers, scheduler, chunk_size, restart,
-                                    progress, max_chunks)
+            return _generate_locked(
+                protocol, out, workers, scheduler, chunk_size, restart, progress, max_chunks
+            )
     except Exception:
         # a refused or failed run that kept no trial leaves nothing behind
         if created and not any(parts_dir(out).glob("chunk-*.npz")):
@@ -478,8 +490,14 @@ def generate(
 
 
 def _generate_locked(
-    protocol: Protocol, out: Path, workers: int | None, scheduler: str | None,
-    chunk_size: int, restart: bool, progress: ProgressCallback | None, max_chunks: int | None,
+    protocol: Protocol,
+    out: Path,
+    workers: int | None,
+    scheduler: str | None,
+    chunk_size: int,
+    restart: bool,
+    progress: ProgressCallback | None,
+    max_chunks: int | None,
 ) -> xr.Dataset | None:
     from vibrissa.data import save_dataset
 
@@ -515,8 +533,11 @@ def _generate_locked(
     merged = done.arrays()
     if not np.array_equal(merged["index"], np.arange(protocol.n_trials)):
         raise GenerationError("shards do not cover every trial exactly once")
-    ds = (protocol.build_dataset(merged) if isinstance(protocol, ChunkedTrials)
-          else build_dataset(protocol, merged))
+    ds = (
+        protocol.build_dataset(merged)
+        if isinstance(protocol, ChunkedTrials)
+        else build_dataset(protocol, merged)
+    )
     save_dataset(ds, out)
     shutil.rmtree(parts, ignore_errors=True)
     return ds

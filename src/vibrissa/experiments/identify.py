@@ -139,8 +139,11 @@ class Tolerance:
 
     def __post_init__(self) -> None:
         needs = {
-            "abs": ("target", "width"), "rel": ("target", "width"), "max": ("high",),
-            "min": ("low",), "between": ("low", "high"),
+            "abs": ("target", "width"),
+            "rel": ("target", "width"),
+            "max": ("high",),
+            "min": ("low",),
+            "between": ("low", "high"),
         }
         if self.kind not in needs:
             raise ValueError(f"unknown tolerance kind {self.kind!r}")
@@ -251,8 +254,15 @@ class ObservableSpec:
         Observable
         """
         return Observable(
-            self.name, self.description.format(**fields), self.thesis, self.thesis_value,
-            value, self.unit, self.tolerance.text(), self.tolerance.holds(value), detail,
+            self.name,
+            self.description.format(**fields),
+            self.thesis,
+            self.thesis_value,
+            value,
+            self.unit,
+            self.tolerance.text(),
+            self.tolerance.holds(value),
+            detail,
         )
 
 
@@ -264,13 +274,18 @@ SPECS: tuple[ObservableSpec, ...] = (
         "recording",
         "30 Hz, 'identified by inspection of the FFT' of the chapter-5 recordings, still "
         "present after the 35 Hz high-pass",
-        "5.3.1", 30.0, "Hz", Tolerance("rel", target=30.0, width=10.0),
+        "5.3.1",
+        30.0,
+        "Hz",
+        Tolerance("rel", target=30.0, width=10.0),
     ),
     ObservableSpec(
         "mi_latency_ms",
         "first contact to the start of the retraction, median over a radius x speed grid",
         "'Temporal latency for the loop is ~300 ms from initial contact'",
-        "3.3.2, 5.2", 300.0, "ms",
+        "3.3.2, 5.2",
+        300.0,
+        "ms",
         Tolerance("abs", target=300.0, width=30.0, unit="ms", statistic="median"),
     ),
     ObservableSpec(
@@ -280,26 +295,37 @@ SPECS: tuple[ObservableSpec, ...] = (
         "pairs at the same radius, both usable (no slip-off, no saturation), where it is "
         "longer at the higher speed",
         "deflection duration grows with contact speed and discriminates speed",
-        "4.3.4", None, "fraction", Tolerance("min", low=0.9),
+        "4.3.4",
+        None,
+        "fraction",
+        Tolerance("min", low=0.9),
     ),
     ObservableSpec(
         "ringing_chapter4",
         "first overshoot past rest after the object leaves the whisker, fraction of the "
         "peak; median over the chapter-4 grid",
         "MI keeps 'whisker ringing after contact to a minimum'",
-        "3.3", None, "fraction of peak", Tolerance("max", high=0.1, statistic="median"),
+        "3.3",
+        None,
+        "fraction of peak",
+        Tolerance("max", high=0.1, statistic="median"),
     ),
     ObservableSpec(
         "ringing_chapter5",
         "fraction of chapter-5 trials whose first overshoot exceeds 10 % of the peak",
         "'oscillatory ringing after contact on some trials but not others'",
-        "5.4, fig. 5.2", None, "fraction of trials", Tolerance("between", low=0.1, high=0.9),
+        "5.4, fig. 5.2",
+        None,
+        "fraction of trials",
+        Tolerance("between", low=0.1, high=0.9),
     ),
     ObservableSpec(
         "contact_duration_chapter5_ms",
         "first contact of the chapter-5 stimulus, onset to end, median",
         "'Contact duration in this experiment is quite short (~300 ms)'",
-        "5.5", 300.0, "ms",
+        "5.5",
+        300.0,
+        "ms",
         Tolerance("abs", target=300.0, width=60.0, unit="ms", statistic="median"),
     ),
     ObservableSpec(
@@ -308,7 +334,10 @@ SPECS: tuple[ObservableSpec, ...] = (
         "mm/s saturates the sensor",
         "'the closest contact that could be made ... at any reasonable speed without "
         "saturating the Hall effect sensor was ~80 mm'",
-        "4.2", 80.0, "mm", Tolerance("abs", target=80.0, width=10.0, unit="mm"),
+        "4.2",
+        80.0,
+        "mm",
+        Tolerance("abs", target=80.0, width=10.0, unit="mm"),
     ),
     ObservableSpec(
         "tip_zone_mm",
@@ -316,7 +345,9 @@ SPECS: tuple[ObservableSpec, ...] = (
         "retraction; largest over speeds in the grid",
         "'Contacts at less than 5 mm from the tip did not deflect the base ... before "
         "slipping past'",
-        "4.2", 5.0, "mm",
+        "4.2",
+        5.0,
+        "mm",
         Tolerance("max", high=10.0, unit="mm", scope="at every speed up to 216 mm/s"),
     ),
     ObservableSpec(
@@ -325,7 +356,10 @@ SPECS: tuple[ObservableSpec, ...] = (
         "or saturate",
         "'Contact speeds above 216 mm/s either cause the whisker to slip past the object "
         "before a retraction, or saturates the sensors'",
-        "4.2", None, "fraction", Tolerance("min", low=0.75),
+        "4.2",
+        None,
+        "fraction",
+        Tolerance("min", low=0.75),
     ),
 )
 """The nine observables, in the order :func:`identify` returns them."""
@@ -384,7 +418,14 @@ def _pole_trials(
     for k, (r, v) in enumerate(points):
         rng = np.random.default_rng(trial_stream(protocol.seed, group, k))
         res = run_trial(
-            protocol.stage, model, sensor, PoleStimulus(r), v, 1, protocol.window_s, rng,
+            protocol.stage,
+            model,
+            sensor,
+            PoleStimulus(r),
+            v,
+            1,
+            protocol.window_s,
+            rng,
             dt_s=protocol.dt_s,
         )
         out.append((r, v, res))
@@ -405,8 +446,15 @@ def _surface_trials(
     for k, (texture, angle, v) in enumerate(points):
         rng = np.random.default_rng(trial_stream(protocol.seed, group, k))
         res = run_trial(
-            protocol.stage, model, sensor, SurfaceStimulus(texture, angle), v, 1,
-            protocol.window_s, rng, dt_s=protocol.dt_s,
+            protocol.stage,
+            model,
+            sensor,
+            SurfaceStimulus(texture, angle),
+            v,
+            1,
+            protocol.window_s,
+            rng,
+            dt_s=protocol.dt_s,
             surface=runner.session_surface(texture, protocol.seed),
         )
         out.append((texture, angle, v, res))
@@ -511,18 +559,27 @@ def _measure_resonance(model: RodModel, surface: SurfaceTrials, fs: float) -> Me
     free = float(model.natural_frequencies_hz[0])
     tip_modes = model.pinned_frequencies_hz(model.geometry.length_mm)
     tip = float(tip_modes[0])
-    rigid = float(RodModel(model.geometry, model.n_elements, rigid_follicle=True)
-                  .natural_frequencies_hz[0])
+    rigid = float(
+        RodModel(model.geometry, model.n_elements, rigid_follicle=True).natural_frequencies_hz[0]
+    )
     sig5 = np.stack([res.signal_v[0] for *_, res in surface])
     fft_peak = spectral_peak_hz(sig5, fs)
-    return {"resonance_hz": (tip, {
-        "free_first_mode_hz": free, "rigid_follicle_free_first_mode_hz": rigid,
-        "tip_pinned_first_modes_hz": tip_modes.tolist(),
-        "pinned_first_mode_by_radius_hz": {
-            str(int(r)): float(model.pinned_frequencies_hz(r)[0])
-            for r in (80.0, 100.0, 130.0, 160.0, 180.0)},
-        "chapter5_fft_peak_hz": fft_peak, "n_chapter5_trials": len(surface),
-    })}
+    return {
+        "resonance_hz": (
+            tip,
+            {
+                "free_first_mode_hz": free,
+                "rigid_follicle_free_first_mode_hz": rigid,
+                "tip_pinned_first_modes_hz": tip_modes.tolist(),
+                "pinned_first_mode_by_radius_hz": {
+                    str(int(r)): float(model.pinned_frequencies_hz(r)[0])
+                    for r in (80.0, 100.0, 130.0, 160.0, 180.0)
+                },
+                "chapter5_fft_peak_hz": fft_peak,
+                "n_chapter5_trials": len(surface),
+            },
+        )
+    }
 
 
 def _measure_chapter4_grid(grid: PoleTrials, radii: tuple[float, ...], fs: float) -> Measured:
@@ -562,22 +619,38 @@ def _measure_chapter4_grid(grid: PoleTrials, radii: tuple[float, ...], fs: float
     frac = 1.0 - wrong / max(pairs, 1)
     rings = np.array([ring_ratio(res, fs) for *_, res in grid])
     return {
-        "mi_latency_ms": (med, {
-            "percentiles_5_50_95_ms": np.nanpercentile(lat, [5, 50, 95]).tolist(),
-            "contact_to_threshold_ms_5_50_95": np.nanpercentile(thr, [5, 50, 95]).tolist(),
-            "n_trials": len(grid),
-        }),
-        "duration_grows_with_speed": (frac, {
-            "pairs": pairs, "wrong_way": int(wrong),
-            "f2_ms_by_radius": {str(r): {str(v): 1e3 * d for v, d in sorted(b.items())}
-                                for r, b in dur.items()},
-            "contact_ms_by_radius": {
-                str(r): {str(v): 1e3 * (res.contact_end_s - res.contact_onset_s)
-                         for rr, v, res in grid if rr == r} for r in radii},
-        }),
-        "ringing_chapter4": (float(np.nanmedian(rings)), {
-            "percentiles_5_50_95": np.nanpercentile(rings, [5, 50, 95]).tolist(),
-        }),
+        "mi_latency_ms": (
+            med,
+            {
+                "percentiles_5_50_95_ms": np.nanpercentile(lat, [5, 50, 95]).tolist(),
+                "contact_to_threshold_ms_5_50_95": np.nanpercentile(thr, [5, 50, 95]).tolist(),
+                "n_trials": len(grid),
+            },
+        ),
+        "duration_grows_with_speed": (
+            frac,
+            {
+                "pairs": pairs,
+                "wrong_way": int(wrong),
+                "f2_ms_by_radius": {
+                    str(r): {str(v): 1e3 * d for v, d in sorted(b.items())} for r, b in dur.items()
+                },
+                "contact_ms_by_radius": {
+                    str(r): {
+                        str(v): 1e3 * (res.contact_end_s - res.contact_onset_s)
+                        for rr, v, res in grid
+                        if rr == r
+                    }
+                    for r in radii
+                },
+            },
+        ),
+        "ringing_chapter4": (
+            float(np.nanmedian(rings)),
+            {
+                "percentiles_5_50_95": np.nanpercentile(rings, [5, 50, 95]).tolist(),
+            },
+        ),
     }
 
 
@@ -598,12 +671,18 @@ def _measure_chapter5(surface: SurfaceTrials, fs: float) -> Measured:
     rings5 = np.array([ring_ratio(res, fs) for *_, res in surface])
     d5 = np.array([res.contact_end_s - res.contact_onset_s for *_, res in surface]) * 1e3
     return {
-        "ringing_chapter5": (float(np.nanmean(rings5 > 0.1)), {
-            "ratio_percentiles_5_50_95": np.nanpercentile(rings5, [5, 50, 95]).tolist(),
-        }),
-        "contact_duration_chapter5_ms": (float(np.nanmedian(d5)), {
-            "percentiles_5_50_95_ms": np.nanpercentile(d5, [5, 50, 95]).tolist(),
-        }),
+        "ringing_chapter5": (
+            float(np.nanmean(rings5 > 0.1)),
+            {
+                "ratio_percentiles_5_50_95": np.nanpercentile(rings5, [5, 50, 95]).tolist(),
+            },
+        ),
+        "contact_duration_chapter5_ms": (
+            float(np.nanmedian(d5)),
+            {
+                "percentiles_5_50_95_ms": np.nanpercentile(d5, [5, 50, 95]).tolist(),
+            },
+        ),
     }
 
 
@@ -635,10 +714,15 @@ def _measure_closest_contact(
         if all(q in clean for q in radii if q >= r):
             closest = r
             break
-    return {"closest_usable_contact_mm": (closest, {
-        "saturating_speeds_by_radius": {str(r): v for r, v in sorted(sat.items())},
-        "calibration_mm": calibration_mm,
-    })}
+    return {
+        "closest_usable_contact_mm": (
+            closest,
+            {
+                "saturating_speeds_by_radius": {str(r): v for r, v in sorted(sat.items())},
+                "calibration_mm": calibration_mm,
+            },
+        )
+    }
 
 
 def _measure_tip_zone(
@@ -663,10 +747,15 @@ def _measure_tip_zone(
     for v in speeds:
         slipped = [r for r, vv, res in tip if vv == v and res.slipped_off]
         zone[v] = length_mm - min(slipped) if slipped else 0.0
-    return {"tip_zone_mm": (max(zone.values()), {
-        "tip_zone_mm_by_speed": {str(v): z for v, z in zone.items()},
-        "radii_tested_mm": list(radii),
-    })}
+    return {
+        "tip_zone_mm": (
+            max(zone.values()),
+            {
+                "tip_zone_mm_by_speed": {str(v): z for v, z in zone.items()},
+                "radii_tested_mm": list(radii),
+            },
+        )
+    }
 
 
 def _measure_above_216(fast: PoleTrials, grid: PoleTrials) -> Measured:
@@ -684,12 +773,25 @@ def _measure_above_216(fast: PoleTrials, grid: PoleTrials) -> Measured:
     Measured
     """
     fails = np.array([res.slipped_off or res.saturated for *_, res in fast])
-    return {"above_216_mm_s": (float(fails.mean()), {
-        "grid_fraction_slipped_or_saturated_up_to_216": float(np.mean(
-            [res.slipped_off or res.saturated for *_, res in grid])),
-        "trials": [{"radius_mm": r, "speed_mm_s": v, "slipped_off": res.slipped_off,
-                    "saturated": res.saturated} for r, v, res in fast],
-    })}
+    return {
+        "above_216_mm_s": (
+            float(fails.mean()),
+            {
+                "grid_fraction_slipped_or_saturated_up_to_216": float(
+                    np.mean([res.slipped_off or res.saturated for *_, res in grid])
+                ),
+                "trials": [
+                    {
+                        "radius_mm": r,
+                        "speed_mm_s": v,
+                        "slipped_off": res.slipped_off,
+                        "saturated": res.saturated,
+                    }
+                    for r, v, res in fast
+                ],
+            },
+        )
+    }
 
 
 # --------------------------------------------------------------------------- observables

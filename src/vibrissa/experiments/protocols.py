@@ -230,8 +230,11 @@ class Protocol(SimulationProtocol):
             for t in self.textures:
                 if t not in TEXTURES:
                     raise ValueError(f"unknown texture {t!r}; choose from {', '.join(TEXTURES)}")
-        if isinstance(self.seed, bool) or not isinstance(self.seed, int | np.integer) \
-                or self.seed < 0:
+        if (
+            isinstance(self.seed, bool)
+            or not isinstance(self.seed, int | np.integer)
+            or self.seed < 0
+        ):
             raise ValueError(f"seed must be a non-negative integer, got {self.seed!r}")
         if not isinstance(self.runs, int) or self.runs < 1:
             raise ValueError(f"runs must be a positive integer, got {self.runs!r}")

@@ -20,8 +20,14 @@ from vibrissa.whisker.simulate import free_vibration
 __all__ = ["ring_down_test"]
 
 
-def ring_down_test(model: RodModel, *, tip_deflection_mm: float, duration_s: float,
-                   dt_s: float, lowpass: bool = True) -> dict[str, Any]:
+def ring_down_test(
+    model: RodModel,
+    *,
+    tip_deflection_mm: float,
+    duration_s: float,
+    dt_s: float,
+    lowpass: bool = True,
+) -> dict[str, Any]:
     """Deflect the tip of ``model`` statically, release it and measure the ring-down.
 
     The base signal is the magnet's tangent ``tan_x`` (with a rigid follicle, which holds
@@ -51,8 +57,13 @@ def ring_down_test(model: RodModel, *, tip_deflection_mm: float, duration_s: flo
         the first mode, ``n_peaks_fitted``, ``signal`` (which base signal),
         ``lowpass_hz`` (``None``: unfiltered) and ``dt_s``.
     """
-    res = free_vibration(model, tip_deflection_mm=tip_deflection_mm, duration_s=duration_s,
-                         dt_s=dt_s, record_every=1 if model.rigid_follicle else 0)
+    res = free_vibration(
+        model,
+        tip_deflection_mm=tip_deflection_mm,
+        duration_s=duration_s,
+        dt_s=dt_s,
+        record_every=1 if model.rigid_follicle else 0,
+    )
     if model.rigid_follicle:
         e = res.states_m[:, 2] - res.states_m[:, 1]
         sig = e[:, 0] / e[:, 2]

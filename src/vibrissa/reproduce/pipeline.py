@@ -50,9 +50,14 @@ __all__ = [
 Progress = Callable[[str, int, int], None]
 
 
-def check_job_arguments(out_dir: str | os.PathLike[str], seed: object,
-                        workers: object = None, *, scheduler: object = None,
-                        **counts: object) -> Path:
+def check_job_arguments(
+    out_dir: str | os.PathLike[str],
+    seed: object,
+    workers: object = None,
+    *,
+    scheduler: object = None,
+    **counts: object,
+) -> Path:
     """Check a reproduction's arguments before any work is done; return ``out_dir``.
 
     Raises
@@ -62,10 +67,13 @@ def check_job_arguments(out_dir: str | os.PathLike[str], seed: object,
         of ``counts`` (e.g. ``n_seeds``) not a positive integer, ``scheduler`` not a
         Dask address (``tcp://host:port``), ``out_dir`` an existing file.
     """
-    if scheduler is not None and (not isinstance(scheduler, str) or not SCHEDULER_ADDRESS
-                                  .fullmatch(scheduler)):
+    if scheduler is not None and (
+        not isinstance(scheduler, str) or not SCHEDULER_ADDRESS.fullmatch(scheduler)
+    ):
         raise ValueError(
-            f"scheduler must be a Dask address like tcp://host:8786, got {scheduler!r}")
+            f"scheduler must be a Dask address like tcp://host:8786, got {scheduler!r}"
+        )
+
     def integer(v: object) -> bool:
         return isinstance(v, int | np.integer) and not isinstance(v, bool)
 
@@ -77,8 +85,10 @@ def check_job_arguments(out_dir: str | os.PathLike[str], seed: object,
         if not integer(v) or int(v) < 1:  # type: ignore[call-overload]
             raise ValueError(f"{name} must be a positive integer, got {v!r}")
     if workers is not None and int(workers) > max_workers():  # type: ignore[call-overload]
-        raise ValueError(f"workers must be at most {max_workers()} ({WORKERS_PER_CORE} per "
-                         f"core of this machine), got {workers!r}")
+        raise ValueError(
+            f"workers must be at most {max_workers()} ({WORKERS_PER_CORE} per "
+            f"core of this machine), got {workers!r}"
+        )
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise ValueError(f"output directory {str(out)!r} is an existing file")
@@ -92,8 +102,10 @@ def check_scheduler(protocol: SimulationProtocol, scheduler: str | None) -> None
     if scheduler is None:
         return
     if isinstance(protocol, SelfGenerating) and not protocol.accepts_scheduler:
-        raise ValueError(f"scheduler: the {protocol.name} session simulates on local "
-                         "processes only; leave out the scheduler")
+        raise ValueError(
+            f"scheduler: the {protocol.name} session simulates on local "
+            "processes only; leave out the scheduler"
+        )
     check_dask()
 
 
@@ -110,8 +122,13 @@ def _file_name(protocol: SimulationProtocol) -> str:
     return f"{protocol.name}-{protocol.fingerprint()}.nc"
 
 
-def cached_dataset(protocol: SimulationProtocol, data_dir: Path, progress: Progress | None = None,
-                   workers: int | None = None, scheduler: str | None = None):
+def cached_dataset(
+    protocol: SimulationProtocol,
+    data_dir: Path,
+    progress: Progress | None = None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+):
     """Load the dataset of ``protocol`` from ``data_dir``, generating it if absent.
 
     The file name carries the protocol's fingerprint, so a changed protocol never
@@ -132,10 +149,15 @@ def cached_dataset(protocol: SimulationProtocol, data_dir: Path, progress: Progr
     cb = (lambda d, t: progress("generate", d, t)) if progress else None
     if isinstance(protocol, SelfGenerating):  # simulates its whole dataset itself
         extra = {"scheduler": scheduler} if scheduler is not None else {}
-        return protocol.generate_dataset(path, workers=workers, progress=cb, **extra), path, \
-            False
-    ds = generate(protocol, path, workers=workers, scheduler=scheduler, progress=cb,
-                  chunk_size=chunk_size_of(protocol))
+        return protocol.generate_dataset(path, workers=workers, progress=cb, **extra), path, False
+    ds = generate(
+        protocol,
+        path,
+        workers=workers,
+        scheduler=scheduler,
+        progress=cb,
+        chunk_size=chunk_size_of(protocol),
+    )
     return ds, path, False
 
 
@@ -143,8 +165,10 @@ def _options(exp: Experiment, options: Mapping[str, Any]) -> dict[str, Any]:
     known = {o.name: o for o in exp.options}
     unknown = sorted(set(options) - set(known))
     if unknown:
-        raise ValueError(f"experiment {exp.name!r} has no option(s) {unknown}; "
-                         f"its options: {sorted(known) or 'none'}")
+        raise ValueError(
+            f"experiment {exp.name!r} has no option(s) {unknown}; "
+            f"its options: {sorted(known) or 'none'}"
+        )
     return {k: o.check(options.get(k, o.default)) for k, o in known.items()}
 
 
@@ -215,8 +239,9 @@ def run_experiment(
     cb = (lambda d, t, _desc: progress("evaluate", d, t)) if progress else None
     evaluation = exp.evaluate(ds, seed=int(seed), progress=cb, options=opts, workers=workers)
     if not isinstance(evaluation, Evaluation):
-        raise TypeError(f"{exp.name}: evaluate() must return an Evaluation, got "
-                        f"{type(evaluation).__name__}")
+        raise TypeError(
+            f"{exp.name}: evaluate() must return an Evaluation, got {type(evaluation).__name__}"
+        )
     results = evaluation.results
     t2 = time.perf_counter()
     evaluation_meta = dict(results.get("meta", {}))
@@ -225,19 +250,26 @@ def run_experiment(
         "chapter": exp.chapter,
         "title": exp.title,
         "vibrissa_version": __version__,
-        "command": command if command is not None else shlex.join(
-            [Path(sys.argv[0]).name, *sys.argv[1:]]),
+        "command": command
+        if command is not None
+        else shlex.join([Path(sys.argv[0]).name, *sys.argv[1:]]),
         "seed": int(seed),
         "quick": bool(quick),
         "options": opts,
         "started_at": started.isoformat(timespec="seconds"),
         "wall_seconds": {"generate": round(t1 - t0, 3), "evaluate": round(t2 - t1, 3)},
         "scheduler": scheduler,
-        "cores": {"available": os.cpu_count(),
-                  "generate_workers": workers if workers is not None else os.cpu_count(),
-                  "evaluate_workers": workers if workers is not None else os.cpu_count()},
-        "dataset": {"path": str(path), "reused": reused, "fingerprint": protocol.fingerprint(),
-                    "n_trials": int(ds.sizes["trial"])},
+        "cores": {
+            "available": os.cpu_count(),
+            "generate_workers": workers if workers is not None else os.cpu_count(),
+            "evaluate_workers": workers if workers is not None else os.cpu_count(),
+        },
+        "dataset": {
+            "path": str(path),
+            "reused": reused,
+            "fingerprint": protocol.fingerprint(),
+            "n_trials": int(ds.sizes["trial"]),
+        },
         **evaluation_meta,
     }
     envelope = {"meta": meta, **{k: v for k, v in results.items() if k != "meta"}}
@@ -245,19 +277,33 @@ def run_experiment(
 
     # the results are saved before the reports are drawn: a failing figure loses nothing
     write_json(envelope, out / "results.json")
-    write_reports(exp, envelope, out, dataset=ds if figures else None, figures=figures,
-                  baseline=baseline, workers=workers, artifacts=evaluation.artifacts)
+    write_reports(
+        exp,
+        envelope,
+        out,
+        dataset=ds if figures else None,
+        figures=figures,
+        baseline=baseline,
+        workers=workers,
+        artifacts=evaluation.artifacts,
+    )
     meta["wall_seconds"]["report"] = round(time.perf_counter() - t2, 3)
     meta["wall_seconds"]["total"] = round(time.perf_counter() - t0, 3)
     write_json(envelope, out / "results.json")
     return envelope
 
 
-def write_reports(exp: Experiment, results: Mapping[str, Any], out: Path, *,
-                  dataset: Any, figures: bool,
-                  baseline: Mapping[str, Any] | None,
-                  workers: int | None = None,
-                  artifacts: Mapping[str, Any] | None = None) -> dict[str, Path]:
+def write_reports(
+    exp: Experiment,
+    results: Mapping[str, Any],
+    out: Path,
+    *,
+    dataset: Any,
+    figures: bool,
+    baseline: Mapping[str, Any] | None,
+    workers: int | None = None,
+    artifacts: Mapping[str, Any] | None = None,
+) -> dict[str, Path]:
     """Figures, extra files, ``report.md`` and ``report.html`` of one run (``workers``
     processes may draw the figures; ``None``: every core; ``artifacts``: the run's
     :attr:`~vibrissa.reproduce.registry.Evaluation.artifacts`)."""
@@ -265,8 +311,9 @@ def write_reports(exp: Experiment, results: Mapping[str, Any], out: Path, *,
     from vibrissa.evaluate.html import write_html_report
     from vibrissa.evaluate.report_common import report_header
 
-    figs = exp.write_outputs(results, out, dataset=dataset, figures=figures, workers=workers,
-                             artifacts=artifacts or {})
+    figs = exp.write_outputs(
+        results, out, dataset=dataset, figures=figures, workers=workers, artifacts=artifacts or {}
+    )
     rel = {k: p.relative_to(out) for k, p in figs.items()}
     text = report_header(results["meta"]) + exp.report_sections(results, rel, baseline)
     md = atomic_write_text(out / "report.md", text.rstrip() + "\n")

@@ -91,13 +91,13 @@ class Option:
                 raise ValueError
             nums = tuple(float(v) for v in parts)
         except (TypeError, ValueError):
-            raise ValueError(f"{self.flag} must be comma-separated numbers, got {value!r}"
-                             ) from None
+            raise ValueError(
+                f"{self.flag} must be comma-separated numbers, got {value!r}"
+            ) from None
         if not all(math.isfinite(v) for v in nums):
             raise ValueError(f"{self.flag} must be finite numbers, got {value!r}")
         if nums and len(nums) < self.minimum:
-            raise ValueError(f"{self.flag} needs at least {self.minimum} numbers, got "
-                             f"{len(nums)}")
+            raise ValueError(f"{self.flag} needs at least {self.minimum} numbers, got {len(nums)}")
         return nums
 
     def _check_names(self, value: Any) -> tuple[str, ...]:
@@ -106,17 +106,20 @@ class Option:
         elif isinstance(value, tuple | list) and all(isinstance(v, str) for v in value):
             names = tuple(value)
         else:
-            raise ValueError(f"{self.flag} must be a comma-separated list of names, "
-                             f"got {value!r}")
+            raise ValueError(f"{self.flag} must be a comma-separated list of names, got {value!r}")
         unknown = [v for v in names if v not in self.choices]
         if unknown:
-            raise ValueError(f"{self.flag}: unknown {self.item} {unknown[0]!r}; choose from "
-                             f"{', '.join(self.choices)}")
+            raise ValueError(
+                f"{self.flag}: unknown {self.item} {unknown[0]!r}; choose from "
+                f"{', '.join(self.choices)}"
+            )
         if len(set(names)) != len(names):
             raise ValueError(f"{self.flag}: each name once, got {','.join(names)}")
         if len(names) < self.minimum:
-            raise ValueError(f"{self.flag} needs at least {self.minimum} of "
-                             f"{', '.join(self.choices)}, got {','.join(names) or 'none'}")
+            raise ValueError(
+                f"{self.flag} needs at least {self.minimum} of "
+                f"{', '.join(self.choices)}, got {','.join(names) or 'none'}"
+            )
         return names
 
 
@@ -163,8 +166,9 @@ class Experiment(ABC):
         """The protocol that simulates the session's data (see
         :mod:`vibrissa.experiments.contract` for what one is)."""
 
-    def protocol_for(self, quick: bool, seed: int,
-                     options: Mapping[str, Any]) -> SimulationProtocol:
+    def protocol_for(
+        self, quick: bool, seed: int, options: Mapping[str, Any]
+    ) -> SimulationProtocol:
         """The protocol of a run with the experiment's own (checked) ``options``; the
         default ignores them (they are evaluation options)."""
         return self.protocol(quick, seed)
@@ -175,18 +179,31 @@ class Experiment(ABC):
 
     # ------------------------------------------------------------------ evaluation
     @abstractmethod
-    def evaluate(self, ds: xr.Dataset, *, seed: int, progress: Callable | None,
-                 options: Mapping[str, Any], workers: int | None = None) -> Evaluation:
+    def evaluate(
+        self,
+        ds: xr.Dataset,
+        *,
+        seed: int,
+        progress: Callable | None,
+        options: Mapping[str, Any],
+        workers: int | None = None,
+    ) -> Evaluation:
         """Run the classifiers and the evaluation: the results (``meta``, ``parameters``,
         ``classifiers`` and the experiment's own sections) and the figures' in-memory
         artifacts. ``workers``: processes the evaluation may use (``None``: every core);
         its results do not depend on it."""
 
     # ------------------------------------------------------------------ outputs
-    def write_outputs(self, results: Mapping[str, Any], out_dir: Path, *,
-                      dataset: xr.Dataset | None, figures: bool,
-                      workers: int | None = None,
-                      artifacts: Mapping[str, Any] | None = None) -> dict[str, Path]:
+    def write_outputs(
+        self,
+        results: Mapping[str, Any],
+        out_dir: Path,
+        *,
+        dataset: xr.Dataset | None,
+        figures: bool,
+        workers: int | None = None,
+        artifacts: Mapping[str, Any] | None = None,
+    ) -> dict[str, Path]:
         """Write extra files (CSV) and figures; return figure key -> path. ``workers``:
         processes that may draw the figures (``None``: every core); ``artifacts``: the
         :attr:`Evaluation.artifacts` of the run (empty for a run drawn again from its
@@ -194,8 +211,12 @@ class Experiment(ABC):
         return {}
 
     @abstractmethod
-    def report_sections(self, results: Mapping[str, Any], figures: Mapping[str, Path],
-                        baseline: Mapping[str, Any] | None) -> str:
+    def report_sections(
+        self,
+        results: Mapping[str, Any],
+        figures: Mapping[str, Path],
+        baseline: Mapping[str, Any] | None,
+    ) -> str:
         """The report's Markdown body (everything after the common header)."""
 
     @abstractmethod

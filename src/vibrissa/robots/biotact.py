@@ -79,15 +79,18 @@ class G1Head:
             if v < 0:
                 raise ValueError(f"setbacks_mm must be >= 0 (behind the front face), got {v!r}")
         if not 0.0 < finite("cone_half_angle_deg", self.cone_half_angle_deg) < 90.0:
-            raise ValueError(f"cone_half_angle_deg must lie in (0, 90), got "
-                             f"{self.cone_half_angle_deg!r}")
+            raise ValueError(
+                f"cone_half_angle_deg must lie in (0, 90), got {self.cone_half_angle_deg!r}"
+            )
         positive("front_radius_mm", self.front_radius_mm)
         if not 0.0 < finite("retracted_deg", self.retracted_deg) <= 90.0:
             raise ValueError(f"retracted_deg must lie in (0, 90], got {self.retracted_deg!r}")
         a = positive("amplitude_deg", self.amplitude_deg)
         if a >= self.retracted_deg:
-            raise ValueError(f"amplitude_deg ({a:g}) must be below retracted_deg "
-                             f"({self.retracted_deg:g}): a whisker may not cross the axis")
+            raise ValueError(
+                f"amplitude_deg ({a:g}) must be below retracted_deg "
+                f"({self.retracted_deg:g}): a whisker may not cross the axis"
+            )
 
     @property
     def n_whiskers(self) -> int:
@@ -107,7 +110,8 @@ class G1Head:
     def base_radius_mm(self, i: int) -> float:
         """Distance of whisker ``i``'s pivot from the head's axis (on the cone)."""
         return self.front_radius_mm + self.setbacks_mm[i] * math.tan(
-            math.radians(self.cone_half_angle_deg))
+            math.radians(self.cone_half_angle_deg)
+        )
 
     def contact_direction_deg(self, i: int, distance_mm: float) -> float:
         """Direction (deg from the axis) at which whisker ``i``, straight, first
@@ -129,32 +133,45 @@ class G1Head:
         """
         d = finite(name, distance_mm)
         if d <= 0.0:
-            raise ValueError(f"{name} ({d:g} mm) places the head inside the surface: the "
-                             "surface must stand ahead of the head's front face (> 0 mm)")
+            raise ValueError(
+                f"{name} ({d:g} mm) places the head inside the surface: the "
+                "surface must stand ahead of the head's front face (> 0 mm)"
+            )
         top = self.retracted_deg - self.amplitude_deg
         for i, L in enumerate(self.lengths_mm):
             c = self.contact_direction_deg(i, d)  # NaN: beyond the whisker's length
             if not c > top + 1.0:
                 raise ValueError(
                     f"{name} ({d:g} mm) is beyond the {L:g} mm whisker's reach at full "
-                    f"protraction ({top:g} deg from the axis)")
+                    f"protraction ({top:g} deg from the axis)"
+                )
             if c >= self.retracted_deg:
                 raise ValueError(
                     f"{name} ({d:g} mm) places the surface inside the {L:g} mm whisker's "
-                    f"reach at full retraction ({self.retracted_deg:g} deg from the axis)")
+                    f"reach at full retraction ({self.retracted_deg:g} deg from the axis)"
+                )
         return d
 
-    def whisker(self, i: int, model: RodModel, surface: Surface, distance_mm: float,
-                side: int, hall_gain_v: float, friction: float | None = None,
-                offset_mm: tuple[float, float] = (0.0, 0.0)) -> WhiskerSetup:
+    def whisker(
+        self,
+        i: int,
+        model: RodModel,
+        surface: Surface,
+        distance_mm: float,
+        side: int,
+        hall_gain_v: float,
+        friction: float | None = None,
+        offset_mm: tuple[float, float] = (0.0, 0.0),
+    ) -> WhiskerSetup:
         """Whisker ``i`` of the row on ``side`` facing ``surface`` ``distance_mm`` ahead.
 
         ``offset_mm``: where on the sheet the whisker meets it, (along the plane in
         the whisking plane, across it): the surface is shifted by that much.
         """
         d = self.check_distance(distance_mm)
-        contact = SurfaceContact(surface, angle_deg=self.surface_angle_deg, side=-1,
-                                 friction=friction)
+        contact = SurfaceContact(
+            surface, angle_deg=self.surface_angle_deg, side=-1, friction=friction
+        )
         _, u, _ = contact.frame()
         p = self.axis() * (self.setbacks_mm[i] + d) + u[[0, 2]] * float(offset_mm[0])
         t = np.array([0.0, 1e6])

@@ -40,8 +40,14 @@ from vibrissa.whisker.simulate import SurfaceContact, Trajectory, simulate
 from vibrissa.whisker.surfaces import Surface
 
 __all__ = [
-    "CONDITIONS", "SETTLE_S", "FloorTrial", "Roomba", "base_motion", "floor_slide",
-    "run_floor_trial", "tip_path",
+    "CONDITIONS",
+    "SETTLE_S",
+    "FloorTrial",
+    "Roomba",
+    "base_motion",
+    "floor_slide",
+    "run_floor_trial",
+    "tip_path",
 ]
 
 #: The movement conditions of 6.2, in the thesis' order of tables.
@@ -96,16 +102,21 @@ class Roomba:
     spot_start_radius_mm: tuple[float, float] = (60.0, 200.0)
 
     def __post_init__(self) -> None:
-        for name in ("wheel_base_mm", "spin_wheel_speed_mm_s", "acceleration_mm_s2",
-                     "mount_radius_mm", "preload_mm"):
+        for name in (
+            "wheel_base_mm",
+            "spin_wheel_speed_mm_s",
+            "acceleration_mm_s2",
+            "mount_radius_mm",
+            "preload_mm",
+        ):
             positive(name, getattr(self, name))
         in_range("tilt_deg", self.tilt_deg, 1.0, 89.0, "deg")
-        for name in ("start_delay_s", "spot_speed_mm_s", "spot_pitch_mm",
-                     "spot_start_radius_mm"):
+        for name in ("start_delay_s", "spot_speed_mm_s", "spot_pitch_mm", "spot_start_radius_mm"):
             lo, hi = getattr(self, name)
             if not (0.0 <= lo <= hi and math.isfinite(hi)):
-                raise ValueError(f"{name} must be a range (low, high) with 0 <= low <= high, "
-                                 f"got {(lo, hi)!r}")
+                raise ValueError(
+                    f"{name} must be a range (low, high) with 0 <= low <= high, got {(lo, hi)!r}"
+                )
         for name in ("spot_speed_mm_s", "spot_pitch_mm", "spot_start_radius_mm"):
             positive(f"{name} low end", getattr(self, name)[0])
 
@@ -114,8 +125,9 @@ class Roomba:
         return asdict(self)
 
 
-def base_motion(roomba: Roomba, condition: str, duration_s: float, rng: np.random.Generator,
-                dt_s: float = 1e-3) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def base_motion(
+    roomba: Roomba, condition: str, duration_s: float, rng: np.random.Generator, dt_s: float = 1e-3
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Forward speed and yaw rate of the base over a trial.
 
     Parameters
@@ -161,8 +173,13 @@ def base_motion(roomba: Roomba, condition: str, duration_s: float, rng: np.rando
     return t, forward, yaw
 
 
-def floor_slide(roomba: Roomba, length_mm: float, time_s: np.ndarray, forward_mm_s: np.ndarray,
-                yaw_rad_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def floor_slide(
+    roomba: Roomba,
+    length_mm: float,
+    time_s: np.ndarray,
+    forward_mm_s: np.ndarray,
+    yaw_rad_s: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
     """The floor's slide under the tip in the whisker's frame (see the module doc).
 
     Returns
@@ -264,8 +281,13 @@ def run_floor_trial(
     origin = origin + u[None, :] * (s_u + start[0])[:, None]
     speed_n = (gap + roomba.preload_mm) / (0.5 * SETTLE_S) * (t < 0.5 * SETTLE_S)
     vel = n[None, :] * speed_n[:, None] + u[None, :] * along[:, None]
-    traj = Trajectory(t, origin[:, [0, 2]], vel[:, [0, 2]], lateral_mm=s_y + start[1],
-                      lateral_velocity_mm_s=across)
+    traj = Trajectory(
+        t,
+        origin[:, [0, 2]],
+        vel[:, [0, 2]],
+        lateral_mm=s_y + start[1],
+        lateral_velocity_mm_s=across,
+    )
     res = simulate(model, contact, traj, SETTLE_S + T, dt_s)
     k0 = int(round(SETTLE_S / dt_s))
     tan = res.tan_xy[k0:]
@@ -285,8 +307,13 @@ def run_floor_trial(
     )
 
 
-def tip_path(roomba: Roomba, length_mm: float, time_s: np.ndarray, forward_mm_s: np.ndarray,
-             yaw_rad_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def tip_path(
+    roomba: Roomba,
+    length_mm: float,
+    time_s: np.ndarray,
+    forward_mm_s: np.ndarray,
+    yaw_rad_s: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
     """Where the undeflected tip passes over the floor (mm, floor frame; the robot
     starts at the origin heading along +x).
 
@@ -302,5 +329,7 @@ def tip_path(roomba: Roomba, length_mm: float, time_s: np.ndarray, forward_mm_s:
     reach = length_mm * math.cos(math.radians(roomba.tilt_deg))
     # the tip at (-reach, -r) in the robot frame, rotated by the heading
     tx, ty = -reach, -roomba.mount_radius_mm
-    return (x + tx * np.cos(heading) - ty * np.sin(heading),
-            y + tx * np.sin(heading) + ty * np.cos(heading))
+    return (
+        x + tx * np.cos(heading) - ty * np.sin(heading),
+        y + tx * np.sin(heading) + ty * np.cos(heading),
+    )

@@ -96,8 +96,9 @@ def _check_gains(sigma_z: float, tau_z_s: float, dt_s: float) -> tuple[float, fl
     return s, tau, dt
 
 
-def rcp_gating(contact: np.ndarray, dt_s: float, sigma_z: float, tau_z_s: float,
-               z0: float = 0.0) -> np.ndarray:
+def rcp_gating(
+    contact: np.ndarray, dt_s: float, sigma_z: float, tau_z_s: float, z0: float = 0.0
+) -> np.ndarray:
     """The gating variable of eq. 3.3, one value per sample of ``contact``.
 
     ``z(n) = clip(max((1 - dt_s/tau_z_s) z(n-1), sigma_z contact(n)), 0, 1)`` with
@@ -142,13 +143,15 @@ class ContactFilter:
     ``x``, whose absolute values are maximised over the side's whiskers.
     """
 
-    def __init__(self, n_whiskers: int, rate_hz: float, cutoff_hz: float = 50.0,
-                 order: int = 3) -> None:
+    def __init__(
+        self, n_whiskers: int, rate_hz: float, cutoff_hz: float = 50.0, order: int = 3
+    ) -> None:
         rate = positive("control_rate_hz", rate_hz)
         fc = positive("filter cutoff_hz", cutoff_hz)
         if fc >= rate / 2:
-            raise ValueError(f"filter cutoff ({cutoff_hz} Hz) must be below half the control "
-                             f"rate ({rate_hz} Hz)")
+            raise ValueError(
+                f"filter cutoff ({cutoff_hz} Hz) must be below half the control rate ({rate_hz} Hz)"
+            )
         self.sos = butter(int(order), fc, fs=rate, output="sos")
         self.state = np.zeros((int(n_whiskers), *sosfilt_zi(self.sos).shape))
         # one sample at a time in plain floats (sosfilt's transposed direct form II, the
@@ -200,8 +203,9 @@ class WhiskPattern:
         finite("retracted_deg", self.retracted_deg)
         finite("phase_rad", self.phase_rad)
         if abs(self.retracted_deg) + self.amplitude_deg >= 80.0:
-            raise ValueError("retracted_deg and amplitude_deg must keep the housing within "
-                             "+/-80 deg")
+            raise ValueError(
+                "retracted_deg and amplitude_deg must keep the housing within +/-80 deg"
+            )
 
     @property
     def period_s(self) -> float:
@@ -236,8 +240,9 @@ class VaryingWhiskPattern(WhiskPattern):
         for a in self.amplitudes_deg:
             positive("amplitudes_deg", a)
             if abs(self.retracted_deg) + a >= 80.0:
-                raise ValueError("retracted_deg and amplitudes_deg must keep the housing "
-                                 "within +/-80 deg")
+                raise ValueError(
+                    "retracted_deg and amplitudes_deg must keep the housing within +/-80 deg"
+                )
 
     def oscillator_deg(self, t_s: np.ndarray | float) -> np.ndarray:
         """The unmodulated angle at times ``t_s``."""
@@ -351,8 +356,12 @@ class WhiskingResult:
     tan_y: np.ndarray | None = None
 
 
-def motor_follow(command_deg: np.ndarray, dt_s: float, bandwidth_hz: float,
-                 state: tuple[float, float] = (0.0, 0.0)) -> tuple[np.ndarray, np.ndarray]:
+def motor_follow(
+    command_deg: np.ndarray,
+    dt_s: float,
+    bandwidth_hz: float,
+    state: tuple[float, float] = (0.0, 0.0),
+) -> tuple[np.ndarray, np.ndarray]:
     """Angle (deg) and rate (deg/s) of a critically damped servo following ``command_deg``.
 
     ``theta'' = w^2 (command - theta) - 2 w theta'`` with ``w = 2 pi bandwidth_hz``;
@@ -379,20 +388,31 @@ def motor_follow(command_deg: np.ndarray, dt_s: float, bandwidth_hz: float,
     return ang, rate
 
 
-def pole_position_mm(radial_distance_mm: float, contact_angle_deg: float,
-                     pole_radius_mm: float, shaft_radius_mm: float) -> tuple[float, float]:
+def pole_position_mm(
+    radial_distance_mm: float,
+    contact_angle_deg: float,
+    pole_radius_mm: float,
+    shaft_radius_mm: float,
+) -> tuple[float, float]:
     """Centre (x, z) of a pole (parallel to ``y``) touching the straight whisker, its
     housing turned by ``contact_angle_deg``, at ``radial_distance_mm`` from the base,
     on the whisker's protraction (+x) side."""
     a = math.radians(contact_angle_deg)
     off = pole_radius_mm + shaft_radius_mm
-    return (radial_distance_mm * math.sin(a) + off * math.cos(a),
-            radial_distance_mm * math.cos(a) - off * math.sin(a))
+    return (
+        radial_distance_mm * math.sin(a) + off * math.cos(a),
+        radial_distance_mm * math.cos(a) - off * math.sin(a),
+    )
 
 
-def pole_whisker(model: RodModel, radial_distance_mm: float, contact_angle_deg: float,
-                 pole_radius_mm: float = 0.5, side: int = 0,
-                 hall_gain_v: float | None = None) -> WhiskerSetup:
+def pole_whisker(
+    model: RodModel,
+    radial_distance_mm: float,
+    contact_angle_deg: float,
+    pole_radius_mm: float = 0.5,
+    side: int = 0,
+    hall_gain_v: float | None = None,
+) -> WhiskerSetup:
     """A whisker facing a stationary vertical pole (:func:`pole_position_mm`)."""
     shaft = float(model.geometry.radius_m(radial_distance_mm * 1e-3)) * 1e3
     pos = pole_position_mm(radial_distance_mm, contact_angle_deg, pole_radius_mm, shaft)
@@ -400,9 +420,13 @@ def pole_whisker(model: RodModel, radial_distance_mm: float, contact_angle_deg: 
     return WhiskerSetup(model, PoleContact(radius_mm=pole_radius_mm), traj, side, hall_gain_v)
 
 
-def check_pole_placement(radial_distance_mm: float, contact_angle_deg: float,
-                         pattern: WhiskPattern, pole_radius_mm: float,
-                         length_mm: float) -> None:
+def check_pole_placement(
+    radial_distance_mm: float,
+    contact_angle_deg: float,
+    pattern: WhiskPattern,
+    pole_radius_mm: float,
+    length_mm: float,
+) -> None:
     """Refuse a pole the whisk cannot meet properly, before any simulation.
 
     The pole must lie within the whisker's length and beyond its own radius from
@@ -418,17 +442,22 @@ def check_pole_placement(radial_distance_mm: float, contact_angle_deg: float,
     c = finite("contact_angle_deg", contact_angle_deg)
     rp = positive("pole_radius_mm", pole_radius_mm)
     if not rp < r <= length_mm:
-        raise ValueError(f"radial_distance_mm must lie in ({rp:g}, {length_mm:g}] mm (beyond "
-                         f"the pole's radius, within the whisker's length), got {r:g}")
+        raise ValueError(
+            f"radial_distance_mm must lie in ({rp:g}, {length_mm:g}] mm (beyond "
+            f"the pole's radius, within the whisker's length), got {r:g}"
+        )
     if c <= pattern.retracted_deg:
         raise ValueError(
             f"contact_angle_deg ({c:g}) places the pole inside the whisker's reach at rest "
             f"(the whisker rests at the full retraction, {pattern.retracted_deg:g} deg); it "
-            "must be greater")
+            "must be greater"
+        )
     top = pattern.retracted_deg + pattern.amplitude_deg
     if c >= top:
-        raise ValueError(f"contact_angle_deg ({c:g}) is at or beyond full protraction "
-                         f"({top:g} deg): the whisker never reaches the pole")
+        raise ValueError(
+            f"contact_angle_deg ({c:g}) is at or beyond full protraction "
+            f"({top:g} deg): the whisker never reaches the pole"
+        )
 
 
 def _check_setups(whiskers: list[WhiskerSetup], n_sides: int) -> None:
@@ -489,8 +518,10 @@ def run_whisking(
     n_w = len(whiskers)
     gains = [w.gain() for w in whiskers]
     full_tan = [HALF_RANGE_FRACTION * 5.0 / g for g in gains]
-    filters = [ContactFilter(sum(w.side == s for w in whiskers), rate, ctrl.cutoff_hz,
-                             ctrl.order) for s in range(n_sides)]
+    filters = [
+        ContactFilter(sum(w.side == s for w in whiskers), rate, ctrl.cutoff_hz, ctrl.order)
+        for s in range(n_sides)
+    ]
     taus = [ctrl.tau_z_periods * p.period_s for p in pats]
     decays = []
     for s in range(n_sides):
@@ -512,16 +543,25 @@ def run_whisking(
         command[s, 0] = pats[s].command_deg(0.0, 0.0)
         angle[[i for i, w in enumerate(whiskers) if w.side == s], 0] = pats[s].retracted_deg
 
-    def run(w: int, k0: int, k1: int, ang: np.ndarray, rt: np.ndarray,
-            state: DynamicState | None) -> DynamicState | None:
+    def run(
+        w: int, k0: int, k1: int, ang: np.ndarray, rt: np.ndarray, state: DynamicState | None
+    ) -> DynamicState | None:
         wh = whiskers[w]
-        bm = BaseMotion(time_s[k0:k1 + 1], np.radians(ang), np.radians(rt))
-        res = simulate(wh.model, wh.contact, wh.trajectory, (k1 - k0) * dt, dt,
-                       initial_state=state, base_motion=bm, linear_free_flight=False)
-        tan_x[w, k0:k1 + 1] = res.tan_xy[:, 0]
-        tan_y[w, k0:k1 + 1] = res.tan_xy[:, 1]
-        force[w, k0:k1 + 1] = res.contact_force_n
-        angle[w, k0:k1 + 1] = ang
+        bm = BaseMotion(time_s[k0 : k1 + 1], np.radians(ang), np.radians(rt))
+        res = simulate(
+            wh.model,
+            wh.contact,
+            wh.trajectory,
+            (k1 - k0) * dt,
+            dt,
+            initial_state=state,
+            base_motion=bm,
+            linear_free_flight=False,
+        )
+        tan_x[w, k0 : k1 + 1] = res.tan_xy[:, 0]
+        tan_y[w, k0 : k1 + 1] = res.tan_xy[:, 1]
+        force[w, k0 : k1 + 1] = res.contact_force_n
+        angle[w, k0 : k1 + 1] = ang
         return res.final_state
 
     if not ctrl.active:
@@ -537,8 +577,9 @@ def run_whisking(
             members = [i for i, wh in enumerate(whiskers) if wh.side == s]
             for n in range(n_ctrl + 1):
                 pis[s, n] = filters[s].step(defl[members, n])
-        return WhiskingResult(time_s, tan_x, force, angle, ctime, command, pis, zs, defl, dt,
-                              gains, tan_y)
+        return WhiskingResult(
+            time_s, tan_x, force, angle, ctime, command, pis, zs, defl, dt, gains, tan_y
+        )
 
     states: list[DynamicState | None] = [None] * n_w
     for n in range(n_ctrl):
@@ -558,8 +599,9 @@ def run_whisking(
             members = [i for i, wh in enumerate(whiskers) if wh.side == s]
             pis[s, n + 1] = filters[s].step(defl[members, n + 1])
             zs[s, n + 1] = _gate_step(zs[s, n], pis[s, n + 1], decays[s], ctrl.sigma_z)
-    return WhiskingResult(time_s, tan_x, force, angle, ctime, command, pis, zs, defl, dt, gains,
-                          tan_y)
+    return WhiskingResult(
+        time_s, tan_x, force, angle, ctime, command, pis, zs, defl, dt, gains, tan_y
+    )
 
 
 @dataclass
@@ -657,14 +699,23 @@ class Figure39Panel:
 
     def summary(self) -> dict[str, Any]:
         """The panel's numbers, JSON-ready (everything but the arrays)."""
-        return {"sigma_z": self.sigma_z, "tau_z_periods": self.tau_z_periods,
-                "contacts_left": self.contacts_left, "contacts_right": self.contacts_right,
-                "whisks": self.whisks, "z_max": self.z_max,
-                "z_at_next_whisk": self.z_at_next_whisk}
+        return {
+            "sigma_z": self.sigma_z,
+            "tau_z_periods": self.tau_z_periods,
+            "contacts_left": self.contacts_left,
+            "contacts_right": self.contacts_right,
+            "whisks": self.whisks,
+            "z_max": self.z_max,
+            "z_at_next_whisk": self.z_at_next_whisk,
+        }
 
 
-def figure_3_9(settings: Mapping[str, tuple[float, float]] | None = None, *,
-               frequency_hz: float = 8.0, n_whisks: int = 3) -> dict[str, Figure39Panel]:
+def figure_3_9(
+    settings: Mapping[str, tuple[float, float]] | None = None,
+    *,
+    frequency_hz: float = 8.0,
+    n_whisks: int = 3,
+) -> dict[str, Figure39Panel]:
     """Figure 3.9 (rapid cessation of protraction): :func:`obstacle_whisk` at each panel's
     ``(sigma_z, tau_z_periods)`` (default :data:`FIGURE_3_9_SETTINGS`), with its contacts
     counted.
@@ -681,11 +732,15 @@ def figure_3_9(settings: Mapping[str, tuple[float, float]] | None = None, *,
         onsets = np.flatnonzero(touching[1:] & ~touching[:-1]) + 1
         later = onsets[r.time_s[onsets] >= 1.0 / frequency_hz]
         out[key] = Figure39Panel(
-            sigma_z=s, tau_z_periods=tau,
+            sigma_z=s,
+            tau_z_periods=tau,
             contacts_left=count_contacts(r.angle_deg[0] - r.obstacle_deg[0], 0.0, -2.0),
             contacts_right=count_contacts(r.angle_deg[1] - r.obstacle_deg[1], 0.0, -2.0),
-            whisks=int(n_whisks), z_max=float(r.gating[0].max()),
-            z_at_next_whisk=float(r.gating[0][later[0]]) if later.size else None, run=r)
+            whisks=int(n_whisks),
+            z_max=float(r.gating[0].max()),
+            z_at_next_whisk=float(r.gating[0][later[0]]) if later.size else None,
+            run=r,
+        )
     return out
 
 

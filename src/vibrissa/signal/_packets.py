@@ -11,8 +11,14 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["PACKET_SAMPLES", "QUIET_VARIANCE_V2", "WINDOW_SAMPLES", "active_packets",
-           "odd_even_split", "packet_windows"]
+__all__ = [
+    "PACKET_SAMPLES",
+    "QUIET_VARIANCE_V2",
+    "WINDOW_SAMPLES",
+    "active_packets",
+    "odd_even_split",
+    "packet_windows",
+]
 
 #: Samples per Labjack packet (6.2.1).
 PACKET_SAMPLES = 160
@@ -31,8 +37,9 @@ def _check(recording: np.ndarray, packet: int) -> np.ndarray:
     return x
 
 
-def active_packets(recording: np.ndarray, packet: int = PACKET_SAMPLES,
-                   threshold_v2: float = QUIET_VARIANCE_V2) -> np.ndarray:
+def active_packets(
+    recording: np.ndarray, packet: int = PACKET_SAMPLES, threshold_v2: float = QUIET_VARIANCE_V2
+) -> np.ndarray:
     """Which whole packets of a recording are kept.
 
     A packet is kept when its variance reaches ``threshold_v2`` in at least one
@@ -58,9 +65,12 @@ def active_packets(recording: np.ndarray, packet: int = PACKET_SAMPLES,
     return np.any(var >= threshold_v2, axis=0)
 
 
-def packet_windows(recording: np.ndarray, packet: int = PACKET_SAMPLES,
-                   window: int = WINDOW_SAMPLES,
-                   threshold_v2: float = QUIET_VARIANCE_V2) -> np.ndarray:
+def packet_windows(
+    recording: np.ndarray,
+    packet: int = PACKET_SAMPLES,
+    window: int = WINDOW_SAMPLES,
+    threshold_v2: float = QUIET_VARIANCE_V2,
+) -> np.ndarray:
     """Drop the quiet packets, join the rest and cut consecutive windows.
 
     Parameters
@@ -84,8 +94,9 @@ def packet_windows(recording: np.ndarray, packet: int = PACKET_SAMPLES,
     n = keep.size
     kept = x[:, : n * packet].reshape(x.shape[0], n, packet)[:, keep].reshape(x.shape[0], -1)
     m = kept.shape[1] // window
-    return np.ascontiguousarray(kept[:, : m * window].reshape(x.shape[0], m, window)
-                                .transpose(1, 0, 2))
+    return np.ascontiguousarray(
+        kept[:, : m * window].reshape(x.shape[0], m, window).transpose(1, 0, 2)
+    )
 
 
 def odd_even_split(n_windows: int) -> tuple[np.ndarray, np.ndarray]:

@@ -50,8 +50,12 @@ def ring_down(
     s = np.asarray(signal, dtype=float)
     amp = float(np.max(np.abs(s))) if s.size else 0.0
     empty: dict[str, Any] = {
-        "frequency_hz": None, "damping_ratio": None, "n_peaks": 0, "first_peak": 0,
-        "peak_times_s": [], "peak_values": [],
+        "frequency_hz": None,
+        "damping_ratio": None,
+        "n_peaks": 0,
+        "first_peak": 0,
+        "peak_times_s": [],
+        "peak_values": [],
     }
     if not amp > 0:
         return empty

@@ -108,8 +108,7 @@ class Frames(Collector):
         self._estimate.append(pf.pose_estimate())
 
     def result(self) -> FrameStack:
-        return FrameStack(np.stack(self._particles), np.stack(self._maps),
-                          np.stack(self._estimate))
+        return FrameStack(np.stack(self._particles), np.stack(self._maps), np.stack(self._estimate))
 
 
 class PoseEstimates(Collector):

@@ -28,12 +28,13 @@ def gaussian_kernel(size: int = SMOOTH_SIZE, sigma: float = SMOOTH_SIGMA) -> np.
         raise ValueError(f"size must be a positive odd integer, got {size!r}")
     v.positive("sigma", sigma)
     r = np.arange(size) - size // 2
-    k = np.exp(-(r[:, None] ** 2 + r[None, :] ** 2) / (2 * sigma ** 2))
+    k = np.exp(-(r[:, None] ** 2 + r[None, :] ** 2) / (2 * sigma**2))
     return k / k.sum()
 
 
-def smooth_ground_truth(grid: np.ndarray, size: int = SMOOTH_SIZE,
-                        sigma: float = SMOOTH_SIGMA) -> np.ndarray:
+def smooth_ground_truth(
+    grid: np.ndarray, size: int = SMOOTH_SIZE, sigma: float = SMOOTH_SIGMA
+) -> np.ndarray:
     """The ground truth as the thesis compares against: smoothed, zero beyond the map."""
     g = v.finite_array("ground truth", grid)
     if g.ndim != 2:
@@ -54,8 +55,13 @@ def map_error(maps: np.ndarray, ground_truth: np.ndarray) -> float:
     return float(np.mean(np.abs(m - gt)))
 
 
-def random_map_error(ground_truth: np.ndarray, rng: np.random.Generator, n_maps: int = 100,
-                     p: float = 0.5, smooth: bool = False) -> float:
+def random_map_error(
+    ground_truth: np.ndarray,
+    rng: np.random.Generator,
+    n_maps: int = 100,
+    p: float = 0.5,
+    smooth: bool = False,
+) -> float:
     """The error of ``n_maps`` random maps, each cell Bernoulli(``p``), against the truth.
 
     With ``smooth=False`` its expectation is exactly 0.5 whatever the truth when

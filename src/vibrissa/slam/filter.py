@@ -49,9 +49,19 @@ from vibrissa.slam.collectors import Collector, PoseEstimates
 from vibrissa.slam.log import SensorLog, WhiskerLayout
 from vibrissa.slam.mappers import MAPPERS, MODES, Mapper
 
-__all__ = ["MODES", "SHAFT_POINTS", "ParticleFilter", "SlamRun", "SlamSettings",
-           "apply_motion", "effective_sample_size", "noisy_increment", "run_slam",
-           "systematic_resample", "to_world"]
+__all__ = [
+    "MODES",
+    "SHAFT_POINTS",
+    "ParticleFilter",
+    "SlamRun",
+    "SlamSettings",
+    "apply_motion",
+    "effective_sample_size",
+    "noisy_increment",
+    "run_slam",
+    "systematic_resample",
+    "to_world",
+]
 
 SHAFT_POINTS = 5
 """Points sampled along each free whisker's shaft to weigh its emptiness; the weighting
@@ -100,10 +110,18 @@ class SlamSettings:
             if isinstance(value, bool) or not isinstance(value, int | np.integer) or value <= 0:
                 raise ValueError(f"{name} must be a positive integer, got {value!r}")
         if self.mode not in MAPPERS:
-            raise ValueError(f"unknown mapping mode {self.mode!r}; choose one of "
-                             f"{', '.join(MAPPERS)}")
-        for name in ("cell_m", "blob_sigma_m", "free_sigma_m", "body_sigma_m", "sigma_r_m",
-                     "sigma_theta_rad", "logodds_limit"):
+            raise ValueError(
+                f"unknown mapping mode {self.mode!r}; choose one of {', '.join(MAPPERS)}"
+            )
+        for name in (
+            "cell_m",
+            "blob_sigma_m",
+            "free_sigma_m",
+            "body_sigma_m",
+            "sigma_r_m",
+            "sigma_theta_rad",
+            "logodds_limit",
+        ):
             v.positive(name, getattr(self, name))
         for name in ("odometry_error", "heading_drift_rad_m"):
             v.non_negative(name, getattr(self, name))
@@ -150,8 +168,9 @@ def to_world(poses: np.ndarray, points_robot: np.ndarray) -> np.ndarray:
     """Robot-frame points ``(k, 2)`` seen from every pose ``(P, 3)``: ``(P, k, 2)``."""
     c, s = np.cos(poses[:, 2])[:, None], np.sin(poses[:, 2])[:, None]
     px, py = points_robot[None, :, 0], points_robot[None, :, 1]
-    return np.stack([poses[:, 0, None] + c * px - s * py,
-                     poses[:, 1, None] + s * px + c * py], axis=-1)
+    return np.stack(
+        [poses[:, 0, None] + c * px - s * py, poses[:, 1, None] + s * px + c * py], axis=-1
+    )
 
 
 def apply_motion(poses: np.ndarray, increment: np.ndarray) -> np.ndarray:
@@ -161,12 +180,15 @@ def apply_motion(poses: np.ndarray, increment: np.ndarray) -> np.ndarray:
     """
     c, s = np.cos(poses[..., 2]), np.sin(poses[..., 2])
     dx, dy, da = increment[..., 0], increment[..., 1], increment[..., 2]
-    return np.stack([poses[..., 0] + c * dx - s * dy, poses[..., 1] + s * dx + c * dy,
-                     poses[..., 2] + da], axis=-1)
+    return np.stack(
+        [poses[..., 0] + c * dx - s * dy, poses[..., 1] + s * dx + c * dy, poses[..., 2] + da],
+        axis=-1,
+    )
 
 
-def noisy_increment(increment: np.ndarray, n: int, error: float, drift_rad_m: float,
-                    rng: np.random.Generator) -> np.ndarray:
+def noisy_increment(
+    increment: np.ndarray, n: int, error: float, drift_rad_m: float, rng: np.random.Generator
+) -> np.ndarray:
     """``n`` noisy copies ``(n, 3)`` of one odometry increment (error times the movement)."""
     inc = np.asarray(increment, float)
     dist = math.hypot(inc[0], inc[1])
@@ -269,10 +291,17 @@ class ParticleFilter:
         How often the particles were resampled.
     """
 
-    def __init__(self, settings: SlamSettings, start_pose: np.ndarray,
-                 rng: np.random.Generator, floor_map: np.ndarray | None = None,
-                 prior_map: np.ndarray | None = None, *, log: SensorLog | None = None,
-                 collect: Sequence[Collector] = ()) -> None:
+    def __init__(
+        self,
+        settings: SlamSettings,
+        start_pose: np.ndarray,
+        rng: np.random.Generator,
+        floor_map: np.ndarray | None = None,
+        prior_map: np.ndarray | None = None,
+        *,
+        log: SensorLog | None = None,
+        collect: Sequence[Collector] = (),
+    ) -> None:
         s = settings
         self.s = s
         self.rng = rng
@@ -282,14 +311,20 @@ class ParticleFilter:
         self.visited = np.zeros(self.logodds.shape, dtype=bool)
         if prior_map is not None:
             prior = np.asarray(prior_map, float)
-            if prior.shape != (s.n_cells, s.n_cells) or np.any(
-                    (prior < 0) | (prior > 1)):
-                raise ValueError(f"prior_map must be {(s.n_cells, s.n_cells)} probabilities "
-                                 "in [0, 1] (NaN: unexplored)")
+            if prior.shape != (s.n_cells, s.n_cells) or np.any((prior < 0) | (prior > 1)):
+                raise ValueError(
+                    f"prior_map must be {(s.n_cells, s.n_cells)} probabilities "
+                    "in [0, 1] (NaN: unexplored)"
+                )
             known = np.isfinite(prior)
             lim = s.logodds_limit
-            self.logodds[:] = np.where(known, np.clip(grid.logit(np.clip(
-                np.nan_to_num(prior, nan=0.5), 1e-9, 1 - 1e-9)), -lim, lim), 0.0)
+            self.logodds[:] = np.where(
+                known,
+                np.clip(
+                    grid.logit(np.clip(np.nan_to_num(prior, nan=0.5), 1e-9, 1 - 1e-9)), -lim, lim
+                ),
+                0.0,
+            )
             self.visited[:] = known
         if floor_map is not None and np.shape(floor_map) != (s.n_cells, s.n_cells):
             raise ValueError(f"floor_map must have shape {(s.n_cells, s.n_cells)}")
@@ -329,8 +364,10 @@ class ParticleFilter:
 
     def _iterated_log(self) -> SensorLog:
         if self.log is None:
-            raise TypeError("a ParticleFilter built without a log cannot be iterated; "
-                            "pass log=... or call step(log, t)")
+            raise TypeError(
+                "a ParticleFilter built without a log cannot be iterated; "
+                "pass log=... or call step(log, t)"
+            )
         return self.log
 
     def _collect(self) -> None:
@@ -344,15 +381,17 @@ class ParticleFilter:
         f = self.s.sensor_floor
         return np.log(f + (1 - 2 * f) * q)
 
-    def _weigh(self, log: SensorLog, t: int, hit_world: np.ndarray,
-               free_world: np.ndarray) -> None:
+    def _weigh(self, log: SensorLog, t: int, hit_world: np.ndarray, free_world: np.ndarray) -> None:
         lw = np.zeros(self.s.n_particles)
         if hit_world.shape[1]:
             lw += self._point_loglik(hit_world, True).sum(axis=1)
         if free_world.shape[1]:
             # the mean over a free whisker's SHAFT_POINTS points, summed over free whiskers
-            lw += (self._point_loglik(free_world, False).mean(axis=1) * free_world.shape[1]
-                   / SHAFT_POINTS)
+            lw += (
+                self._point_loglik(free_world, False).mean(axis=1)
+                * free_world.shape[1]
+                / SHAFT_POINTS
+            )
         body = to_world(self.poses, _body_points(log.layout.body_radius_m))
         lw += self._point_loglik(body, False).mean(axis=1)
         if self.floor_map is not None and log.floor_loglik is not None:
@@ -379,11 +418,25 @@ class ParticleFilter:
         lay = log.layout
         mid = lay.points(np.asarray(lay.length_m) / 2)[free]
         for w in range(mid.shape[0]):
-            grid.add_blob(self.logodds, self.visited, to_world(self.poses, mid[w:w + 1])[:, 0],
-                          s.free_whisker_p, s.free_sigma_m, s.cell_m, limit=s.logodds_limit)
-        grid.add_blob(self.logodds, self.visited, self.poses[:, :2], s.body_p, s.body_sigma_m,
-                      s.cell_m, radius_cells=int(np.ceil(2 * lay.body_radius_m / s.cell_m)),
-                      limit=s.logodds_limit)
+            grid.add_blob(
+                self.logodds,
+                self.visited,
+                to_world(self.poses, mid[w : w + 1])[:, 0],
+                s.free_whisker_p,
+                s.free_sigma_m,
+                s.cell_m,
+                limit=s.logodds_limit,
+            )
+        grid.add_blob(
+            self.logodds,
+            self.visited,
+            self.poses[:, :2],
+            s.body_p,
+            s.body_sigma_m,
+            s.cell_m,
+            radius_cells=int(np.ceil(2 * lay.body_radius_m / s.cell_m)),
+            limit=s.logodds_limit,
+        )
 
     # -- one step ---------------------------------------------------------------------
     def step(self, log: SensorLog, t: int) -> float:
@@ -393,16 +446,18 @@ class ParticleFilter:
         never closes an episode at the log's end; iterate the filter for that.
         """
         s = self.s
-        inc = noisy_increment(log.odometry[t], s.n_particles, s.odometry_error,
-                              s.heading_drift_rad_m, self.rng)
+        inc = noisy_increment(
+            log.odometry[t], s.n_particles, s.odometry_error, s.heading_drift_rad_m, self.rng
+        )
         self.poses = apply_motion(self.poses, inc)
         state = str(log.state[t])
         if state not in _NO_EVIDENCE:
             contact = np.asarray(log.contact[t], bool)
             lay = log.layout
             hit_idx = np.flatnonzero(contact)
-            hit_world = to_world(self.poses, lay.points(
-                np.asarray(log.radial_distance_m[t]))[hit_idx])
+            hit_world = to_world(
+                self.poses, lay.points(np.asarray(log.radial_distance_m[t]))[hit_idx]
+            )
             if state not in _EVENTS:
                 free_world = to_world(self.poses, _shaft_points(lay)[~contact].reshape(-1, 2))
                 self._weigh(log, t, hit_world, free_world)
@@ -445,9 +500,15 @@ def _body_points(radius_m: float) -> np.ndarray:
     return np.vstack([[0.0, 0.0], ring])
 
 
-def run_slam(log: SensorLog, settings: SlamSettings | None = None, seed: int = 0,
-             floor_map: np.ndarray | None = None, prior_map: np.ndarray | None = None, *,
-             collect: Sequence[Collector] = ()) -> SlamRun:
+def run_slam(
+    log: SensorLog,
+    settings: SlamSettings | None = None,
+    seed: int = 0,
+    floor_map: np.ndarray | None = None,
+    prior_map: np.ndarray | None = None,
+    *,
+    collect: Sequence[Collector] = (),
+) -> SlamRun:
     """Run the particle filter over a whole sensor log (iterate it to the end).
 
     Parameters
@@ -484,8 +545,22 @@ def run_slam(log: SensorLog, settings: SlamSettings | None = None, seed: int = 0
         raise ValueError(f"collectors must have distinct names, got {names}")
     s = settings or SlamSettings()
     est = PoseEstimates()
-    pf = ParticleFilter(s, log.start_pose, np.random.default_rng(seed), floor_map, prior_map,
-                        log=log, collect=[est, *collect])
+    pf = ParticleFilter(
+        s,
+        log.start_pose,
+        np.random.default_rng(seed),
+        floor_map,
+        prior_map,
+        log=log,
+        collect=[est, *collect],
+    )
     ess = np.fromiter(pf, dtype=float)
-    return SlamRun(est.result(), pf.logodds, pf.visited, pf.log_weights, ess, pf.n_resamples,
-                   {c.name: c.result() for c in collect})
+    return SlamRun(
+        est.result(),
+        pf.logodds,
+        pf.visited,
+        pf.log_weights,
+        ess,
+        pf.n_resamples,
+        {c.name: c.result() for c in collect},
+    )

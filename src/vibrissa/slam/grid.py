@@ -44,8 +44,15 @@ def _window(n: int, centre_cell: np.ndarray, radius: int) -> tuple[np.ndarray, .
     return ix, iy, valid
 
 
-def _add(logodds: np.ndarray, visited: np.ndarray, ix: np.ndarray, iy: np.ndarray,
-         valid: np.ndarray, delta_p: np.ndarray, limit: float) -> None:
+def _add(
+    logodds: np.ndarray,
+    visited: np.ndarray,
+    ix: np.ndarray,
+    iy: np.ndarray,
+    valid: np.ndarray,
+    delta_p: np.ndarray,
+    limit: float,
+) -> None:
     """Add ``logit(delta_p)`` into each particle's window cells (in place, clipped)."""
     p_idx = np.broadcast_to(np.arange(logodds.shape[0])[:, None, None], ix.shape)
     keep = valid & (np.abs(delta_p - 0.5) >= EXPLORED_DELTA)
@@ -60,9 +67,16 @@ def cell_of(points_m: np.ndarray, cell_m: float) -> np.ndarray:
     return np.floor(np.asarray(points_m, float) / cell_m).astype(np.int64)
 
 
-def add_blob(logodds: np.ndarray, visited: np.ndarray, centres_m: np.ndarray, peak_p: float,
-             sigma_m: float, cell_m: float, radius_cells: int = 3,
-             limit: float = 10.0) -> None:
+def add_blob(
+    logodds: np.ndarray,
+    visited: np.ndarray,
+    centres_m: np.ndarray,
+    peak_p: float,
+    sigma_m: float,
+    cell_m: float,
+    radius_cells: int = 3,
+    limit: float = 10.0,
+) -> None:
     """Eq. 6.1: a Gaussian blob of evidence round each particle's contact cell (in place).
 
     ``Delta m[x, y] = 0.5 + (peak_p - 0.5) exp(-((x - x_c)^2 + (y - y_c)^2) / (2 sigma^2))``
@@ -80,30 +94,46 @@ def add_blob(logodds: np.ndarray, visited: np.ndarray, centres_m: np.ndarray, pe
     n = logodds.shape[1]
     c = cell_of(centres_m, cell_m)
     ix, iy, valid = _window(n, c, radius_cells)
-    d2 = ((ix - c[:, 0, None, None]) ** 2 + (iy - c[:, 1, None, None]) ** 2) * cell_m ** 2
-    dp = 0.5 + (peak_p - 0.5) * np.exp(-d2 / (2 * sigma_m ** 2))
+    d2 = ((ix - c[:, 0, None, None]) ** 2 + (iy - c[:, 1, None, None]) ** 2) * cell_m**2
+    dp = 0.5 + (peak_p - 0.5) * np.exp(-d2 / (2 * sigma_m**2))
     _add(logodds, visited, ix, iy, valid, dp, limit)
 
 
-def edge_likelihood(dx_m: np.ndarray, dy_m: np.ndarray, angle_rad: np.ndarray, peak_p: float,
-                    sigma_r_m: float, sigma_theta_rad: float) -> np.ndarray:
+def edge_likelihood(
+    dx_m: np.ndarray,
+    dy_m: np.ndarray,
+    angle_rad: np.ndarray,
+    peak_p: float,
+    sigma_r_m: float,
+    sigma_theta_rad: float,
+) -> np.ndarray:
     """Eq. 6.2's likelihood at offsets ``(dx, dy)`` from the contact midpoint.
 
     ``exp(-R^2 / (2 sigma_R^2) - (theta - theta_c)^2 / (2 sigma_theta^2))`` with
     ``(R, theta)`` the offset in polar form; an edge is a line, so ``theta - theta_c`` is
     taken modulo pi into ``[-pi/2, pi/2)``; at ``R = 0`` the angle term is 0.
     """
-    r2 = dx_m ** 2 + dy_m ** 2
+    r2 = dx_m**2 + dy_m**2
     dth = np.arctan2(dy_m, dx_m) - angle_rad
     dth = (dth + np.pi / 2) % np.pi - np.pi / 2
     dth = np.where(r2 > 0, dth, 0.0)
-    return 0.5 + (peak_p - 0.5) * np.exp(-r2 / (2 * sigma_r_m ** 2)
-                                         - dth ** 2 / (2 * sigma_theta_rad ** 2))
+    return 0.5 + (peak_p - 0.5) * np.exp(
+        -r2 / (2 * sigma_r_m**2) - dth**2 / (2 * sigma_theta_rad**2)
+    )
 
 
-def add_edge(logodds: np.ndarray, visited: np.ndarray, centres_m: np.ndarray,
-             angle_rad: np.ndarray, peak_p: float, sigma_r_m: float, sigma_theta_rad: float,
-             cell_m: float, radius_cells: int | None = None, limit: float = 10.0) -> None:
+def add_edge(
+    logodds: np.ndarray,
+    visited: np.ndarray,
+    centres_m: np.ndarray,
+    angle_rad: np.ndarray,
+    peak_p: float,
+    sigma_r_m: float,
+    sigma_theta_rad: float,
+    cell_m: float,
+    radius_cells: int | None = None,
+    limit: float = 10.0,
+) -> None:
     """Eq. 6.2: a blur of long edges through each particle's contact midpoint (in place).
 
     Parameters
@@ -121,8 +151,9 @@ def add_edge(logodds: np.ndarray, visited: np.ndarray, centres_m: np.ndarray,
     ix, iy, valid = _window(n, c, r)
     dx = (ix + 0.5) * cell_m - centres_m[:, 0, None, None]
     dy = (iy + 0.5) * cell_m - centres_m[:, 1, None, None]
-    dp = edge_likelihood(dx, dy, np.asarray(angle_rad, float)[:, None, None], peak_p,
-                         sigma_r_m, sigma_theta_rad)
+    dp = edge_likelihood(
+        dx, dy, np.asarray(angle_rad, float)[:, None, None], peak_p, sigma_r_m, sigma_theta_rad
+    )
     _add(logodds, visited, ix, iy, valid, dp, limit)
 
 

@@ -102,8 +102,13 @@ class SensorLog:
     def __post_init__(self) -> None:
         t = len(self.state)
         w = self.layout.n_whiskers
-        shapes = {"odometry": (t, 3), "contact": (t, w), "radial_distance_m": (t, w),
-                  "surface_angle_rad": (t,), "start_pose": (3,)}
+        shapes = {
+            "odometry": (t, 3),
+            "contact": (t, w),
+            "radial_distance_m": (t, w),
+            "surface_angle_rad": (t,),
+            "start_pose": (3,),
+        }
         for name, shape in shapes.items():
             got = np.shape(getattr(self, name))
             if got != shape:
@@ -115,11 +120,19 @@ class SensorLog:
             raise ValueError("sensor log: a contact without a finite radial_distance_m")
         if self.floor_loglik is not None:
             ll = np.asarray(self.floor_loglik)
-            if ll.ndim != 3 or ll.shape[0] != t or ll.shape[2] != len(self.textures) or (
+            if (
+                ll.ndim != 3
+                or ll.shape[0] != t
+                or ll.shape[2] != len(self.textures)
+                or (
                     self.floor_whisker_m is None
-                    or np.shape(self.floor_whisker_m) != (ll.shape[1], 2)):
-                raise ValueError("sensor log: floor_loglik must be (n_steps, n_floor_whiskers, "
-                                 "n_textures) with floor_whisker_m and textures to match")
+                    or np.shape(self.floor_whisker_m) != (ll.shape[1], 2)
+                )
+            ):
+                raise ValueError(
+                    "sensor log: floor_loglik must be (n_steps, n_floor_whiskers, "
+                    "n_textures) with floor_whisker_m and textures to match"
+                )
         if self.true_pose is not None and np.shape(self.true_pose) != (t + 1, 3):
             raise ValueError(f"sensor log: true_pose must have shape {(t + 1, 3)}")
 
@@ -136,13 +149,20 @@ class SensorLog:
         ValueError
             ``n_steps`` not in ``1..self.n_steps``.
         """
-        if isinstance(n_steps, bool) or not isinstance(n_steps, int | np.integer) or not (
-                1 <= n_steps <= self.n_steps):
+        if (
+            isinstance(n_steps, bool)
+            or not isinstance(n_steps, int | np.integer)
+            or not (1 <= n_steps <= self.n_steps)
+        ):
             raise ValueError(f"n_steps must be an integer in 1..{self.n_steps}, got {n_steps!r}")
         n = int(n_steps)
         return replace(
-            self, state=self.state[:n], odometry=self.odometry[:n], contact=self.contact[:n],
+            self,
+            state=self.state[:n],
+            odometry=self.odometry[:n],
+            contact=self.contact[:n],
             radial_distance_m=self.radial_distance_m[:n],
             surface_angle_rad=self.surface_angle_rad[:n],
             floor_loglik=None if self.floor_loglik is None else self.floor_loglik[:n],
-            true_pose=None if self.true_pose is None else self.true_pose[:n + 1])
+            true_pose=None if self.true_pose is None else self.true_pose[: n + 1],
+        )

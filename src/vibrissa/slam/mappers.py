@@ -43,8 +43,16 @@ if TYPE_CHECKING:
     from vibrissa.slam.filter import ParticleFilter
     from vibrissa.slam.log import SensorLog
 
-__all__ = ["MAPPERS", "MODES", "BlobMapper", "EpisodeMapper", "GeometricMapper", "Mapper",
-           "TemplateMapper", "register_mapper"]
+__all__ = [
+    "MAPPERS",
+    "MODES",
+    "BlobMapper",
+    "EpisodeMapper",
+    "GeometricMapper",
+    "Mapper",
+    "TemplateMapper",
+    "register_mapper",
+]
 
 
 class Mapper:
@@ -75,8 +83,9 @@ class Mapper:
             ``(n_particles, n_hits, 2)`` map-frame contact points seen from every particle.
         """
 
-    def on_evidence(self, pf: ParticleFilter, log: SensorLog, t: int, hit_idx: np.ndarray,
-                    hit_world: np.ndarray) -> None:
+    def on_evidence(
+        self, pf: ParticleFilter, log: SensorLog, t: int, hit_idx: np.ndarray, hit_world: np.ndarray
+    ) -> None:
         """Any step that is not ``BACK`` (events included), after :meth:`on_sensing`.
 
         Parameters
@@ -115,16 +124,32 @@ class Mapper:
         """Add a contact blob (``contact_p``, ``blob_sigma_m``) at ``(n_particles, 2)``
         map-frame ``centres``, one per particle."""
         s = pf.s
-        grid.add_blob(pf.logodds, pf.visited, centres, s.contact_p, s.blob_sigma_m, s.cell_m,
-                      limit=s.logodds_limit)
+        grid.add_blob(
+            pf.logodds,
+            pf.visited,
+            centres,
+            s.contact_p,
+            s.blob_sigma_m,
+            s.cell_m,
+            limit=s.logodds_limit,
+        )
 
     @staticmethod
     def edge(pf: ParticleFilter, centres: np.ndarray, angles: np.ndarray) -> None:
         """Add an edge (eq. 6.2; ``edge_p``, ``sigma_r_m``, ``sigma_theta_rad``) through
         ``(n_particles, 2)`` ``centres`` at ``(n_particles,)`` map-frame ``angles``."""
         s = pf.s
-        grid.add_edge(pf.logodds, pf.visited, centres, angles, s.edge_p, s.sigma_r_m,
-                      s.sigma_theta_rad, s.cell_m, limit=s.logodds_limit)
+        grid.add_edge(
+            pf.logodds,
+            pf.visited,
+            centres,
+            angles,
+            s.edge_p,
+            s.sigma_r_m,
+            s.sigma_theta_rad,
+            s.cell_m,
+            limit=s.logodds_limit,
+        )
 
     @classmethod
     def edge_between(cls, pf: ParticleFilter, a: np.ndarray, b: np.ndarray) -> None:
@@ -188,13 +213,15 @@ class EpisodeMapper(Mapper):
         self.pending_whiskers: frozenset[int] = frozenset()
         self.episode_done = False
 
-    def on_evidence(self, pf: ParticleFilter, log: SensorLog, t: int, hit_idx: np.ndarray,
-                    hit_world: np.ndarray) -> None:
+    def on_evidence(
+        self, pf: ParticleFilter, log: SensorLog, t: int, hit_idx: np.ndarray, hit_world: np.ndarray
+    ) -> None:
         if not self.episode_done:
             self.episode_step(pf, log, t, hit_idx, hit_world)
 
-    def episode_step(self, pf: ParticleFilter, log: SensorLog, t: int, hit_idx: np.ndarray,
-                     hit_world: np.ndarray) -> None:
+    def episode_step(
+        self, pf: ParticleFilter, log: SensorLog, t: int, hit_idx: np.ndarray, hit_world: np.ndarray
+    ) -> None:
         """One evidence step of an episode whose edge is not laid yet (as
         :meth:`Mapper.on_evidence`)."""
         raise NotImplementedError
@@ -204,8 +231,7 @@ class EpisodeMapper(Mapper):
         taken."""
         return [k for k, w in enumerate(hit_idx) if int(w) not in self.pending_whiskers]
 
-    def remember_first(self, hit_idx: np.ndarray, hit_world: np.ndarray,
-                       new: list[int]) -> None:
+    def remember_first(self, hit_idx: np.ndarray, hit_world: np.ndarray, new: list[int]) -> None:
         """Keep the first new contact as the episode's :attr:`pending` one, if none yet."""
         if self.pending is None and new:
             self.pending = hit_world[:, new[0]].copy()
@@ -228,8 +254,9 @@ class GeometricMapper(EpisodeMapper):
 
     name = "geometric"
 
-    def episode_step(self, pf: ParticleFilter, log: SensorLog, t: int, hit_idx: np.ndarray,
-                     hit_world: np.ndarray) -> None:
+    def episode_step(
+        self, pf: ParticleFilter, log: SensorLog, t: int, hit_idx: np.ndarray, hit_world: np.ndarray
+    ) -> None:
         new = self.new_contacts(hit_idx)
         if self.pending is None and len(new) >= 2:
             self.edge_between(pf, hit_world[:, new[0]], hit_world[:, new[-1]])
@@ -248,8 +275,9 @@ class TemplateMapper(EpisodeMapper):
 
     name = "template"
 
-    def episode_step(self, pf: ParticleFilter, log: SensorLog, t: int, hit_idx: np.ndarray,
-                     hit_world: np.ndarray) -> None:
+    def episode_step(
+        self, pf: ParticleFilter, log: SensorLog, t: int, hit_idx: np.ndarray, hit_world: np.ndarray
+    ) -> None:
         angle = float(log.surface_angle_rad[t])
         if math.isfinite(angle):
             pts = [hit_world[:, k] for k in range(hit_world.shape[1])]

@@ -529,8 +529,9 @@ def add_internal_whisking(x, v, rod, damping, F, S, cD, cK, jac, theta, theta_do
             for i in range(3):
                 for j in range(3):
                     tt = t1[i] * t1[j]
-                    H[i, j] = (tt_coef * tt + geo * ((1.0 if i == j else 0.0) - tt)
-                               + cdv * t1[i] * d[j])
+                    H[i, j] = (
+                        tt_coef * tt + geo * ((1.0 if i == j else 0.0) - tt) + cdv * t1[i] * d[j]
+                    )
             for r in range(3):
                 ra = 3 * a + r
                 rb = 3 * b + r
@@ -1168,8 +1169,7 @@ def _assemble(x, v, rod, damping, contact, tr, anchors, F, S, cD, cK, jac, info)
     if jac:
         S[:, :] = 0.0
     if tr.shape[0] > TR_BASE:
-        add_internal_whisking(x, v, rod, damping, F, S, cD, cK, jac, tr[TR_BASE],
-                              tr[TR_BASE + 1])
+        add_internal_whisking(x, v, rod, damping, F, S, cD, cK, jac, tr[TR_BASE], tr[TR_BASE + 1])
     else:
         add_internal(x, v, rod, damping, F, S, cD, cK, jac)
     if contact.kind == POLE:
@@ -1534,8 +1534,9 @@ def _object_speed(kind, traj, row):
 
 
 @njit(cache=True)
-def _try_stride(state, work, rod, damping, contact, traj, anchors, settings, k, K,
-                prev_contact, prev_slip, out):
+def _try_stride(
+    state, work, rod, damping, contact, traj, anchors, settings, k, K, prev_contact, prev_slip, out
+):
     """Try one step of ``K * dt`` from step ``k``; keep it only if the contact state
     stayed the same and the local error estimate is within ``settings.stride_tol``.
 
@@ -1583,8 +1584,10 @@ def _try_stride(state, work, rod, damping, contact, traj, anchors, settings, k, 
         contact_now = 1.0 if info[0] > 0.0 else 0.0
         if contact_now != prev_contact or info[2] != prev_slip:
             code = STRIDE_CONTACT
-        elif contact_now == 0.0 and contact.kind != NO_CONTACT and info[3] < h * (
-            _max_speed(v, vn) + _object_speed(contact.kind, traj, i0 + 1)
+        elif (
+            contact_now == 0.0
+            and contact.kind != NO_CONTACT
+            and info[3] < h * (_max_speed(v, vn) + _object_speed(contact.kind, traj, i0 + 1))
         ):
             # out of contact, and the object is closer than whisker and object could
             # come together within one step this long: a touch could start (or
@@ -1744,8 +1747,21 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
         # a long step while the contact state is steady
         K = min(stride, max_stride, nsteps - k) if steady >= STEADY_STEPS else 1
         if K > 1:
-            code = _try_stride(state, work, rod, damping, contact, traj, anchors, settings,
-                               k, K, prev_contact, prev_slip, out)
+            code = _try_stride(
+                state,
+                work,
+                rod,
+                damping,
+                contact,
+                traj,
+                anchors,
+                settings,
+                k,
+                K,
+                prev_contact,
+                prev_slip,
+                out,
+            )
             if code == STRIDE_OK:
                 # the error estimate grows like h^2 |a_{n+1} - a_n|, ~h^3 on smooth
                 # motion (~h^2 where |a_{n+1} - a_n| does not grow with h): double
@@ -1806,8 +1822,7 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
             vn[:, :] = v
             an[:, :] = a
             done += 1
-        _write_tan(out, k + 1, x[1, 0] - x[0, 0], x[1, 1] - x[0, 1], x[1, 2] - x[0, 2],
-                   traj, k + 1)
+        _write_tan(out, k + 1, x[1, 0] - x[0, 0], x[1, 1] - x[0, 1], x[1, 2] - x[0, 2], traj, k + 1)
         out[k + 1, 2] = info[0]
         out[k + 1, 3] = info[1]
         out[k + 1, 4] = info[2]
@@ -1837,8 +1852,9 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
 # linear free flight (see vibrissa.whisker.modal)
 # ----------------------------------------------------------------------------------
 @njit(cache=True, nogil=True)
-def modal_advance(z, decay, out_modes, pivot, magnet_rest, steps, stop_tan, out,
-                  gain0, gain1, load0, load1):
+def modal_advance(
+    z, decay, out_modes, pivot, magnet_rest, steps, stop_tan, out, gain0, gain1, load0, load1
+):
     """Advance complex modal amplitudes ``z`` by ``steps`` exact steps, in place.
 
     ``decay[k] = exp(lambda_k dt)``; ``out_modes`` (3, m) maps the amplitudes to the
@@ -1970,8 +1986,9 @@ def _energy(u, w, stiffness, mass):
 
 
 @njit(cache=True)
-def modal_amplitudes(x, v, x_rest, dofs, mass, shapes, stiffness, tangents, inv_re, inv_im,
-                     z_re, z_im):
+def modal_amplitudes(
+    x, v, x_rest, dofs, mass, shapes, stiffness, tangents, inv_re, inv_im, z_re, z_im
+):
     """Complex modal amplitudes of a state, and the energy fraction outside the modes.
 
     See :meth:`vibrissa.whisker.modal.LinearModes.amplitudes`: the displacement
@@ -2118,8 +2135,9 @@ def interp_into(x, xp, fp, out):
 
 
 @njit(cache=True)
-def first_possible_contact(kind, params, frame, h_max, traj, x_rest, radius, bound, margin,
-                           first_node):
+def first_possible_contact(
+    kind, params, frame, h_max, traj, x_rest, radius, bound, margin, first_node
+):
     """First row of ``traj`` at which the object could touch the whisker, or len(traj).
 
     The whisker stays within ``bound[i]`` (m) of its rest position ``x_rest[i]``
@@ -2152,7 +2170,9 @@ def first_possible_contact(kind, params, frame, h_max, traj, x_rest, radius, bou
                 dx = ax + u * bx - px
                 dz = az + u * bz - pz
                 clear = (
-                    np.sqrt(dx * dx + dz * dz) - rp - max(radius[j], radius[j + 1])
+                    np.sqrt(dx * dx + dz * dz)
+                    - rp
+                    - max(radius[j], radius[j + 1])
                     - max(bound[j], bound[j + 1])
                 )
                 if clear <= margin:
@@ -2162,8 +2182,9 @@ def first_possible_contact(kind, params, frame, h_max, traj, x_rest, radius, bou
             moved = 0.0
             t += 1
             while t < nt:
-                moved += np.sqrt((traj[t, 0] - traj[t - 1, 0]) ** 2
-                                 + (traj[t, 1] - traj[t - 1, 1]) ** 2)
+                moved += np.sqrt(
+                    (traj[t, 0] - traj[t - 1, 0]) ** 2 + (traj[t, 1] - traj[t - 1, 1]) ** 2
+                )
                 if moved >= slack:
                     break
                 t += 1
@@ -2186,9 +2207,11 @@ def first_possible_contact(kind, params, frame, h_max, traj, x_rest, radius, bou
             moved = 0.0
             t += 1
             while t < nt:
-                moved += abs(nrm[0] * (traj[t, 0] - traj[t - 1, 0])
-                             + nrm[1] * (traj[t, 1] - traj[t - 1, 1])
-                             + nrm[2] * (traj[t, 2] - traj[t - 1, 2]))
+                moved += abs(
+                    nrm[0] * (traj[t, 0] - traj[t - 1, 0])
+                    + nrm[1] * (traj[t, 1] - traj[t - 1, 1])
+                    + nrm[2] * (traj[t, 2] - traj[t - 1, 2])
+                )
                 if moved >= slack:
                     break
                 t += 1

@@ -66,6 +66,7 @@ MEMORY_METHOD = (
     "is not traced"
 )
 
+
 def standard_trajectory(model: Any, duration_s: float | None = None) -> Any:
     """The pole's motion in the standard scenario, for ``model``'s whisker.
 
@@ -101,7 +102,12 @@ def standard_trajectory(model: Any, duration_s: float | None = None) -> Any:
 
 
 def _trial(
-    model: Any, contact: Any, trajectory: Any, duration_s: float, dt_s: float, sensor: Any,
+    model: Any,
+    contact: Any,
+    trajectory: Any,
+    duration_s: float,
+    dt_s: float,
+    sensor: Any,
     **options: Any,
 ) -> Any:
     from vibrissa.whisker.simulate import simulate
@@ -137,6 +143,7 @@ def whisk_in_air(duration_s: float) -> Any:
     w = 2.0 * math.pi * WHISK_HZ
     return BaseMotion(t, 0.5 * amp * (1.0 - np.cos(w * t)), 0.5 * amp * w * np.sin(w * t))
 
+
 #: The contact figure: the standard scenario's first 0.35 s (the pole touches at
 #: about 10 ms and leaves during the retraction), nearly all of it in contact.
 CONTACT_SCENARIO = "the standard scenario's first 0.35 s: approach, 0.3 s push, retraction"
@@ -144,7 +151,12 @@ CONTACT_PHASE_S = 0.35
 
 
 def _phase_rates(
-    model: Any, contact: Any, traj: Any, dt_s: float, sensor: Any, repeats: int,
+    model: Any,
+    contact: Any,
+    traj: Any,
+    dt_s: float,
+    sensor: Any,
+    repeats: int,
     options: dict[str, Any],
 ) -> dict[str, float]:
     """Real-time factors (best of ``repeats``) of the free-flight, whisking-in-air and

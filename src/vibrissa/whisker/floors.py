@@ -80,8 +80,15 @@ class FloorSpec:
 #: The four floors of thesis 6.2 (figure 6.1), in the thesis' table order.
 FLOORS: dict[str, FloorSpec] = {
     "rough-carpet": FloorSpec(
-        "rough-carpet", "pile", element_mm=3.0, lattice_mm=(3.6, 4.0), relief_mm=1.2,
-        roughness_um=40.0, correlation_mm=0.1, friction=0.6, stiffness_n_m=400.0,
+        "rough-carpet",
+        "pile",
+        element_mm=3.0,
+        lattice_mm=(3.6, 4.0),
+        relief_mm=1.2,
+        roughness_um=40.0,
+        correlation_mm=0.1,
+        friction=0.6,
+        stiffness_n_m=400.0,
         source=(
             "Level-loop pile carpet tile: gauge 5/32 in (4.0 mm) and about 28 stitches per "
             "10 cm (3.6 mm), typical of loop-pile tile datasheets classified under EN 1307; "
@@ -95,8 +102,15 @@ FLOORS: dict[str, FloorSpec] = {
         ),
     ),
     "vinyl": FloorSpec(
-        "vinyl", "smooth", element_mm=0.0, lattice_mm=(0.0, 0.0), relief_mm=0.0,
-        roughness_um=25.0, correlation_mm=0.4, friction=0.45, stiffness_n_m=2.0e4,
+        "vinyl",
+        "smooth",
+        element_mm=0.0,
+        lattice_mm=(0.0, 0.0),
+        relief_mm=0.0,
+        roughness_um=25.0,
+        correlation_mm=0.4,
+        friction=0.45,
+        stiffness_n_m=2.0e4,
         source=(
             "Vinyl (PVC) floor covering (EN ISO 10582 heterogeneous / EN ISO 10581 "
             "homogeneous): a smooth wear layer with an embossed finish, taken as 25 um RMS "
@@ -107,8 +121,15 @@ FLOORS: dict[str, FloorSpec] = {
         ),
     ),
     "smooth-carpet": FloorSpec(
-        "smooth-carpet", "pile", element_mm=1.8, lattice_mm=(2.2, 2.5), relief_mm=0.35,
-        roughness_um=30.0, correlation_mm=0.1, friction=0.7, stiffness_n_m=120.0,
+        "smooth-carpet",
+        "pile",
+        element_mm=1.8,
+        lattice_mm=(2.2, 2.5),
+        relief_mm=0.35,
+        roughness_um=30.0,
+        correlation_mm=0.1,
+        friction=0.7,
+        stiffness_n_m=120.0,
         source=(
             "Cut-pile (velour) carpet tile: gauge 1/10 in (2.5 mm), ~45 stitches per 10 cm "
             "(2.2 mm), tufts ~1.8 mm across whose cut ends form a nearly level brush (0.35 "
@@ -118,8 +139,15 @@ FLOORS: dict[str, FloorSpec] = {
         ),
     ),
     "tarmac": FloorSpec(
-        "tarmac", "aggregate", element_mm=6.0, lattice_mm=(0.0, 0.0), relief_mm=0.8,
-        roughness_um=50.0, correlation_mm=0.2, friction=0.6, stiffness_n_m=2.0e4,
+        "tarmac",
+        "aggregate",
+        element_mm=6.0,
+        lattice_mm=(0.0, 0.0),
+        relief_mm=0.8,
+        roughness_um=50.0,
+        correlation_mm=0.2,
+        friction=0.6,
+        stiffness_n_m=2.0e4,
         source=(
             "Dense asphalt surface course with 6 mm nominal aggregate (an AC 6 of EN "
             "13108-1, the finest road/footway tarmac); mean texture depth 0.8 mm, within "
@@ -151,8 +179,9 @@ def floor_spec(floor: str | FloorSpec) -> FloorSpec:
     return FLOORS[floor]
 
 
-def _caps(H: np.ndarray, dx: float, cu: np.ndarray, cw: np.ndarray, rad: np.ndarray,
-          top: np.ndarray) -> None:
+def _caps(
+    H: np.ndarray, dx: float, cu: np.ndarray, cw: np.ndarray, rad: np.ndarray, top: np.ndarray
+) -> None:
     """Stamp spherical caps (centre ``cu, cw``, radius ``rad``, summit ``top``; m) into
     ``H`` as an upper envelope, periodically."""
     n, m = H.shape
@@ -216,8 +245,9 @@ def make_floor(
         stitch, gauge = (v * 1e-3 for v in spec.lattice_mm)
         # whole numbers of rows and stitches per tile, so the lattice tiles seamlessly
         ku, kw = max(1, round(Lu / stitch)), max(1, round(Lw / gauge))
-        gu, gw = np.meshgrid((np.arange(ku) + 0.5) * Lu / ku, (np.arange(kw) + 0.5) * Lw / kw,
-                             indexing="ij")
+        gu, gw = np.meshgrid(
+            (np.arange(ku) + 0.5) * Lu / ku, (np.arange(kw) + 0.5) * Lw / kw, indexing="ij"
+        )
         n = gu.size
         cu = gu.ravel() + rng.normal(0.0, 0.12 * stitch, n)
         cw = gw.ravel() + rng.normal(0.0, 0.12 * gauge, n)
@@ -248,4 +278,3 @@ def make_floor(
 def texture_depth_mm(surface: Surface) -> float:
     """Mean texture depth of a height field (mm): mean depth below its summit plane."""
     return _texture_depth(surface.heights_m) * 1e3
-

@@ -32,13 +32,13 @@ YOUNGS_MODULUS_RANGE_GPA = (1e-3, 1200.0)
 DENSITY_RANGE_KG_M3 = (1.0, 23_000.0)
 
 
-def _physical(name: str, value: float, bounds: tuple[float, float], unit: str,
-              why: str) -> None:
+def _physical(name: str, value: float, bounds: tuple[float, float], unit: str, why: str) -> None:
     """Refuse ``value`` outside the physical ``bounds``, saying where they come from."""
     v = finite(name, value)
     if not bounds[0] <= v <= bounds[1]:
-        raise ValueError(f"{name} must lie in [{bounds[0]:g}, {bounds[1]:g}] {unit} ({why}), "
-                         f"got {value!r}")
+        raise ValueError(
+            f"{name} must lie in [{bounds[0]:g}, {bounds[1]:g}] {unit} ({why}), got {value!r}"
+        )
 
 
 @dataclass(frozen=True)
@@ -97,8 +97,13 @@ class WhiskerGeometry:
         in_range("length_mm", self.length_mm, 1.0, MAX_LENGTH_MM, "mm")
         # radii, modulus and density: the ranges of real whiskers and solids
         for name in ("base_radius_mm", "tip_radius_mm"):
-            _physical(name, getattr(self, name), (MIN_RADIUS_MM, MAX_LENGTH_MM / 4), "mm",
-                      "1 um is finer than any whisker's tip")
+            _physical(
+                name,
+                getattr(self, name),
+                (MIN_RADIUS_MM, MAX_LENGTH_MM / 4),
+                "mm",
+                "1 um is finer than any whisker's tip",
+            )
         if self.tip_radius_mm > self.base_radius_mm:
             raise ValueError(
                 f"tip_radius_mm ({self.tip_radius_mm}) must not exceed base_radius_mm "
@@ -109,10 +114,16 @@ class WhiskerGeometry:
                 f"base_radius_mm ({self.base_radius_mm}) is too large for length_mm "
                 f"({self.length_mm}): the rod model needs a slender whisker (length > 4 x radius)"
             )
-        _physical("youngs_modulus_gpa", self.youngs_modulus_gpa, YOUNGS_MODULUS_RANGE_GPA,
-                  "GPa", "soft rubber to diamond")
-        _physical("density_kg_m3", self.density_kg_m3, DENSITY_RANGE_KG_M3, "kg/m^3",
-                  "aerogel to osmium")
+        _physical(
+            "youngs_modulus_gpa",
+            self.youngs_modulus_gpa,
+            YOUNGS_MODULUS_RANGE_GPA,
+            "GPa",
+            "soft rubber to diamond",
+        )
+        _physical(
+            "density_kg_m3", self.density_kg_m3, DENSITY_RANGE_KG_M3, "kg/m^3", "aerogel to osmium"
+        )
         # above ~0.5 the first mode of a compliant-follicle whisker becomes
         # overdamped and "the first mode's damping ratio" stops being a dial
         in_range("damping_ratio", self.damping_ratio, 0.0, 0.5)

@@ -146,9 +146,7 @@ class HallSettings:
                     "calibration_mm must be (radius, deflection) in mm, got "
                     f"{self.calibration_mm!r}"
                 )
-            object.__setattr__(
-                self, "calibration_mm", tuple(float(v) for v in self.calibration_mm)
-            )
+            object.__setattr__(self, "calibration_mm", tuple(float(v) for v in self.calibration_mm))
             positive("calibration radius", self.calibration_mm[0])
             positive("calibration deflection", self.calibration_mm[1])
 
@@ -277,8 +275,9 @@ class HallSensor:
             raise ValueError(f"tan_xy must have shape (n_steps, 2), got {t.shape}")
         if not np.all(np.isfinite(t)):
             raise ValueError("tan_xy contains NaN or infinite values")
-        step = steps_per_sample(1.0 / positive("internal_rate_hz", internal_rate_hz),
-                                self.sample_rate_hz)
+        step = steps_per_sample(
+            1.0 / positive("internal_rate_hz", internal_rate_hz), self.sample_rate_hz
+        )
         v = self.offset_v + self.gain_v * t
         if self.bandwidth_hz is not None and self.bandwidth_hz < 0.45 * internal_rate_hz:
             sos = scipy.signal.butter(2, self.bandwidth_hz, fs=internal_rate_hz, output="sos")
@@ -411,6 +410,10 @@ def calibrated_gain(
         d = positive("calibration deflection", calibration_mm[1])
     s = HallSettings() if sensor is None else sensor
     return _gain_cached(
-        geometry.to_json(), int(n_elements or DEFAULT_N_ELEMENTS), r, d,
-        float(s.supply_v), float(s.range_fraction),
+        geometry.to_json(),
+        int(n_elements or DEFAULT_N_ELEMENTS),
+        r,
+        d,
+        float(s.supply_v),
+        float(s.range_fraction),
     )

@@ -177,23 +177,30 @@ class LinearModes:
         z_re = np.empty(inv_re.shape[0])
         z_im = np.empty(inv_re.shape[0])
         frac = modal_amplitudes(
-            self._nodes("x", x), self._nodes("v", v),
-            self.x_rest, self.dofs, self.mass, self.shapes, self.stiffness, self.tangents,
-            inv_re, inv_im, z_re, z_im,
+            self._nodes("x", x),
+            self._nodes("v", v),
+            self.x_rest,
+            self.dofs,
+            self.mass,
+            self.shapes,
+            self.stiffness,
+            self.tangents,
+            inv_re,
+            inv_im,
+            z_re,
+            z_im,
         )
         return z_re + 1j * z_im, float(frac)
 
     @cached_property
     def _inverse_parts(self) -> tuple[np.ndarray, np.ndarray]:
         """Real and imaginary parts of :attr:`inverse`, contiguous, made once."""
-        return (np.ascontiguousarray(self.inverse.real),
-                np.ascontiguousarray(self.inverse.imag))
+        return (np.ascontiguousarray(self.inverse.real), np.ascontiguousarray(self.inverse.imag))
 
     @cached_property
     def _vector_parts(self) -> tuple[np.ndarray, np.ndarray]:
         """Real and imaginary parts of :attr:`vectors`, contiguous, made once."""
-        return (np.ascontiguousarray(self.vectors.real),
-                np.ascontiguousarray(self.vectors.imag))
+        return (np.ascontiguousarray(self.vectors.real), np.ascontiguousarray(self.vectors.imag))
 
     def housing_load(self) -> np.ndarray:
         """Rates of the complex amplitudes per unit angular acceleration of a turning
@@ -216,7 +223,7 @@ class LinearModes:
         """The amplitudes that are advanced: one of each conjugate pair, then the
         real ones."""
         p = self.n_pairs
-        return np.ascontiguousarray(np.concatenate([z[:p], z[2 * p:]]))
+        return np.ascontiguousarray(np.concatenate([z[:p], z[2 * p :]]))
 
     def expanded(self, zr: np.ndarray) -> np.ndarray:
         """All amplitudes of a real state from :meth:`reduced` ones."""
@@ -241,8 +248,18 @@ class LinearModes:
             raise ValueError(f"z must have shape ({vec_re.shape[1]},), got {z.shape}")
         x = np.empty_like(self.x_rest)
         v = np.empty_like(self.x_rest)
-        modal_state(np.ascontiguousarray(z.real), np.ascontiguousarray(z.imag), vec_re, vec_im,
-                    self.x_rest, self.dofs, self.shapes, self.edge_lengths, x, v)
+        modal_state(
+            np.ascontiguousarray(z.real),
+            np.ascontiguousarray(z.imag),
+            vec_re,
+            vec_im,
+            self.x_rest,
+            self.dofs,
+            self.shapes,
+            self.edge_lengths,
+            x,
+            v,
+        )
         return x, v
 
     def nonlinearity(self, x: np.ndarray) -> float:
@@ -324,15 +341,15 @@ def linear_modes(model: RodModel, cutoff_hz: float = CUTOFF_HZ) -> LinearModes:
     upper = np.flatnonzero(lam.imag > tol)
     upper = upper[np.argsort(lam.imag[upper])]
     lower = np.array(
-        [int(np.argmin(np.abs(lam - np.conj(lam[i])) + (lam.imag >= -tol) * 1e300))
-         for i in upper], dtype=int,
+        [int(np.argmin(np.abs(lam - np.conj(lam[i])) + (lam.imag >= -tol) * 1e300)) for i in upper],
+        dtype=int,
     )
     real = np.flatnonzero(np.abs(lam.imag) <= tol)
     order = np.concatenate([upper, lower, real])
     if np.unique(order).size != lam.size:
         raise RuntimeError("could not pair the complex eigenvalues of the free whisker")
     lam, V = lam[order], V[:, order]
-    lam[2 * upper.size:] = lam[2 * upper.size:].real
+    lam[2 * upper.size :] = lam[2 * upper.size :].real
     Vinv = np.linalg.inv(V)
     disp = np.zeros((3 * n, 2 * m), dtype=complex)
     disp[dofs] = phi @ V[:m]

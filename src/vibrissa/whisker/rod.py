@@ -573,7 +573,13 @@ class RodModel:
                     # large for one contact point); say so when the last converged shape
                     # lies within two increments of it away from the contact
                     self._check_single_contact(
-                        x, px0 + ux * prev, a, rp, s_converged, pole_radius_mm, prev,
+                        x,
+                        px0 + ux * prev,
+                        a,
+                        rp,
+                        s_converged,
+                        pole_radius_mm,
+                        prev,
                         clearance_m=2 * D / n_increments,
                     )
                     raise SimulationError(
@@ -648,7 +654,8 @@ class RodModel:
         if np.any(hit):
             s_hit = np.clip(self.s_rest[hit], 0.0, None) * 1e3
             where = (
-                f"{s_hit[0]:.3g} mm" if s_hit.size == 1
+                f"{s_hit[0]:.3g} mm"
+                if s_hit.size == 1
                 else f"{s_hit.min():.3g}-{s_hit.max():.3g} mm"
             )
             raise ValueError(

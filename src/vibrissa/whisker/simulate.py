@@ -171,8 +171,9 @@ def _interp(x: np.ndarray, xp: np.ndarray, fp: np.ndarray) -> np.ndarray:
     """``np.interp(x, xp, fp)`` (finite ``fp``, increasing ``xp``), by the one-pass kernel."""
     flat = np.ascontiguousarray(x, dtype=float).reshape(-1)
     out = np.empty(flat.shape)
-    interp_into(flat, np.ascontiguousarray(xp, dtype=float),
-                np.ascontiguousarray(fp, dtype=float), out)
+    interp_into(
+        flat, np.ascontiguousarray(xp, dtype=float), np.ascontiguousarray(fp, dtype=float), out
+    )
     return out.reshape(np.shape(x))
 
 
@@ -239,9 +240,7 @@ class Trajectory:
         else:
             vy = finite_array("lateral_velocity_mm_s", self.lateral_velocity_mm_s)
             if vy.shape != t.shape:
-                raise ValueError(
-                    f"lateral_velocity_mm_s must have shape {t.shape}, got {vy.shape}"
-                )
+                raise ValueError(f"lateral_velocity_mm_s must have shape {t.shape}, got {vy.shape}")
         object.__setattr__(self, "lateral_mm", y)
         object.__setattr__(self, "lateral_velocity_mm_s", vy)
 
@@ -259,10 +258,12 @@ class Trajectory:
     def sample(self, times_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Positions and velocities (mm, mm/s) interpolated at ``times_s``."""
         # np.interp, bit for bit, in one pass over increasing times
-        p = np.column_stack([_interp(times_s, self.time_s, self.position_mm[:, i])
-                             for i in range(2)])
-        v = np.column_stack([_interp(times_s, self.time_s, self.velocity_mm_s[:, i])
-                             for i in range(2)])
+        p = np.column_stack(
+            [_interp(times_s, self.time_s, self.position_mm[:, i]) for i in range(2)]
+        )
+        v = np.column_stack(
+            [_interp(times_s, self.time_s, self.velocity_mm_s[:, i]) for i in range(2)]
+        )
         return p, v
 
     def sample_lateral(self, times_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -271,8 +272,10 @@ class Trajectory:
         if self.lateral_mm is None:
             z = np.zeros(np.shape(times_s))
             return z, z.copy()
-        return (_interp(times_s, self.time_s, self.lateral_mm),
-                _interp(times_s, self.time_s, self.lateral_velocity_mm_s))
+        return (
+            _interp(times_s, self.time_s, self.lateral_mm),
+            _interp(times_s, self.time_s, self.lateral_velocity_mm_s),
+        )
 
 
 @dataclass(frozen=True)
@@ -307,8 +310,11 @@ class BaseMotion:
             raise ValueError(f"angle_rad must have shape {t.shape}, got {a.shape}")
         if np.any(np.abs(a) >= 0.5 * math.pi):
             raise ValueError("angle_rad must stay within (-pi/2, pi/2)")
-        w = np.gradient(a, t) if self.rate_rad_s is None else finite_array(
-            "rate_rad_s", self.rate_rad_s)
+        w = (
+            np.gradient(a, t)
+            if self.rate_rad_s is None
+            else finite_array("rate_rad_s", self.rate_rad_s)
+        )
         if w.shape != t.shape:
             raise ValueError(f"rate_rad_s must have shape {t.shape}, got {w.shape}")
         object.__setattr__(self, "time_s", t)
@@ -420,16 +426,19 @@ class SimulationResult:
 
 
 def _initial_acceleration(
-    rod: RodArrays, damping: Damping, x: np.ndarray, v: np.ndarray,
-    theta: float = 0.0, theta_dot: float = 0.0,
+    rod: RodArrays,
+    damping: Damping,
+    x: np.ndarray,
+    v: np.ndarray,
+    theta: float = 0.0,
+    theta_dot: float = 0.0,
 ) -> np.ndarray:
     """Node accelerations (m/s^2) at positions ``x`` (m) and velocities ``v`` (m/s),
     the follicle housing at angle ``theta`` (rad) turning at ``theta_dot`` (rad/s)."""
     n = x.shape[0]
     F = np.zeros((n, 3))
     S = np.zeros((3 * n, 2 * BW + 1))
-    add_internal_whisking(x, v, rod, damping, F, S, 0.0, 0.0, False, float(theta),
-                          float(theta_dot))
+    add_internal_whisking(x, v, rod, damping, F, S, 0.0, 0.0, False, float(theta), float(theta_dot))
     a = F / rod.mass[:, None]
     a[~rod.free] = 0.0
     return a
@@ -614,12 +623,9 @@ def _hybrid(
     out[0, 1] = (xh0[1, 1] - xh0[0, 1]) / (xh0[1, 2] - xh0[0, 2])
     while k < n_steps:
         # --- linear free flight, if nothing can touch the whisker for a while
-        xh, vh = (
-            _to_housing(x, v, float(theta[k]), float(rate[k]), pivot) if whisking else (x, v)
-        )
+        xh, vh = _to_housing(x, v, float(theta[k]), float(rate[k]), pivot) if whisking else (x, v)
         # the cheap gates first: most tries after a release fail on nonlinearity
-        linear = (not (whisking and too_fast[k])
-                  and lm.nonlinearity(xh) <= LINEARITY_TOL)
+        linear = not (whisking and too_fast[k]) and lm.nonlinearity(xh) <= LINEARITY_TOL
         if linear:
             z, lost = lm.amplitudes(xh, vh)
             linear = lost <= ENERGY_TOL
@@ -627,8 +633,16 @@ def _hybrid(
             bound = np.einsum("ij,j->i", lm.node_bound, np.abs(z))
             zr = lm.reduced(z)
             k_end = k + first_possible_contact(
-                spec.kind, spec.params, spec.frame, h_max, objects[k:], lm.x_rest,
-                rod.radius, bound, CONTACT_MARGIN_M, spec.first_node,
+                spec.kind,
+                spec.params,
+                spec.frame,
+                h_max,
+                objects[k:],
+                lm.x_rest,
+                rod.radius,
+                bound,
+                CONTACT_MARGIN_M,
+                spec.first_node,
             )
             if whisking:
                 fast = np.flatnonzero(too_fast[k:])
@@ -639,9 +653,18 @@ def _hybrid(
                 row = out[k].copy()
                 wanted = k_end - k
                 n_done = modal_advance(
-                    zr, decay, lm.magnet, lm.x_rest[0], lm.x_rest[1], wanted,
-                    settings.stop_tan, out[k:], gain0, gain1,
-                    load0[k:] if whisking else no_load, load1[k:] if whisking else no_load,
+                    zr,
+                    decay,
+                    lm.magnet,
+                    lm.x_rest[0],
+                    lm.x_rest[1],
+                    wanted,
+                    settings.stop_tan,
+                    out[k:],
+                    gain0,
+                    gain1,
+                    load0[k:] if whisking else no_load,
+                    load1[k:] if whisking else no_load,
                 )
                 out[k] = row
                 k += n_done
@@ -661,8 +684,16 @@ def _hybrid(
         # --- the nonlinear rod until it has been free of contact for a while
         row = out[k].copy()
         done = run_dynamics(
-            node, anchors, rod, damping, spec, traj[k:], settings._replace(stop_free=free_steps),
-            out[k:], states, status_arr,
+            node,
+            anchors,
+            rod,
+            damping,
+            spec,
+            traj[k:],
+            settings._replace(stop_free=free_steps),
+            out[k:],
+            states,
+            status_arr,
         )
         out[k] = row
         k += done
@@ -830,9 +861,12 @@ def simulate(
     in_range("rho_inf", rho_inf, 0.0, 1.0)
     positive("tol_m", tol_m)
     positive("stride_tol_m", stride_tol_m)
-    for name, value, low in (("max_stride", max_stride, 1), ("max_iterations", max_iterations, 1),
-                             ("refactor_every", refactor_every, 1),
-                             ("max_halvings", max_halvings, 0)):
+    for name, value, low in (
+        ("max_stride", max_stride, 1),
+        ("max_iterations", max_iterations, 1),
+        ("refactor_every", refactor_every, 1),
+        ("max_halvings", max_halvings, 0),
+    ):
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
             raise ValueError(f"{name} must be an integer of at least {low}, got {value!r}")
     stop = (
@@ -850,7 +884,8 @@ def simulate(
         raise TypeError(f"base_motion must be a BaseMotion, got {type(base_motion).__name__}")
     t_start = float(initial_state.time_s) if initial_state is not None else 0.0
     th0, thd0 = (
-        (0.0, 0.0) if base_motion is None
+        (0.0, 0.0)
+        if base_motion is None
         else (float(u[0]) for u in base_motion.sample(np.array([t_start])))
     )
     if initial_state is not None:
@@ -914,8 +949,10 @@ def simulate(
         )
         status = int(status_arr[0])
     stopped = status == 1
-    if status < 0 or (done < n_steps and not stopped) or not np.all(
-        np.isfinite(out[: done + 1, [0, 1, 2, 4, 5, 6, 7]])
+    if (
+        status < 0
+        or (done < n_steps and not stopped)
+        or not np.all(np.isfinite(out[: done + 1, [0, 1, 2, 4, 5, 6, 7]]))
     ):
         raise SimulationError(
             f"simulation diverged or failed to converge at t = {t0 + done * dt:.5f} s "

@@ -25,19 +25,24 @@ def test_axis_values_from_file_variable(tmp_path) -> None:
 
 
 def test_axis_sizes_must_match_the_file(xy_mat) -> None:
-    bad = {**XY_MAPPING, "cell_axes": [
-        {"name": "set", "values": SETS},
-        {"name": "speed_mm_s", "start": 36, "stop": 216, "num": 26},
-        {"name": "radial_distance_mm", "start": 80, "step": 1},
-    ]}
-    with pytest.raises(ValueError, match=r"'speed_mm_s'\) has 26 values but signal 'data' \(a "
-                                         r"4 x 3 x 5 cell array\) has 3"):
+    bad = {
+        **XY_MAPPING,
+        "cell_axes": [
+            {"name": "set", "values": SETS},
+            {"name": "speed_mm_s", "start": 36, "stop": 216, "num": 26},
+            {"name": "radial_distance_mm", "start": 80, "step": 1},
+        ],
+    }
+    with pytest.raises(
+        ValueError,
+        match=r"'speed_mm_s'\) has 26 values but signal 'data' \(a "
+        r"4 x 3 x 5 cell array\) has 3",
+    ):
         import_recording(xy_mat, bad)
     with pytest.raises(ValueError, match="4 x 3 x 5 cell array but the mapping's cell_axes has 2"):
         import_recording(xy_mat, {**XY_MAPPING, "cell_axes": XY_MAPPING["cell_axes"][:2]})
     stop_wrong = json.loads(json.dumps(XY_MAPPING))
-    stop_wrong["cell_axes"][2] = {"name": "radial_distance_mm", "start": 80, "step": 1,
-                                  "stop": 180}
+    stop_wrong["cell_axes"][2] = {"name": "radial_distance_mm", "start": 80, "step": 1, "stop": 180}
     with pytest.raises(ValueError, match="end at 84, not at 'stop' 180"):
         import_recording(xy_mat, stop_wrong)
 
@@ -70,14 +75,18 @@ def test_full_size_data_xy_grid_with_the_documented_mapping(tmp_path) -> None:
     assert ds.sizes == {"trial": 10504, "channel": 2, "time": 4}
     assert ds["signal"].attrs["units"] == "V"
     np.testing.assert_allclose(np.unique(ds["speed_mm_s"].values), 36 + 7.2 * np.arange(26))
-    np.testing.assert_array_equal(np.unique(ds["radial_distance_mm"].values),
-                                  np.arange(80.0, 181.0))
+    np.testing.assert_array_equal(
+        np.unique(ds["radial_distance_mm"].values), np.arange(80.0, 181.0)
+    )
     # trial n is cell n in C order (set, speed, radius), transposed to channels x samples
     np.testing.assert_array_equal(ds["signal"].values[:, 0, 0], np.arange(10504.0))
     np.testing.assert_array_equal(ds["signal"].values[:, 1, 3], -np.arange(10504.0))
     t = np.ravel_multi_index((2, 5, 17), (4, 26, 101))
-    assert (ds["set"].values[t], ds["speed_mm_s"].values[t],
-            ds["radial_distance_mm"].values[t]) == (3, 72.0, 97.0)
+    assert (
+        ds["set"].values[t],
+        ds["speed_mm_s"].values[t],
+        ds["radial_distance_mm"].values[t],
+    ) == (3, 72.0, 97.0)
 
 
 # --------------------------------- recordings: ragged, empty, non-numeric, NaN
@@ -88,10 +97,16 @@ def test_ragged_cells_error_or_crop(tmp_path) -> None:
     cells[0, 1, 2] = cell_recording(0, 1, 2, n=740)
     path = tmp_path / "ragged.mat"
     scipy.io.savemat(path, {"data": cells})
-    mapping = {"signal": "data", "sample_rate_hz": 1000,
-               "cell_axes": ["set", "speed_mm_s", "radial_distance_mm"]}
-    with pytest.raises(ValueError, match=r"cell data\{1,2,3\} has 740 samples but "
-                                         r"cell data\{1,1,1\} has 750"):
+    mapping = {
+        "signal": "data",
+        "sample_rate_hz": 1000,
+        "cell_axes": ["set", "speed_mm_s", "radial_distance_mm"],
+    }
+    with pytest.raises(
+        ValueError,
+        match=r"cell data\{1,2,3\} has 740 samples but "
+        r"cell data\{1,1,1\} has 750",
+    ):
         import_recording(path, mapping)
     ds = import_recording(path, {**mapping, "ragged": "crop"})
     assert ds.sizes["time"] == 740 and ds.sizes["trial"] == 6
@@ -131,12 +146,16 @@ def test_nan_and_inf_say_how_many_and_where(tmp_path) -> None:
         match=r"cell data\{1,2,1\} contains 4 NaN or infinite value\(s\) \(3 NaN, 1 infinite\) "
         r"in 4 of 750 samples; the first \(NaN\) is sample 11 of channel 2",
     ):
-        import_recording(path, {"signal": "data", "sample_rate_hz": 1000,
-                                "cell_axes": ["a", "b", "c"]})
+        import_recording(
+            path, {"signal": "data", "sample_rate_hz": 1000, "cell_axes": ["a", "b", "c"]}
+        )
     csv = tmp_path / "nan.csv"
     csv.write_text("trial,x,y\n0,1,2\n0,1,2\n1,1,2\n1,,2\n1,nan,inf\n")
-    with pytest.raises(ImportMappingError, match=r"trial 1 of nan.csv has 3 empty, NaN or "
-                                                 r"infinite .* column 'x' on line 5"):
+    with pytest.raises(
+        ImportMappingError,
+        match=r"trial 1 of nan.csv has 3 empty, NaN or "
+        r"infinite .* column 'x' on line 5",
+    ):
         import_recording(csv, {"sample_rate_hz": 10})
 
 
@@ -147,8 +166,12 @@ def test_matlab_numeric_array_with_trials_last(tmp_path) -> None:
     # samples x channels x trials, as MATLAB users often store recordings
     data = np.stack([cell_recording(0, 0, k, n=40) for k in range(3)], axis=-1)
     assert data.shape == (40, 2, 3)
-    mapping = {"signal": "data", "sample_rate_hz": 1000, "trial_axes": "last",
-               "cell_axes": [{"name": "radial_distance_mm", "values": [80.0, 90.0, 100.0]}]}
+    mapping = {
+        "signal": "data",
+        "sample_rate_hz": 1000,
+        "trial_axes": "last",
+        "cell_axes": [{"name": "radial_distance_mm", "values": [80.0, 90.0, 100.0]}],
+    }
     p5 = tmp_path / "v5.mat"
     scipy.io.savemat(p5, {"data": data})
     p73 = write_mat73(tmp_path / "v73.mat", {"data": data})
@@ -176,8 +199,12 @@ def test_npz_trial_time_channel_and_grid(tmp_path) -> None:
     p = tmp_path / "r.npz"
     np.savez(p, x=x, speeds=np.arange(6) * 10.0, tex=np.array(list("abcabc")))
     ds = import_recording(
-        p, {"signal": "x", "sample_rate_hz": 100, "labels": {"speed_mm_s": "speeds",
-                                                               "texture": "tex"}}
+        p,
+        {
+            "signal": "x",
+            "sample_rate_hz": 100,
+            "labels": {"speed_mm_s": "speeds", "texture": "tex"},
+        },
     )
     np.testing.assert_array_equal(ds["signal"].values, x.transpose(0, 2, 1))
     assert list(ds["texture"].values) == list("abcabc")
@@ -188,8 +215,16 @@ def test_npz_trial_time_channel_and_grid(tmp_path) -> None:
     g = rng.normal(size=(2, 3, 50, 2))
     pg = tmp_path / "g.npz"
     np.savez(pg, g=g)
-    ds3 = import_recording(pg, {"sample_rate_hz": 1000, "cell_axes": [
-        {"name": "set", "values": [1, 2]}, {"name": "speed_mm_s", "values": [6, 16, 26]}]})
+    ds3 = import_recording(
+        pg,
+        {
+            "sample_rate_hz": 1000,
+            "cell_axes": [
+                {"name": "set", "values": [1, 2]},
+                {"name": "speed_mm_s", "values": [6, 16, 26]},
+            ],
+        },
+    )
     assert ds3.sizes["trial"] == 6
     np.testing.assert_array_equal(ds3["signal"].values[4], g[1, 1].T)
     assert (ds3["set"].values[4], ds3["speed_mm_s"].values[4]) == (2, 16)
@@ -207,8 +242,7 @@ def test_npz_refuses_pickles_and_bad_labels(tmp_path) -> None:
     p2 = tmp_path / "l.npz"
     np.savez(p2, x=np.zeros((3, 10)), lab=np.arange(4))
     with pytest.raises(ValueError, match="label 'speed_mm_s' .* 4 values for 3 recordings"):
-        import_recording(p2, {"signal": "x", "sample_rate_hz": 1,
-                              "labels": {"speed_mm_s": "lab"}})
+        import_recording(p2, {"signal": "x", "sample_rate_hz": 1, "labels": {"speed_mm_s": "lab"}})
     with pytest.raises(ValueError, match="holds variables"):
         np.savez(p2, x=np.zeros((3, 10)), y=np.zeros((3, 10)))
         import_recording(p2, {"sample_rate_hz": 1})

@@ -52,8 +52,12 @@ def test_csv_long_errors(tmp_path) -> None:
 
 def test_csv_wide_format_with_ragged_rows(tmp_path) -> None:
     p = tmp_path / "wide.csv"
-    header = "angle_deg,texture," + ",".join(f"x_{k}" for k in range(5)) + "," + ",".join(
-        f"y_{k}" for k in range(5))
+    header = (
+        "angle_deg,texture,"
+        + ",".join(f"x_{k}" for k in range(5))
+        + ","
+        + ",".join(f"y_{k}" for k in range(5))
+    )
     rows = ["10,P80,1,2,3,4,5,-1,-2,-3,-4,-5", "20,P180,6,7,8,,,-6,-7,-8,,"]
     p.write_text("\n".join([header, *rows]) + "\n")
     mapping = {"layout": "wide", "labels": ["angle_deg", "texture"], "sample_rate_hz": 4000}
@@ -90,10 +94,18 @@ def test_csv_long_non_numeric_cell_in_a_channel_is_an_error(tmp_path) -> None:
 @pytest.mark.parametrize(
     ("line", "cell", "match"),
     [
-        (3, "0.0000", r"trial 0 of long.csv: time column 'time' repeats the time 0 s on "
-                      r"lines 2 and 3"),
-        (9, "1e308", r"trial 0 of long.csv: time column 'time' is not evenly spaced: it steps "
-                     r"from 0.024 s \(line 8\) to 1e\+308 s \(line 9\)"),
+        (
+            3,
+            "0.0000",
+            r"trial 0 of long.csv: time column 'time' repeats the time 0 s on "
+            r"lines 2 and 3",
+        ),
+        (
+            9,
+            "1e308",
+            r"trial 0 of long.csv: time column 'time' is not evenly spaced: it steps "
+            r"from 0.024 s \(line 8\) to 1e\+308 s \(line 9\)",
+        ),
         (9, "1e400", r"time column 'time' must hold finite times \(s\); line 9 has inf"),
         (9, "inf", r"time column 'time' must hold finite times \(s\); line 9 has inf"),
         (9, "nan", r"time column 'time' must hold finite times \(s\); line 9 has"),
@@ -119,11 +131,16 @@ def test_csv_long_sample_rate_from_the_time_column(tmp_path) -> None:
     assert ds.attrs["sample_rate_hz"] == 1000.0  # not 999.9999999999991
     with pytest.raises(ValueError, match="sampled at 1000 Hz but 'sample_rate_hz' is 250 Hz"):
         import_recording(p, {"sample_rate_hz": 250})
-    assert import_recording(p, {"sample_rate_hz": 250, "time_column": None}).attrs[
-        "sample_rate_hz"] == 250.0
+    assert (
+        import_recording(p, {"sample_rate_hz": 250, "time_column": None}).attrs["sample_rate_hz"]
+        == 250.0
+    )
     p2 = tmp_path / "two.csv"
     rows += [f"1,{k * 0.002!r},{k}" for k in range(50)]
     p2.write_text("\n".join(rows) + "\n")
-    with pytest.raises(ValueError, match="trial 1 of two.csv: time column 'time' is sampled at "
-                       "500 Hz but trial 0 of two.csv at 1000 Hz"):
+    with pytest.raises(
+        ValueError,
+        match="trial 1 of two.csv: time column 'time' is sampled at "
+        "500 Hz but trial 0 of two.csv at 1000 Hz",
+    ):
         import_recording(p2, {})

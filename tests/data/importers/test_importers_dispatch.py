@@ -121,8 +121,10 @@ def test_errors_are_import_mapping_errors(xy_mat, tmp_path) -> None:
         ({**XY_MAPPING, "cell_axes": "set"}, "cell_axes"),
         ({**XY_MAPPING, "signal": "nope"}, "no variable 'nope'"),
         ({**XY_MAPPING, "constants": {"time": 1}}, "reserved"),
-        ({**XY_MAPPING, "cell_axes": [{"name": "set", "values": [1, 2]}, "b", "c"]},
-         r"'set'\) has 2 values but signal 'data' \(a 4 x 3 x 5 cell array\) has 4"),
+        (
+            {**XY_MAPPING, "cell_axes": [{"name": "set", "values": [1, 2]}, "b", "c"]},
+            r"'set'\) has 2 values but signal 'data' \(a 4 x 3 x 5 cell array\) has 4",
+        ),
     ]
     for mapping, match in cases:
         with pytest.raises(ImportMappingError, match=match):

@@ -70,20 +70,64 @@ def test_parse_range_and_axis_option() -> None:
 
 # --- property: any dict is a valid mapping or an ImportMappingError, never a crash ---
 
-_KEYS = sorted({
-    "format", "sample_rate_hz", "channels", "labels", "constants", "ragged", "empty", "t0_s",
-    "units", "attrs", "signal", "cell_axes", "time_axis", "trial_axes", "layout",
-    "trial_column", "time_column",
-})
-_SCALARS = (st.none() | st.booleans() | st.integers() | st.floats() | st.text(max_size=8)
-            | st.sampled_from(["mat", "csv", "npz", "long", "wide", "crop", "skip", "error",
-                               "first", "last", "x,y", "trial", "set", "1:4", "data"]))
+_KEYS = sorted(
+    {
+        "format",
+        "sample_rate_hz",
+        "channels",
+        "labels",
+        "constants",
+        "ragged",
+        "empty",
+        "t0_s",
+        "units",
+        "attrs",
+        "signal",
+        "cell_axes",
+        "time_axis",
+        "trial_axes",
+        "layout",
+        "trial_column",
+        "time_column",
+    }
+)
+_SCALARS = (
+    st.none()
+    | st.booleans()
+    | st.integers()
+    | st.floats()
+    | st.text(max_size=8)
+    | st.sampled_from(
+        [
+            "mat",
+            "csv",
+            "npz",
+            "long",
+            "wide",
+            "crop",
+            "skip",
+            "error",
+            "first",
+            "last",
+            "x,y",
+            "trial",
+            "set",
+            "1:4",
+            "data",
+        ]
+    )
+)
 _VALUES = st.recursive(
     _SCALARS,
-    lambda inner: (st.lists(inner, max_size=4)
-                   | st.dictionaries(st.sampled_from(["name", "values", "start", "stop",
-                                                      "step", "num", "from", "x"])
-                                     | st.text(max_size=5), inner, max_size=4)),
+    lambda inner: (
+        st.lists(inner, max_size=4)
+        | st.dictionaries(
+            st.sampled_from(["name", "values", "start", "stop", "step", "num", "from", "x"])
+            | st.text(max_size=5),
+            inner,
+            max_size=4,
+        )
+    ),
     max_leaves=10,
 )
 

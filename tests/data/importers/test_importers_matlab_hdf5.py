@@ -77,7 +77,7 @@ def test_mat_v73_truncated_or_damaged(tmp_path) -> None:
     for _ in range(60):
         bad = bytearray(blob)
         o = int(rng.integers(512, len(blob) - 64))
-        bad[o:o + 64] = rng.integers(0, 256, 64, dtype=np.uint8).tobytes()
+        bad[o : o + 64] = rng.integers(0, 256, 64, dtype=np.uint8).tobytes()
         q = tmp_path / "damaged.mat"
         q.write_bytes(bytes(bad))
         try:

@@ -27,8 +27,13 @@ def test_public_names_importable_as_before() -> None:
     assert sorted(importers.__all__) == sorted(OLD_PUBLIC_NAMES)
     for name in OLD_PUBLIC_NAMES:
         assert getattr(importers, name) is not None
-    for name in ("ImportMapping", "ImportMappingError", "import_file", "import_recording",
-                 "load_mapping"):
+    for name in (
+        "ImportMapping",
+        "ImportMappingError",
+        "import_file",
+        "import_recording",
+        "load_mapping",
+    ):
         assert getattr(vibrissa.data, name) is getattr(importers, name)
     assert importers.FORMATS == ("mat", "csv", "npz")
     assert issubclass(importers.ImportMappingError, ValueError)
@@ -36,16 +41,26 @@ def test_public_names_importable_as_before() -> None:
 
 def test_modules_import_no_private_names_of_each_other() -> None:
     modules = [m.name for m in pkgutil.iter_modules(importers.__path__)]
-    assert {"mapping", "dispatch", "arrays", "matlab_v5", "matlab_hdf5", "csv_files",
-            "_common"} <= set(modules)
+    assert {
+        "mapping",
+        "dispatch",
+        "arrays",
+        "matlab_v5",
+        "matlab_hdf5",
+        "csv_files",
+        "_common",
+    } <= set(modules)
     for name in modules:
         mod = importlib.import_module(f"vibrissa.data.importers.{name}")
         assert mod.__doc__, name
         tree = ast.parse(open(mod.__file__, encoding="utf-8").read())
         for node in ast.walk(tree):
             if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("vibrissa"):
-                private = [a.name for a in node.names
-                           if a.name.startswith("_") and not a.name.startswith("__")]
+                private = [
+                    a.name
+                    for a in node.names
+                    if a.name.startswith("_") and not a.name.startswith("__")
+                ]
                 assert not private, f"{name} imports {private} from {node.module}"
 
 

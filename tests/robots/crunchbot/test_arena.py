@@ -24,8 +24,12 @@ size_m = 0.2
 
 
 def _spec(**over: object) -> dict:
-    spec = {"name": "t", "size_m": 1.25, "start": {"x_m": 0.3, "y_m": 0.3},
-            "obstacles": [{"x_m": 0.5, "y_m": 0.5, "size_m": 0.25}]}
+    spec = {
+        "name": "t",
+        "size_m": 1.25,
+        "start": {"x_m": 0.3, "y_m": 0.3},
+        "obstacles": [{"x_m": 0.5, "y_m": 0.5, "size_m": 0.25}],
+    }
     spec.update(over)
     return spec
 
@@ -53,22 +57,37 @@ def test_toml_and_json_files_give_the_same_arena(tmp_path) -> None:
     assert a.texture_at(0.75, 0.25) == "rough-carpet"
     assert a.texture_at(0.25, 0.75) == "smooth-carpet"
     j = tmp_path / "a.json"
-    j.write_text(json.dumps({"name": "two-boxes", "size_m": 1.0,
-                             "tiles": [["vinyl", "rough-carpet"], ["smooth-carpet", "vinyl"]],
-                             "start": {"x_m": 0.25, "y_m": 0.25, "heading_deg": 90.0},
-                             "obstacles": [{"x_m": 0.6, "y_m": 0.6, "size_m": 0.2}]}))
+    j.write_text(
+        json.dumps(
+            {
+                "name": "two-boxes",
+                "size_m": 1.0,
+                "tiles": [["vinyl", "rough-carpet"], ["smooth-carpet", "vinyl"]],
+                "start": {"x_m": 0.25, "y_m": 0.25, "heading_deg": 90.0},
+                "obstacles": [{"x_m": 0.6, "y_m": 0.6, "size_m": 0.2}],
+            }
+        )
+    )
     assert get_arena(j) == a
 
 
 @pytest.mark.parametrize(
     ("over", "words"),
     [
-        ({"tiles": [["vinyl", "shag"], ["vinyl", "vinyl"]], "size_m": 1.0},
-         "unknown tile texture 'shag'"),
+        (
+            {"tiles": [["vinyl", "shag"], ["vinyl", "vinyl"]], "size_m": 1.0},
+            "unknown tile texture 'shag'",
+        ),
         ({"tiles": [["vinyl"]], "size_m": 1.0}, "tiles must be 2 rows of 2"),
-        ({"obstacles": [{"x_m": 0.5, "y_m": 0.5, "size_m": 0.25},
-                        {"x_m": 0.7, "y_m": 0.6, "size_m": 0.25}]},
-         "obstacles[1] overlaps obstacles[0]"),
+        (
+            {
+                "obstacles": [
+                    {"x_m": 0.5, "y_m": 0.5, "size_m": 0.25},
+                    {"x_m": 0.7, "y_m": 0.6, "size_m": 0.25},
+                ]
+            },
+            "obstacles[1] overlaps obstacles[0]",
+        ),
         ({"obstacles": [{"x_m": 1.1, "y_m": 0.5, "size_m": 0.25}]}, "obstacles[0] lies outside"),
         ({"start": {"x_m": 0.6, "y_m": 0.6}}, "starts inside obstacles[0]"),
         ({"start": {"x_m": 0.35, "y_m": 0.6}}, "starts inside obstacles[0]"),
@@ -110,7 +129,7 @@ def test_ground_truth_grid_counts_walls_and_obstacles_by_hand() -> None:
     assert a.map_offset_m(2.5, 0.05) == pytest.approx(0.6)
     # walls: the one-cell ring round the 25 x 25 cell arena; obstacles: 0.25 m -> 5 x 5
     # cells, 0.2 m -> 4 x 4 cells
-    ring = 27 ** 2 - 25 ** 2
+    ring = 27**2 - 25**2
     assert g.sum() == ring + 25 + 16 + 16
     # the robot's start cell is free, the central obstacle's centre cell occupied
     assert g[int((0.3 + 0.6) / 0.05), int((0.3 + 0.6) / 0.05)] == 0

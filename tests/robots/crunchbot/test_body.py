@@ -42,8 +42,10 @@ def test_the_bumper_stops_the_step_before_the_body_overlaps_a_wall() -> None:
 
 def test_odometry_error_is_about_ten_percent_of_each_movement() -> None:
     rng = np.random.default_rng(1)
-    start, end = np.array([0.2, 0.2, 0.3]), np.array([0.2 + 0.025 * math.cos(0.3),
-                                                        0.2 + 0.025 * math.sin(0.3), 0.3])
+    start, end = (
+        np.array([0.2, 0.2, 0.3]),
+        np.array([0.2 + 0.025 * math.cos(0.3), 0.2 + 0.025 * math.sin(0.3), 0.3]),
+    )
     true = relative_increment(start, end)
     assert true == pytest.approx([0.025, 0.0, 0.0], abs=1e-12)
     draws = np.array([odometry(start, end, rng) for _ in range(4000)])

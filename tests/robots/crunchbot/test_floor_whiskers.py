@@ -21,12 +21,14 @@ STEP = 1000  # 0.5 s
 
 def _arena(*columns: str, start_x: float = 0.2) -> Arena:
     n = len(columns)
-    return Arena(name="t", size_m=0.5 * n, start=Pose(start_x, 0.25 * n, 0.0),
-                 tiles=(tuple(columns),) * n)
+    return Arena(
+        name="t", size_m=0.5 * n, start=Pose(start_x, 0.25 * n, 0.0), tiles=(tuple(columns),) * n
+    )
 
 
-def _straight(k: int, x0: float, y0: float, speed: float = FWD_SPEED_M_S,
-              n: int = STEP) -> tuple[np.ndarray, np.ndarray]:
+def _straight(
+    k: int, x0: float, y0: float, speed: float = FWD_SPEED_M_S, n: int = STEP
+) -> tuple[np.ndarray, np.ndarray]:
     t = (np.arange(n) + 1 + k * n) / FS
     return t, np.column_stack([x0 + speed * t, np.full(n, y0), np.zeros(n)])
 
@@ -58,7 +60,7 @@ def test_signal_rms_ranks_the_textures_as_the_roomba_floors() -> None:
     rms = {}
     for tex in ("vinyl", "smooth-carpet", "rough-carpet"):
         fw = FloorWhiskers(_arena(tex, tex), seed=1)
-        rms[tex] = _velocity_rms(np.concatenate(_drive(fw, 2))[STEP // 2:])
+        rms[tex] = _velocity_rms(np.concatenate(_drive(fw, 2))[STEP // 2 :])
     assert rms["rough-carpet"] > rms["smooth-carpet"] > rms["vinyl"]
 
 
@@ -79,7 +81,7 @@ def test_a_tile_boundary_changes_the_texture_mid_step() -> None:
         assert (a, b) == ("vinyl", "smooth-carpet")
         assert ta == pytest.approx(t0[-1]) and tb == pytest.approx(0.75, abs=2 / FS)
     assert fw.last_contact_fraction[0] > 0.95
-    before, after = h[: STEP // 2 - 50], h[STEP // 2 + 150:]
+    before, after = h[: STEP // 2 - 50], h[STEP // 2 + 150 :]
     assert _velocity_rms(after) > 1.5 * _velocity_rms(before)
 
 

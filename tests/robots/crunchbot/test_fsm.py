@@ -26,8 +26,10 @@ NONE = Observation((False, False, False, False), (0.0,) * 4)
 
 
 def _touch(*whiskers: int, strain: float = 0.2) -> Observation:
-    return Observation(tuple(i in whiskers for i in range(4)),
-                       tuple(strain if i in whiskers else 0.0 for i in range(4)))
+    return Observation(
+        tuple(i in whiskers for i in range(4)),
+        tuple(strain if i in whiskers else 0.0 for i in range(4)),
+    )
 
 
 def _run(script: list[Observation], seed: int = 0) -> list[tuple[str, object]]:

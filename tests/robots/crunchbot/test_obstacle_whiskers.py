@@ -14,8 +14,14 @@ from vibrissa.robots.crunchbot.synthetic import whisker_contacts
 OPEN = Arena("open", 1.25, Pose(0.6, 0.6, 0.0))
 
 
-def _drive(arena: Arena, pose: np.ndarray, command: MotorCommand, seed: int = 0,
-           whiskers: ow.ObstacleWhiskers | None = None, **kw):
+def _drive(
+    arena: Arena,
+    pose: np.ndarray,
+    command: MotorCommand,
+    seed: int = 0,
+    whiskers: ow.ObstacleWhiskers | None = None,
+    **kw,
+):
     w = whiskers or ow.ObstacleWhiskers(arena)
     poses, _ = plan_motion(arena, pose, command)
     sig, m = w.advance(pose, poses, np.random.default_rng(seed), **kw)
@@ -51,8 +57,12 @@ def test_the_contact_arc_of_a_contact_near_the_tip_on_a_corner_is_near_135_mm() 
     # upper-left corner of a block below-right of it, 5 mm ahead of the robot
     base = 0.15 * np.array([np.cos(0.17), np.sin(0.17)])
     corner = np.array([0.3, 0.6]) + base + 0.135 * np.array([np.cos(0.25), np.sin(0.25)])
-    arena = Arena("corner", 1.25, Pose(0.295, 0.6, 0.0),
-                  obstacles=(Obstacle(corner[0], corner[1] - 0.2, 0.2),))
+    arena = Arena(
+        "corner",
+        1.25,
+        Pose(0.295, 0.6, 0.0),
+        obstacles=(Obstacle(corner[0], corner[1] - 0.2, 0.2),),
+    )
     w, _, sig = _drive(arena, arena.start.as_array(), MotorCommand(0.02, 0.0, 0.5))
     assert sig.contact[:, 2].any()
     assert w.features[w.whiskers[2].feature].kind == "pole"
@@ -76,13 +86,15 @@ def test_the_strain_limit_stops_forward_motion() -> None:
     w, poses, sig = _drive(OPEN, start, MotorCommand(0.05, 0.0, 1.0), stop_strain=1.0)
     assert len(poses) < 2000
     assert sig.strain[-1].max() > 1.0 and sig.strain[:-1].max() <= 1.0
-    _, free_poses, _ = _drive(OPEN, OPEN.start.as_array(), MotorCommand(0.05, 0.0, 0.5),
-                              stop_strain=1.0)
+    _, free_poses, _ = _drive(
+        OPEN, OPEN.start.as_array(), MotorCommand(0.05, 0.0, 0.5), stop_strain=1.0
+    )
     assert len(free_poses) == 1000
 
 
 def test_skipping_the_physics_gives_what_running_it_gives_when_nothing_is_near(
-        monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
     cmd = MotorCommand(0.05, 0.0, 0.5)
     _, _, skipped = _drive(OPEN, OPEN.start.as_array(), cmd, seed=3)
     assert not skipped.physics.any()

@@ -13,8 +13,13 @@ from vibrissa.robots.crunchbot.record import CLASSIFIERS
 from vibrissa.robots.crunchbot.robot import RealtimeClassifiers, run_crunchbot
 
 #: Starts 0.16 m from the right wall, heading for it: contact within a few steps.
-NEAR_WALL = Arena("near-wall", 1.25, Pose(0.8, 0.6, 0.0),
-                  tiles=(("vinyl", "rough-carpet"), ("smooth-carpet", "vinyl")), tile_m=0.625)
+NEAR_WALL = Arena(
+    "near-wall",
+    1.25,
+    Pose(0.8, 0.6, 0.0),
+    tiles=(("vinyl", "rough-carpet"), ("smooth-carpet", "vinyl")),
+    tile_m=0.625,
+)
 
 
 @pytest.fixture(scope="module")
@@ -117,8 +122,9 @@ class _Angle:
 def test_classifiers_are_called_and_timed() -> None:
     _Radial.peaks.clear()
     clf = RealtimeClassifiers(floor=_Nb(), radial=(_Radial(),) * 4, angle=_Angle())
-    rec = run_crunchbot(NEAR_WALL, 4.0, seed=2, classifiers=clf, floor="continuous",
-                        floor_factory=_FakeFloor)
+    rec = run_crunchbot(
+        NEAR_WALL, 4.0, seed=2, classifiers=clf, floor="continuous", floor_factory=_FakeFloor
+    )
     assert np.isfinite(rec.hall_v).all()
     assert rec.log.textures == _Nb.classes_ and rec.log.floor_loglik.shape[1:] == (2, 2)
     c = rec.log.contact
@@ -150,21 +156,27 @@ def test_the_floor_report_of_each_step_reads_that_steps_latest_window() -> None:
     # the floor whiskers run beside the next step's obstacle whiskers: each row must
     # still carry the classifier's report on the 200 samples ending with its own step
     # (or the report before it when its step gave no full window)
-    rec = run_crunchbot(NEAR_WALL, 4.0, seed=2, classifiers=RealtimeClassifiers(
-        floor=_Nb(), radial=(_Radial(),) * 4, angle=None), floor="continuous",
-        floor_factory=_RampFloor)
+    rec = run_crunchbot(
+        NEAR_WALL,
+        4.0,
+        seed=2,
+        classifiers=RealtimeClassifiers(floor=_Nb(), radial=(_Radial(),) * 4, angle=None),
+        floor="continuous",
+        floor_factory=_RampFloor,
+    )
     floor = rec.hall_v[:, 4:6].astype(float)
     expected, last = [], np.zeros((2, 2))
     for j in range(len(rec.log.state)):
         end = rec.step_start[j + 1]
         if end > rec.step_start[j] and end >= 200:
-            window = floor[end - 200:end]
+            window = floor[end - 200 : end]
             last = np.stack([_Nb().loglik(window[:, k]) for k in range(2)])
         expected.append(last)
     assert len({float(x) for x in rec.log.floor_loglik[:, 0, 0]}) > 5
     np.testing.assert_array_equal(rec.log.floor_loglik, np.array(expected))
     assert len(rec.latency_s["floor_texture"]) == 2 * sum(
-        e > s and e >= 200 for s, e in zip(rec.step_start[:-1], rec.step_start[1:], strict=True))
+        e > s and e >= 200 for s, e in zip(rec.step_start[:-1], rec.step_start[1:], strict=True)
+    )
 
 
 class _SlowFloor(_FakeFloor):
@@ -200,6 +212,12 @@ def test_no_floor_simulation_runs_while_a_classifier_is_timed() -> None:
     _Watching.overlaps = _Watching.calls = 0
     w = _Watching()
     w.classes_ = _Nb.classes_
-    run_crunchbot(NEAR_WALL, 4.0, seed=2, floor="window", floor_factory=_SlowFloor,
-                  classifiers=RealtimeClassifiers(floor=w, radial=(w,) * 4, angle=w))
+    run_crunchbot(
+        NEAR_WALL,
+        4.0,
+        seed=2,
+        floor="window",
+        floor_factory=_SlowFloor,
+        classifiers=RealtimeClassifiers(floor=w, radial=(w,) * 4, angle=w),
+    )
     assert _Watching.calls > 10 and _Watching.overlaps == 0

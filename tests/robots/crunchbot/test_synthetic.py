@@ -20,14 +20,19 @@ from vibrissa.slam.filter import apply_motion, to_world
 
 def test_rays_stop_at_the_first_segment_within_their_length() -> None:
     segs = np.array([[0.5, -1.0, 0.5, 1.0], [0.3, -1.0, 0.3, 1.0], [2.0, 0.0, 2.0, 1.0]])
-    d, s = cast_rays(segs, np.zeros((3, 2)), np.array([[1.0, 0.0], [1.0, 0.0], [0.0, 1.0]]),
-                     np.array([1.0, 0.2, 1.0]))
+    d, s = cast_rays(
+        segs,
+        np.zeros((3, 2)),
+        np.array([[1.0, 0.0], [1.0, 0.0], [0.0, 1.0]]),
+        np.array([1.0, 0.2, 1.0]),
+    )
     assert d[0] == pytest.approx(0.3) and s[0] == 1
     assert math.isinf(d[1]) and s[1] == -1
     assert math.isinf(d[2])
     slanted = np.array([[1.0, 0.0, 0.0, 1.0]])
-    d, _ = cast_rays(slanted, np.zeros((1, 2)), np.array([[math.sqrt(0.5), math.sqrt(0.5)]]),
-                     np.array([1.0]))
+    d, _ = cast_rays(
+        slanted, np.zeros((1, 2)), np.array([[math.sqrt(0.5), math.sqrt(0.5)]]), np.array([1.0])
+    )
     assert d[0] == pytest.approx(math.sqrt(0.5))
 
 
@@ -53,11 +58,12 @@ def test_synthetic_run_contacts_lie_on_walls_and_obstacles_and_odometry_is_exact
     assert rows.size > 0
     for t in rows:
         w = np.flatnonzero(log.contact[t])
-        pts = to_world(log.true_pose[t + 1][None],
-                       CRUNCHBOT_LAYOUT.points(log.radial_distance_m[t])[w])[0]
+        pts = to_world(
+            log.true_pose[t + 1][None], CRUNCHBOT_LAYOUT.points(log.radial_distance_m[t])[w]
+        )[0]
         for x, y in pts:  # on an edge: an occupied cell within one cell
             i, j = int(x / 0.05), int(y / 0.05)
-            assert truth[i - 1:i + 2, j - 1:j + 2].max() == 1
+            assert truth[i - 1 : i + 2, j - 1 : j + 2].max() == 1
     pose = log.start_pose
     for inc in log.odometry:
         pose = apply_motion(pose, inc)
@@ -102,10 +108,9 @@ def test_synthetic_record_wraps_the_log_with_synthetic_signals() -> None:
     touch = np.flatnonzero(log.contact[:, 0] & (np.diff(rec.step_start) > 0))
     assert touch.size
     t = touch[0]
-    seg = rec.hall_v[rec.step_start[t]:rec.step_start[t + 1], 0, 0]
+    seg = rec.hall_v[rec.step_start[t] : rec.step_start[t + 1], 0, 0]
     length = CRUNCHBOT_LAYOUT.length_m[0]
-    assert np.mean(seg) == pytest.approx((length - log.radial_distance_m[t, 0]) / length,
-                                         abs=0.01)
+    assert np.mean(seg) == pytest.approx((length - log.radial_distance_m[t, 0]) / length, abs=0.01)
     assert np.array_equal(np.isfinite(rec.contact_true_m), log.contact)
     assert rec.latency_s == {} and rec.wall_seconds > 0
 

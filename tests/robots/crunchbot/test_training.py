@@ -20,8 +20,9 @@ def test_radial_contacts_land_at_their_points_and_deflect_less_toward_the_tip() 
 
 
 def test_angle_drives_record_two_seconds_of_eight_channels_from_hit_1() -> None:
-    recs, angles = training.collect_angle_training(seed=2, runs_per_angle=1,
-                                                   angles_deg=np.array([40, 140]))
+    recs, angles = training.collect_angle_training(
+        seed=2, runs_per_angle=1, angles_deg=np.array([40, 140])
+    )
     assert recs.shape == (2, 4000, 8) and np.isfinite(recs).all()
     assert angles == pytest.approx(np.radians([40, 140]))
     touched = np.abs(recs).max(axis=1) > 0.05
@@ -37,7 +38,8 @@ def test_the_body_whisk_turns_toward_then_away_and_backs_off() -> None:
 
 
 def test_train_classifiers_fits_one_radial_model_per_whisker(
-        monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
     """The wiring: each collection feeds its classifier (collections replaced by data of
     known shape, the classifiers real)."""
     rng = np.random.default_rng(0)
@@ -46,13 +48,20 @@ def test_train_classifiers_fits_one_radial_model_per_whisker(
     def floor(textures, seconds, seed):
         asked["textures"] = textures
         labels = [t for t in textures for _ in range(4)]
-        return rng.normal(size=(len(labels), 200, 2)) + np.repeat(
-            np.arange(len(textures)), 4)[:, None, None], labels
+        return rng.normal(size=(len(labels), 200, 2)) + np.repeat(np.arange(len(textures)), 4)[
+            :, None, None
+        ], labels
 
-    monkeypatch.setattr(training, "collect_radial_training", lambda seed, n: {
-        w: (np.arange(3.0), 0.1 + 0.01 * np.arange(3.0)) for w in range(4)})
-    monkeypatch.setattr(training, "collect_angle_training", lambda seed, n: (
-        rng.normal(size=(2, 4000, 8)), np.array([0.5, 1.0])))
+    monkeypatch.setattr(
+        training,
+        "collect_radial_training",
+        lambda seed, n: {w: (np.arange(3.0), 0.1 + 0.01 * np.arange(3.0)) for w in range(4)},
+    )
+    monkeypatch.setattr(
+        training,
+        "collect_angle_training",
+        lambda seed, n: (rng.normal(size=(2, 4000, 8)), np.array([0.5, 1.0])),
+    )
     monkeypatch.setattr(training, "collect_floor_training", floor)
     clf = training.train_classifiers(seed=0, quick=True)
     assert isinstance(clf, RealtimeClassifiers) and len(clf.radial) == 4

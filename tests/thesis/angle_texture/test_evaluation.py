@@ -58,11 +58,14 @@ def dataset() -> xr.Dataset:
     return xr.Dataset(
         {"signal": (("trial", "channel", "time"), X)},
         coords={
-            "trial": np.arange(len(y)), "channel": ["x", "y"],
+            "trial": np.arange(len(y)),
+            "channel": ["x", "y"],
             "time": (np.arange(X.shape[2]) - X.shape[2] // 2) / FS,
-            "angle_deg": ("trial", y[:, 0]), "speed_mm_s": ("trial", y[:, 1]),
+            "angle_deg": ("trial", y[:, 0]),
+            "speed_mm_s": ("trial", y[:, 1]),
             "texture": ("trial", decode_texture(y[:, 2])),
-            "set": ("trial", sets), "run": ("trial", (sets + 1) // 2),
+            "set": ("trial", sets),
+            "run": ("trial", (sets + 1) // 2),
             "direction": ("trial", np.where(sets % 2 == 1, 1, -1)),
         },
         attrs={"sample_rate_hz": FS, "whisker": '{"natural_frequencies_hz": [13.0]}'},
@@ -141,8 +144,13 @@ def test_run_chapter5_json_contract(dataset, tmp_path):
 
 
 def test_discussion_is_computed_from_the_results(dataset):
-    res = run_chapter5(dataset, {"nb": StationaryNaiveBayes(sample_rate_hz=FS)}, seed=0,
-                       texture_alone=False, sequential_base=None)
+    res = run_chapter5(
+        dataset,
+        {"nb": StationaryNaiveBayes(sample_rate_hz=FS)},
+        seed=0,
+        texture_alone=False,
+        sequential_base=None,
+    )
     text = discussion(res)
     k = res["classifiers"]["nb"]["kappa"]["speed"]
     assert f"best kappa {k:.2f} (`nb`)" in text
@@ -156,14 +164,21 @@ def test_run_chapter5_errors(dataset):
 
 
 def test_thesis_constant_covers_figure_5_15():
-    for name, k in (("template_lowpass", 0.30), ("frequency", 0.44), ("feature", 0.11),
-                    ("naive_bayes_velocity", 0.39)):
+    for name, k in (
+        ("template_lowpass", 0.30),
+        ("frequency", 0.44),
+        ("feature", 0.11),
+        ("naive_bayes_velocity", 0.39),
+    ):
         assert THESIS_CHAPTER5[name]["kappa"]["angle"] == k
 
 
 def test_classifiers_built_for_another_rate_are_refused(dataset):
     # StationaryNaiveBayes() is built for 1 kHz (its velocity is in V/s at that rate)
-    with pytest.raises(ValueError, match="classifier 'nb' does not fit the dataset: "
-                                         "StationaryNaiveBayes is built for sample_rate_hz=1000 "
-                                         "Hz, but the data are sampled at 4000 Hz"):
+    with pytest.raises(
+        ValueError,
+        match="classifier 'nb' does not fit the dataset: "
+        "StationaryNaiveBayes is built for sample_rate_hz=1000 "
+        "Hz, but the data are sampled at 4000 Hz",
+    ):
         run_chapter5(dataset, {"nb": StationaryNaiveBayes()}, texture_alone=False)

@@ -15,19 +15,23 @@ from vibrissa.thesis.biotact_g1.protocol import BiotactProtocol
 
 
 def _dataset(n_whisks: int = 4, separable: bool = True, seed: int = 0):
-    p = BiotactProtocol(textures=("plastic", "p180"), distances_mm=(5.0, 15.0),
-                        n_whisks=n_whisks)
+    p = BiotactProtocol(textures=("plastic", "p180"), distances_mm=(5.0, 15.0), n_whisks=n_whisks)
     rng = np.random.default_rng(seed)
     specs = p.trials()
     n, m = len(specs), p.n_samples
     sig = 2.5 + 0.01 * rng.standard_normal((n, 12, m))
     if separable:
         for k, s in enumerate(specs):
-            sig[k, 0::2] -= 0.05 * s.distance_mm          # distance: the x deflection
-            sig[k, 1::2] += 0.2 * (s.texture == "p180")   # texture: the y channels
-    results = {"signal": sig, "angle_deg": np.zeros((n, 2, m)), "gating": np.zeros((n, 2, m)),
-               "force_n": np.zeros((n, 6, m)), "saturated": np.zeros(n, dtype=bool),
-               "dt_s": np.full(n, 2.5e-4)}
+            sig[k, 0::2] -= 0.05 * s.distance_mm  # distance: the x deflection
+            sig[k, 1::2] += 0.2 * (s.texture == "p180")  # texture: the y channels
+    results = {
+        "signal": sig,
+        "angle_deg": np.zeros((n, 2, m)),
+        "gating": np.zeros((n, 2, m)),
+        "force_n": np.zeros((n, 6, m)),
+        "saturated": np.zeros(n, dtype=bool),
+        "dt_s": np.full(n, 2.5e-4),
+    }
     results["force_n"][:, :, 100:300] = 0.01
     return p.build_dataset(results)
 
@@ -74,8 +78,7 @@ def test_whisk_statistics_per_strategy():
 
 
 def test_naive_bayes_alone_with_robust_bins():
-    res = hit_rate_curves(_dataset(n_whisks=3), classifiers=("naive_bayes",),
-                          value_range="robust")
+    res = hit_rate_curves(_dataset(n_whisks=3), classifiers=("naive_bayes",), value_range="robust")
     for curves in res["hit_rate"].values():
         assert list(curves) == ["naive_bayes"]
         assert curves["naive_bayes"]["joint"][:2] == [1.0, 1.0]

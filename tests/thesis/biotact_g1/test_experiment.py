@@ -41,17 +41,20 @@ def test_json_contract_of_a_quick_run(quick_runs):
         assert f"figures/{fig}.png" in md
 
 
-@pytest.mark.parametrize(("args", "message"), [
-    (["--distances", "0,10"], "error: --distances (0 mm) places the head inside the surface"),
-    (["--distances", "-5,10"], "error: --distances (-5 mm) places the head inside the surface"),
-    (["--distances", "5,90"], "error: --distances (90 mm) is beyond the 80 mm whisker's reach"),
-    (["--distances", "5"], "error: --distances needs at least 2 numbers"),
-    (["--distances", "5,ten"], "error: --distances must be comma-separated numbers"),
-    (["--whisk-frequency", "0"], "error: --whisk-frequency must be > 0 Hz, got 0"),
-    (["--whisk-frequency", "-2"], "error: --whisk-frequency must be > 0 Hz, got -2"),
-    (["--whisk-frequency", "3"], "error: --whisk-frequency (3) must give a whole number"),
-    (["--whisk-frequency", "2,4"], "error: --whisk-frequency takes one number"),
-])
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--distances", "0,10"], "error: --distances (0 mm) places the head inside the surface"),
+        (["--distances", "-5,10"], "error: --distances (-5 mm) places the head inside the surface"),
+        (["--distances", "5,90"], "error: --distances (90 mm) is beyond the 80 mm whisker's reach"),
+        (["--distances", "5"], "error: --distances needs at least 2 numbers"),
+        (["--distances", "5,ten"], "error: --distances must be comma-separated numbers"),
+        (["--whisk-frequency", "0"], "error: --whisk-frequency must be > 0 Hz, got 0"),
+        (["--whisk-frequency", "-2"], "error: --whisk-frequency must be > 0 Hz, got -2"),
+        (["--whisk-frequency", "3"], "error: --whisk-frequency (3) must give a whole number"),
+        (["--whisk-frequency", "2,4"], "error: --whisk-frequency takes one number"),
+    ],
+)
 def test_bad_input_fails_with_one_line_before_any_simulation(tmp_path, args, message):
     out = tmp_path / "out"
     res = runner.invoke(app, ["reproduce", "biotact-g1", "--quick", "--out", str(out), *args])

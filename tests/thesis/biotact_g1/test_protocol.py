@@ -20,23 +20,27 @@ def test_the_thesis_grid_and_the_quick_one():
     # a class's whisks are consecutive, one chunk (one continuous run) each
     assert p.chunk_size == 12
     assert {(s.strategy, s.texture, s.distance_mm) for s in specs[:12]} == {
-        ("unmodulated", "plastic", 5.0)}
+        ("unmodulated", "plastic", 5.0)
+    }
     q = biotact_protocol(quick=True)
     assert q.n_trials == 3 * 2 * 2 * 2
 
 
-@pytest.mark.parametrize(("kwargs", "match"), [
-    ({"whisk_frequency_hz": 0.0}, "whisk_frequency_hz must be > 0"),
-    ({"whisk_frequency_hz": -2.0}, "whisk_frequency_hz must be > 0"),
-    ({"whisk_frequency_hz": 3.0}, "whole number of samples"),
-    ({"tau_z_periods": -0.25}, "tau_z_periods"),
-    ({"amplitude_jitter_deg": -1.0}, "amplitude_jitter_deg"),
-    ({"distances_mm": (0.0, 10.0)}, "places the head inside the surface"),
-    ({"distances_mm": (5.0, 5.0)}, "each distance once"),
-    ({"textures": ("plastic", "velvet")}, "unknown texture 'velvet'"),
-    ({"strategies": ("rcp5",)}, "unknown strategy 'rcp5'"),
-    ({"n_whisks": 1}, "n_whisks must be an integer >= 2"),
-])
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"whisk_frequency_hz": 0.0}, "whisk_frequency_hz must be > 0"),
+        ({"whisk_frequency_hz": -2.0}, "whisk_frequency_hz must be > 0"),
+        ({"whisk_frequency_hz": 3.0}, "whole number of samples"),
+        ({"tau_z_periods": -0.25}, "tau_z_periods"),
+        ({"amplitude_jitter_deg": -1.0}, "amplitude_jitter_deg"),
+        ({"distances_mm": (0.0, 10.0)}, "places the head inside the surface"),
+        ({"distances_mm": (5.0, 5.0)}, "each distance once"),
+        ({"textures": ("plastic", "velvet")}, "unknown texture 'velvet'"),
+        ({"strategies": ("rcp5",)}, "unknown strategy 'rcp5'"),
+        ({"n_whisks": 1}, "n_whisks must be an integer >= 2"),
+    ],
+)
 def test_bad_settings_are_refused_in_one_line(kwargs, match):
     with pytest.raises(ValueError, match=match) as err:
         BiotactProtocol(**kwargs)
@@ -46,8 +50,9 @@ def test_bad_settings_are_refused_in_one_line(kwargs, match):
 @pytest.fixture(scope="module")
 def tiny() -> BiotactProtocol:
     # the farthest surface, where the whiskers touch least
-    return BiotactProtocol(textures=("p180",), distances_mm=(15.0,), n_whisks=2,
-                           strategies=("unmodulated", "rcp7"))
+    return BiotactProtocol(
+        textures=("p180",), distances_mm=(15.0,), n_whisks=2, strategies=("unmodulated", "rcp7")
+    )
 
 
 def test_every_whisker_of_both_rows_touches_the_surface_on_every_whisk(tiny):
@@ -91,8 +96,7 @@ def test_build_dataset_keeps_the_labels_and_the_robot(tiny):
 
 
 def test_a_changed_protocol_changes_the_fingerprint(tiny):
-    assert dataclasses.replace(tiny, amplitude_jitter_deg=0.4).fingerprint() \
-        != tiny.fingerprint()
+    assert dataclasses.replace(tiny, amplitude_jitter_deg=0.4).fingerprint() != tiny.fingerprint()
 
 
 def test_generation_resumes_class_by_class_to_the_same_bytes(tiny, tmp_path):

@@ -22,8 +22,7 @@ from vibrissa.thesis.crunchbot_slam.values import THESIS
 
 
 def test_dead_reckoning_is_the_truth_when_odometry_is_exact():
-    log = synthetic_log(PRESETS["slam"], 20.0, seed=2, odometry_error=0.0,
-                        heading_drift_rad_m=0.0)
+    log = synthetic_log(PRESETS["slam"], 20.0, seed=2, odometry_error=0.0, heading_drift_rad_m=0.0)
     assert np.allclose(dead_reckoning(log), log.true_pose, atol=1e-9)
     assert trajectory_error_mm(dead_reckoning(log), log.true_pose) == pytest.approx(0, abs=1e-6)
     noisy = synthetic_log(PRESETS["slam"], 20.0, seed=2)
@@ -67,8 +66,10 @@ def test_evaluation_with_perfect_odometry_tracks_the_truth():
     """With exact odometry the filter's estimate stays near the true pose and the maps
     beat the random map; the three modes read the same log."""
     arena = PRESETS["slam"]
-    logs = [synthetic_log(arena, 30.0, seed=s, odometry_error=0.0, heading_drift_rad_m=0.0)
-            for s in (0, 1)]
+    logs = [
+        synthetic_log(arena, 30.0, seed=s, odometry_error=0.0, heading_drift_rad_m=0.0)
+        for s in (0, 1)
+    ]
     ev = evaluate_crunchbot(logs, arena.occupancy_grid(), particles=20, seed=0, workers=1)
     for m in ("blob", "geometric", "template"):
         assert ev.trajectory_error_mm[m]["mean"] < 30
@@ -103,12 +104,16 @@ def test_figures_draw_with_missing_numbers(tmp_path):
     true = np.array([[0.05, np.nan], [0.07, np.nan]])
     figs = {
         "maps": average_maps_figure(truth, {"blob": truth + 0.3}, {"blob": 0.3}),
-        "radial": radial_distance_figure(true + 0.001, true, ["w1", "w2"],
-                                         {"w1": 1.0, "w2": float("nan")}),
-        "texture": texture_trace_figure(np.arange(4.0), np.array([[0, 1], [0, 1], [1, -1],
-                                                                  [2, 2]]),
-                                        np.array([[0, 1], [1, 1], [1, 0], [-1, 2]]),
-                                        ["a", "b", "c"], ["left", "right"]),
+        "radial": radial_distance_figure(
+            true + 0.001, true, ["w1", "w2"], {"w1": 1.0, "w2": float("nan")}
+        ),
+        "texture": texture_trace_figure(
+            np.arange(4.0),
+            np.array([[0, 1], [0, 1], [1, -1], [2, 2]]),
+            np.array([[0, 1], [1, 1], [1, 0], [-1, 2]]),
+            ["a", "b", "c"],
+            ["left", "right"],
+        ),
         "trajectory": trajectory_figure(np.zeros((3, 3)), {"blob": np.ones((3, 3))}, truth),
     }
     for name, fig in figs.items():

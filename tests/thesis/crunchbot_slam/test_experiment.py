@@ -19,9 +19,25 @@ MODES = ("blob", "geometric", "template")
 @pytest.fixture(scope="module")
 def quick(tmp_path_factory):
     out = tmp_path_factory.mktemp("crunch") / "out"
-    res = runner.invoke(app, ["reproduce", "crunchbot-slam", "--quick", "--json", "--workers",
-                              "1", "--runs", "2", "--seconds", "20", "--particles", "30",
-                              "--out", str(out)])
+    res = runner.invoke(
+        app,
+        [
+            "reproduce",
+            "crunchbot-slam",
+            "--quick",
+            "--json",
+            "--workers",
+            "1",
+            "--runs",
+            "2",
+            "--seconds",
+            "20",
+            "--particles",
+            "30",
+            "--out",
+            str(out),
+        ],
+    )
     assert res.exit_code == 0, res.output
     return out, json.loads(res.stdout)
 
@@ -39,8 +55,7 @@ def test_json_contract_of_issue_16(quick):
     fit = s["radial_distance_fit_residual_mm"]  # the thesis' quantity, from the training
     assert set(fit) == {"w1", "w2", "w3", "w4"} and all(0 < v < 50 for v in fit.values())
     assert 0 <= s["floor_texture"]["accuracy"] <= 1
-    assert set(s["classifier_latency_ms"]) == {"floor_texture", "radial_distance",
-                                               "surface_angle"}
+    assert set(s["classifier_latency_ms"]) == {"floor_texture", "radial_distance", "surface_angle"}
     for v in s["classifier_latency_ms"].values():
         assert set(v) == {"median", "p99"}
     assert s["meta"]["real_time_factor"] > 0 and math.isfinite(s["meta"]["real_time_factor"])
@@ -56,7 +71,8 @@ def test_the_simulated_robot_is_said_in_meta_and_report(quick):
     assert "**Synthetic robot" not in md
     assert "share each run's sensor log" in md
     assert ("ordering template < geometric < blob holds" in md) == res["ordering"][
-        "template_lt_geometric_lt_blob"]
+        "template_lt_geometric_lt_blob"
+    ]
     for fig in ("average_maps", "trajectory", "texture_trace"):
         assert (out / "figures" / f"{fig}.png").stat().st_size > 0
     # numbers in the prose come from the run
@@ -72,7 +88,17 @@ def test_options_default_by_grid_and_refuse_non_positive_integers():
 
 
 def test_bad_particles_exit_2_before_any_work(tmp_path):
-    res = runner.invoke(app, ["reproduce", "crunchbot-slam", "--quick", "--particles", "0",
-                              "--out", str(tmp_path / "o")])
+    res = runner.invoke(
+        app,
+        [
+            "reproduce",
+            "crunchbot-slam",
+            "--quick",
+            "--particles",
+            "0",
+            "--out",
+            str(tmp_path / "o"),
+        ],
+    )
     assert res.exit_code == 2 and "--particles" in res.stderr
     assert not (tmp_path / "o").exists()

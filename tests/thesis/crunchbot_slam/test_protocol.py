@@ -33,8 +33,13 @@ def fake_robot(arena, seconds, seed, classifiers=None):
     rec = synthetic_record(arena, seconds, seed)
     from dataclasses import replace
 
-    return replace(rec, latency_s={"floor_texture": np.full(rec.log.n_steps, 1e-4),
-                                   "radial_distance": np.array([2e-5, 3e-5])})
+    return replace(
+        rec,
+        latency_s={
+            "floor_texture": np.full(rec.log.n_steps, 1e-4),
+            "radial_distance": np.array([2e-5, 3e-5]),
+        },
+    )
 
 
 def test_default_robot_is_the_simulated_physical_robot():
@@ -59,10 +64,16 @@ def test_the_fingerprint_names_the_robot_and_is_stable():
     assert a.run_seed(0) != a.run_seed(1) and a.run_seed(1) == b.run_seed(1)
 
 
-@pytest.mark.parametrize("kwargs, match", [
-    ({"n_runs": 0}, "n_runs"), ({"seconds": -1.0}, "seconds"),
-    ({"texture_seconds": 0.0}, "texture_seconds"), ({"arena": "nowhere"}, "unknown arena"),
-    ({"seed": -1}, "seed")])
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"n_runs": 0}, "n_runs"),
+        ({"seconds": -1.0}, "seconds"),
+        ({"texture_seconds": 0.0}, "texture_seconds"),
+        ({"arena": "nowhere"}, "unknown arena"),
+        ({"seed": -1}, "seed"),
+    ],
+)
 def test_bad_protocols_are_refused(kwargs, match):
     with pytest.raises(ValueError, match=match):
         CrunchbotProtocol(**kwargs)
@@ -70,8 +81,15 @@ def test_bad_protocols_are_refused(kwargs, match):
 
 def test_runs_are_chunks_and_round_trip_to_sensor_logs(tmp_path):
     CALLS.clear()
-    p = CrunchbotProtocol(n_runs=2, seconds=8.0, texture_seconds=6.0, seed=4,
-                          simulate_run=fake_robot, train=fake_train, quick_training=True)
+    p = CrunchbotProtocol(
+        n_runs=2,
+        seconds=8.0,
+        texture_seconds=6.0,
+        seed=4,
+        simulate_run=fake_robot,
+        train=fake_train,
+        quick_training=True,
+    )
     out = tmp_path / "x.nc"
     # interrupted after one run: the shard is kept and the rest resumes
     assert generate(p, out, workers=1, chunk_size=1, max_chunks=1) is None
@@ -94,7 +112,10 @@ def test_runs_are_chunks_and_round_trip_to_sensor_logs(tmp_path):
         assert log.floor_loglik is None  # the SLAM arena has no tiles
     tex = sensor_logs(ds, "texture")[0]
     assert tex.floor_loglik is not None and set(tex.textures) == {
-        "vinyl", "smooth-carpet", "rough-carpet"}
+        "vinyl",
+        "smooth-carpet",
+        "rough-carpet",
+    }
     from vibrissa.robots.crunchbot.synthetic import FLOOR_WHISKERS_M
 
     assert np.array_equal(tex.floor_whisker_m, FLOOR_WHISKERS_M)
@@ -102,16 +123,22 @@ def test_runs_are_chunks_and_round_trip_to_sensor_logs(tmp_path):
     assert np.isfinite(lat).sum() == int(ds["n_steps"].values.sum())
     assert np.isnan(ds["latency_surface_angle_s"].values).all()
     h = hall_run(ds)
-    assert h["hall_v"].shape == (h["time_s"].size, 6, 2) and h["step_start"][-1] == h[
-        "time_s"].size
+    assert h["hall_v"].shape == (h["time_s"].size, 6, 2) and h["step_start"][-1] == h["time_s"].size
     assert ds["ground_truth"].shape == (50, 50)
 
 
-@pytest.mark.parametrize("args, match", [
-    (("slam", 0.0, 0, 10, "blob"), "--seconds"), (("slam", -1.0, 0, 10, "blob"), "--seconds"),
-    (("slam", float("nan"), 0, 10, "blob"), "--seconds"),
-    (("slam", 5.0, 0, 0, "blob"), "--particles"), (("slam", 5.0, -1, 10, "blob"), "--seed"),
-    (("slam", 5.0, 0, 10, "nope"), "--mode"), (("nowhere", 5.0, 0, 10, "blob"), "--arena")])
+@pytest.mark.parametrize(
+    "args, match",
+    [
+        (("slam", 0.0, 0, 10, "blob"), "--seconds"),
+        (("slam", -1.0, 0, 10, "blob"), "--seconds"),
+        (("slam", float("nan"), 0, 10, "blob"), "--seconds"),
+        (("slam", 5.0, 0, 0, "blob"), "--particles"),
+        (("slam", 5.0, -1, 10, "blob"), "--seed"),
+        (("slam", 5.0, 0, 10, "nope"), "--mode"),
+        (("nowhere", 5.0, 0, 10, "blob"), "--arena"),
+    ],
+)
 def test_watch_options_are_checked(args, match):
     with pytest.raises(ValueError, match=match):
         check_watch(*args)
@@ -119,8 +146,14 @@ def test_watch_options_are_checked(args, match):
 
 def test_watch_run_writes_an_animation_and_a_page(tmp_path):
     stages = []
-    res = watch_run(tmp_path / "w", PRESETS["slam"], 6.0, seed=1, particles=20,
-                    progress=lambda s, f: stages.append(s))
+    res = watch_run(
+        tmp_path / "w",
+        PRESETS["slam"],
+        6.0,
+        seed=1,
+        particles=20,
+        progress=lambda s, f: stages.append(s),
+    )
     assert {"robot", "slam", "draw"} <= set(stages)
     assert (tmp_path / "w" / "crunchbot.gif").stat().st_size > 0
     html = (tmp_path / "w" / "crunchbot.html").read_text()
@@ -131,13 +164,19 @@ def test_watch_run_writes_an_animation_and_a_page(tmp_path):
 
 def test_a_dask_cluster_gives_the_same_runs(tmp_path):
     distributed = pytest.importorskip("dask.distributed")
-    p = CrunchbotProtocol(n_runs=2, seconds=8.0, texture_seconds=6.0, seed=4,
-                          simulate_run=synthetic_record, train=None)
+    p = CrunchbotProtocol(
+        n_runs=2,
+        seconds=8.0,
+        texture_seconds=6.0,
+        seed=4,
+        simulate_run=synthetic_record,
+        train=None,
+    )
     here = p.generate_dataset(tmp_path / "here.nc", workers=1)
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster:
-        there = p.generate_dataset(tmp_path / "there.nc",
-                                   scheduler=cluster.scheduler_address)
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster:
+        there = p.generate_dataset(tmp_path / "there.nc", scheduler=cluster.scheduler_address)
     timing = [v for v in here.variables if "seconds" in v or "latency" in v]
     assert "wall_seconds" in timing  # measured, so it differs from run to run
     assert there.drop_vars(timing).identical(here.drop_vars(timing))

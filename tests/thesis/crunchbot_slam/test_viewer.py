@@ -59,12 +59,20 @@ def test_the_viewer_scores_the_map_run_slam_scores(run, mode):
 def test_the_last_frame_includes_an_episode_open_at_the_logs_end():
     """The log ends one step into a contact episode: run_slam closes it (a blob at the
     first contact), and so do the viewer's final map and its last frame."""
-    layout = WhiskerLayout(base_m=np.array([[0.15, 0.05], [0.15, -0.05]]),
-                           angle_rad=np.zeros(2), length_m=np.full(2, 0.14))
-    log = SensorLog(layout=layout, state=np.array(["FWD_1", "HIT_1"]), odometry=np.zeros((2, 3)),
-                    contact=np.array([[True, False]] * 2),
-                    radial_distance_m=np.array([[0.1, np.nan]] * 2),
-                    surface_angle_rad=np.full(2, np.nan), start_pose=np.array([1.0, 1.0, 0.0]))
+    layout = WhiskerLayout(
+        base_m=np.array([[0.15, 0.05], [0.15, -0.05]]),
+        angle_rad=np.zeros(2),
+        length_m=np.full(2, 0.14),
+    )
+    log = SensorLog(
+        layout=layout,
+        state=np.array(["FWD_1", "HIT_1"]),
+        odometry=np.zeros((2, 3)),
+        contact=np.array([[True, False]] * 2),
+        radial_distance_m=np.array([[0.1, np.nan]] * 2),
+        surface_angle_rad=np.full(2, np.nan),
+        start_pose=np.array([1.0, 1.0, 0.0]),
+    )
     settings = SlamSettings(n_particles=2, odometry_error=0.0, mode="geometric")
     ticks = []
     fr = slam_frames(log, settings, seed=0, progress=lambda d, n: ticks.append((d, n)))
@@ -91,13 +99,23 @@ def test_animation_is_a_gif_of_at_most_max_frames(run, tmp_path):
 def _page(run, tmp_path) -> Path:
     log, fr = run
     t = np.arange(log.n_steps + 1) * 0.5
-    return write_viewer_html(tmp_path / "v.html", log, fr, BOXES, step_time_s=t,
-                             # a floor whisker in window mode: NaN outside its windows
-                             traces={"w1": np.abs(np.sin(t)), "w2": np.zeros_like(t),
-                                     "floor": np.where(np.arange(t.size) % 4 == 3, 0.2,
-                                                       np.nan)},
-                             trace_time_s=t, tiles=[(0.6, 0.6, 1.1, 1.1, "vinyl")],
-                             title="a <b>run</b> &", summary="s")
+    return write_viewer_html(
+        tmp_path / "v.html",
+        log,
+        fr,
+        BOXES,
+        step_time_s=t,
+        # a floor whisker in window mode: NaN outside its windows
+        traces={
+            "w1": np.abs(np.sin(t)),
+            "w2": np.zeros_like(t),
+            "floor": np.where(np.arange(t.size) % 4 == 3, 0.2, np.nan),
+        },
+        trace_time_s=t,
+        tiles=[(0.6, 0.6, 1.1, 1.1, "vinyl")],
+        title="a <b>run</b> &",
+        summary="s",
+    )
 
 
 def test_page_is_one_self_contained_file(run, tmp_path):
@@ -124,8 +142,10 @@ def test_page_in_chromium_loads_and_the_slider_moves_the_frame(run, tmp_path):
             page.goto(page_path.as_uri(), wait_until="load")
             assert page.evaluate("document.body.dataset.frame") == "0"
             last = log.n_steps
-            page.evaluate(f"s = document.getElementById('slider'); s.value = {last}; "
-                          "s.dispatchEvent(new Event('input'))")
+            page.evaluate(
+                f"s = document.getElementById('slider'); s.value = {last}; "
+                "s.dispatchEvent(new Event('input'))"
+            )
             assert page.evaluate("document.body.dataset.frame") == str(last)
             assert f"step {last} / {last}" in page.inner_text("#label")
             page.evaluate("s.value = 0; s.dispatchEvent(new Event('input'))")
@@ -148,10 +168,19 @@ def test_the_viewer_and_the_reproduction_score_a_run_alike(tmp_path, mode):
     from vibrissa.thesis.crunchbot_slam.viewer import watch_run
 
     arena = PRESETS["slam"]
-    seen = watch_run(tmp_path / "w", arena, 12.0, seed=3, particles=15, mode=mode,
-                     simulate_run=synthetic_record, train=None)
+    seen = watch_run(
+        tmp_path / "w",
+        arena,
+        12.0,
+        seed=3,
+        particles=15,
+        mode=mode,
+        simulate_run=synthetic_record,
+        train=None,
+    )
     log = synthetic_record(arena, 12.0, 3).log
-    scored = slam_job({"ground_truth": smooth_ground_truth(arena.occupancy_grid())}, log,
-                      mode, 15, 3)
+    scored = slam_job(
+        {"ground_truth": smooth_ground_truth(arena.occupancy_grid())}, log, mode, 15, 3
+    )
     assert seen["map_error"] == scored["map_error"]
     assert seen["trajectory_error_mm"] == scored["trajectory_error_mm"]

@@ -52,10 +52,11 @@ def _dataset(n_trials: int = 2, quiet: int = 5, seconds: float = 4.0) -> xr.Data
                 sig.append(np.vstack([x, np.full(n, 2.5)]))
                 floor.append(f)
                 cond.append(c)
-    return xr.Dataset({"signal": (("trial", "channel", "time"), np.asarray(sig))},
-                      coords={"floor": ("trial", floor), "condition": ("trial", cond),
-                              "channel": ["x", "y"]},
-                      attrs={"sample_rate_hz": FS})
+    return xr.Dataset(
+        {"signal": (("trial", "channel", "time"), np.asarray(sig))},
+        coords={"floor": ("trial", floor), "condition": ("trial", cond), "channel": ["x", "y"]},
+        attrs={"sample_rate_hz": FS},
+    )
 
 
 def test_windows_follow_the_protocol():

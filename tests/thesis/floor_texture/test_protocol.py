@@ -20,28 +20,33 @@ def test_the_thesis_session_and_the_quick_one():
     # canonical order: condition, floor, repetition
     first = p.trials()[:5]
     assert [(s.condition, s.floor, s.trial) for s in first] == [
-        ("clockwise", "rough-carpet", k) for k in (1, 2, 3, 4)] + [("clockwise", "vinyl", 1)]
+        ("clockwise", "rough-carpet", k) for k in (1, 2, 3, 4)
+    ] + [("clockwise", "vinyl", 1)]
     assert p.fingerprint() != q.fingerprint()
     assert floor_protocol(seed=1).fingerprint() != p.fingerprint()
 
 
-@pytest.mark.parametrize("changes, match", [
-    ({"floors": ("vinyl", "shag")}, "unknown floor texture 'shag'"),
-    ({"floors": ()}, "at least one floor"),
-    ({"floors": ("vinyl", "vinyl")}, "each floor texture once"),
-    ({"conditions": ("clockwise", "sideways")}, "conditions must be"),
-    ({"trials_per_condition": 0}, "trials_per_condition"),
-    ({"duration_s": -1.0}, "duration_s"),
-    ({"seed": -2}, "seed"),
-])
+@pytest.mark.parametrize(
+    "changes, match",
+    [
+        ({"floors": ("vinyl", "shag")}, "unknown floor texture 'shag'"),
+        ({"floors": ()}, "at least one floor"),
+        ({"floors": ("vinyl", "vinyl")}, "each floor texture once"),
+        ({"conditions": ("clockwise", "sideways")}, "conditions must be"),
+        ({"trials_per_condition": 0}, "trials_per_condition"),
+        ({"duration_s": -1.0}, "duration_s"),
+        ({"seed": -2}, "seed"),
+    ],
+)
 def test_bad_settings_are_refused_before_any_simulation(changes, match):
     with pytest.raises(ValueError, match=match):
         FloorProtocol(**changes)
 
 
 def test_generation_is_the_same_bytes_whatever_the_chunking(tmp_path):
-    p = FloorProtocol(floors=("vinyl", "tarmac"), conditions=("spot",),
-                      trials_per_condition=1, duration_s=0.3)
+    p = FloorProtocol(
+        floors=("vinyl", "tarmac"), conditions=("spot",), trials_per_condition=1, duration_s=0.3
+    )
     a = generate(p, tmp_path / "a.nc", workers=1, chunk_size=1)
     b = generate(p, tmp_path / "b.nc", workers=1, chunk_size=2)
     np.testing.assert_array_equal(a["signal"].values, b["signal"].values)

@@ -17,7 +17,12 @@ SPEEDS = (36.0, 72.0, 108.0)
 
 
 def make_grid_dataset(
-    n_sets: int = 4, radii=RADII, speeds=SPEEDS, n_time: int = 40, noise: float = 0.0, seed=0,
+    n_sets: int = 4,
+    radii=RADII,
+    speeds=SPEEDS,
+    n_time: int = 40,
+    noise: float = 0.0,
+    seed=0,
     t_peak: float = 0.02,
 ) -> xr.Dataset:
     """Tiny chapter-4-like dataset: each set one complete radius x speed grid."""
@@ -114,8 +119,10 @@ def test_split_assigns_distinct_complete_sets(ds) -> None:
             combos = set(zip(r, v, strict=True))
             assert len(combos) == len(RADII) * len(SPEEDS)
     assert protocol.split_sets(ds, 3).to_dict() == protocol.split_sets(ds, 3).to_dict()
-    seen = {(protocol.split_sets(ds, s).train_set, protocol.split_sets(ds, s).test_set)
-            for s in range(40)}
+    seen = {
+        (protocol.split_sets(ds, s).train_set, protocol.split_sets(ds, s).test_set)
+        for s in range(40)
+    }
     assert len(seen) > 3  # the assignment really is drawn
 
 
@@ -266,8 +273,13 @@ def test_pooled_training_sets_and_per_classifier_sets(ds) -> None:
     with pytest.raises(ValueError, match="repeats"):
         protocol.split_sets(ds, train_set=[1, 1], test_set=0)
     res = protocol.run_chapter4(
-        ds, {"pooled": CountTrials(), "one": CountTrials()}, fractions=(0.5,), n_seeds=2,
-        train_set=[1, 2, 3], test_set=0, classifier_train_sets={"one": [2]},
+        ds,
+        {"pooled": CountTrials(), "one": CountTrials()},
+        fractions=(0.5,),
+        n_seeds=2,
+        train_set=[1, 2, 3],
+        test_set=0,
+        classifier_train_sets={"one": [2]},
     )
     n_grid = len(RADII) * len(SPEEDS)
     assert res["classifiers"]["pooled"]["n_train"] == 3 * n_grid
@@ -278,11 +290,23 @@ def test_pooled_training_sets_and_per_classifier_sets(ds) -> None:
     assert half["pooled"]["n_train"] == 3 * round(0.5 * n_grid)
     assert half["one"]["n_train"] == round(0.5 * n_grid)
     with pytest.raises(ValueError, match="subset"):
-        protocol.run_chapter4(ds, {"one": Centroid()}, fractions=(), train_set=[1, 2],
-                              test_set=0, classifier_train_sets={"one": [3]})
+        protocol.run_chapter4(
+            ds,
+            {"one": Centroid()},
+            fractions=(),
+            train_set=[1, 2],
+            test_set=0,
+            classifier_train_sets={"one": [3]},
+        )
     with pytest.raises(ValueError, match="unknown"):
-        protocol.run_chapter4(ds, {"one": Centroid()}, fractions=(), train_set=[1, 2],
-                              test_set=0, classifier_train_sets={"two": [1]})
+        protocol.run_chapter4(
+            ds,
+            {"one": Centroid()},
+            fractions=(),
+            train_set=[1, 2],
+            test_set=0,
+            classifier_train_sets={"two": [1]},
+        )
 
 
 def test_subsample_combinations_keeps_the_same_classes_for_one_and_three_sets() -> None:
@@ -304,16 +328,22 @@ def test_classifiers_built_for_another_rate_are_refused_before_any_fit(ds) -> No
     # the evaluation does not adapt classifiers to the dataset: one built for 1 kHz
     # is refused on 4 kHz data, before any classifier (even a stand-in) is fitted
     clfs = {"c": Centroid(), **chapter4_classifiers(1000.0, {})}
-    with pytest.raises(ValueError, match="classifier 'static_beam_measured' does not fit the "
-                                         "dataset: step 'window': RecordingWindow is built for "
-                                         "sample_rate_hz=1000 Hz, but the data are sampled at "
-                                         "4000 Hz"):
+    with pytest.raises(
+        ValueError,
+        match="classifier 'static_beam_measured' does not fit the "
+        "dataset: step 'window': RecordingWindow is built for "
+        "sample_rate_hz=1000 Hz, but the data are sampled at "
+        "4000 Hz",
+    ):
         protocol.run_chapter4(ds4k, clfs, fractions=(), progress=lambda *a: steps.append(a))
     assert steps == []
-    with pytest.raises(ValueError, match="classifier 'template' does not fit the dataset: "
-                                         "TimeTemplateClassifier is built for "
-                                         "sample_rate_hz=1000 Hz, but the data are sampled "
-                                         "at 4000 Hz"):
+    with pytest.raises(
+        ValueError,
+        match="classifier 'template' does not fit the dataset: "
+        "TimeTemplateClassifier is built for "
+        "sample_rate_hz=1000 Hz, but the data are sampled "
+        "at 4000 Hz",
+    ):
         protocol.run_chapter4(ds4k, {"template": TimeTemplateClassifier()}, fractions=())
 
 
@@ -328,8 +358,14 @@ def test_classifiers_built_from_the_dataset_run_at_its_rate(ds) -> None:
 
 
 # ------------------------------------------------------- workers and shared windows (issue 14)
-WHISKER = {"length_mm": 185.0, "base_radius_mm": 1.0, "youngs_modulus_gpa": 2.35,
-           "follicle_stiffness_nm_per_rad": 0.1, "hall_gain_v": 12.0, "hall_offset_v": 2.5}
+WHISKER = {
+    "length_mm": 185.0,
+    "base_radius_mm": 1.0,
+    "youngs_modulus_gpa": 2.35,
+    "follicle_stiffness_nm_per_rad": 0.1,
+    "hall_gain_v": 12.0,
+    "hall_offset_v": 2.5,
+}
 
 
 def test_thesis_presets_give_the_same_results_with_any_workers(monkeypatch) -> None:
@@ -338,8 +374,14 @@ def test_thesis_presets_give_the_same_results_with_any_workers(monkeypatch) -> N
     # recordings as long as the simulated ones (1.3 s, contact 0.6 s in), with noise
     ds = make_grid_dataset(n_time=1301, t_peak=0.6, noise=0.003, seed=2)
     clfs = chapter4_classifiers(1000.0, WHISKER)
-    kw = {"fractions": (0.5, 0.25), "n_seeds": 2, "seed": 1, "train_set": [1, 2, 3],
-          "test_set": 0, "classifier_train_sets": {k: [2] for k in CHAPTER4_ONE_SET}}
+    kw = {
+        "fractions": (0.5, 0.25),
+        "n_seeds": 2,
+        "seed": 1,
+        "train_set": [1, 2, 3],
+        "test_set": 0,
+        "classifier_train_sets": {k: [2] for k in CHAPTER4_ONE_SET},
+    }
     one = protocol.run_chapter4(ds, clfs, workers=1, **kw)
     two = protocol.run_chapter4(ds, clfs, workers=2, **kw)
     assert _without_times(one) == _without_times(two)
@@ -348,8 +390,9 @@ def test_thesis_presets_give_the_same_results_with_any_workers(monkeypatch) -> N
     key, window, rest = protocol.window_head(clfs["template"])
     assert key.startswith("window:") and rest is clfs["template"].steps[1][1]
     assert protocol.window_head(clfs["template"])[0] != protocol.window_head(clfs["frequency"])[0]
-    assert protocol.window_head(clfs["feature"])[0] == protocol.window_head(
-        clfs["naive_bayes_raw"])[0]
+    assert (
+        protocol.window_head(clfs["feature"])[0] == protocol.window_head(clfs["naive_bayes_raw"])[0]
+    )
     monkeypatch.setattr(protocol, "window_head", lambda est: (None, None, None))
     whole = protocol.run_chapter4(ds, clfs, workers=1, **kw)
     assert _without_times(whole) == _without_times(one)

@@ -38,16 +38,24 @@ def _is_png(path) -> bool:
 
 def test_thesis_values_transcribed() -> None:
     t = report.THESIS_CHAPTER4
-    assert t["table_4_1"]["fitted"] == {"youngs_modulus_gpa": 1.5, "base_radius_mm": 1.2,
-                                        "length_mm": 230.0, "scale_factor": 0.002}
+    assert t["table_4_1"]["fitted"] == {
+        "youngs_modulus_gpa": 1.5,
+        "base_radius_mm": 1.2,
+        "length_mm": 230.0,
+        "scale_factor": 0.002,
+    }
     assert t["table_4_2"]["speed_mm_s"]["mean"]["1.0"] == -89.98
     assert t["table_4_3"]["radius_mm"]["std"]["0.05"] == 5.79
     assert t["table_4_4"]["speed_mm_s"]["mean"]["0.4"] == -0.002
     assert t["table_4_5"]["radius_mm"]["mean"]["0.05"] == 0.636
     assert t["table_4_6"]["naive_bayes"] == 22 * 60 + 24
     # table 4.7 repeats the 100 % columns of tables 4.2-4.5
-    for col, tab in (("frequency", "table_4_2"), ("template", "table_4_3"),
-                     ("feature", "table_4_4"), ("naive_bayes", "table_4_5")):
+    for col, tab in (
+        ("frequency", "table_4_2"),
+        ("template", "table_4_3"),
+        ("feature", "table_4_4"),
+        ("naive_bayes", "table_4_5"),
+    ):
         for par in ("speed_mm_s", "radius_mm"):
             for stat in ("mean", "std"):
                 assert t["table_4_7"][col][par][stat] == t[tab][par][stat]["1.0"]
@@ -102,10 +110,13 @@ def test_angle_texture_traces(tmp_path) -> None:
     sig = np.stack([np.stack([2.5 + 0.01 * a * np.sin(s * t * 50)] * 2) for a, _, s in rows])
     d = xr.Dataset(
         {"signal": (("trial", "channel", "time"), sig)},
-        coords={"time": t, "channel": ["x", "y"],
-                "angle_deg": ("trial", [r[0] for r in rows]),
-                "texture": ("trial", [r[1] for r in rows]),
-                "speed_mm_s": ("trial", [r[2] for r in rows])},
+        coords={
+            "time": t,
+            "channel": ["x", "y"],
+            "angle_deg": ("trial", [r[0] for r in rows]),
+            "texture": ("trial", [r[1] for r in rows]),
+            "speed_mm_s": ("trial", [r[2] for r in rows]),
+        },
         attrs={"sample_rate_hz": 4000.0},
     )
     axs = figures.angle_texture_traces(d)
@@ -131,9 +142,18 @@ def test_csv_figures_and_report_written(results, ds, tmp_path) -> None:
     assert by_speed[0].startswith("classifier,speed_mm_s") and len(by_speed) == 1 + 3 * 3
     rel = {k: p.relative_to(out) for k, p in figs.items()}
     md = report.markdown_report(results, figures=rel)
-    for needle in ("Table 4.1", "Table 4.2", "Table 4.3", "Table 4.6", "Table 4.7",
-                   "thesis 4.7", "-89.98", "## Discussion",
-                   "(figures/comparison.png)", "(figures/contours.png)"):
+    for needle in (
+        "Table 4.1",
+        "Table 4.2",
+        "Table 4.3",
+        "Table 4.6",
+        "Table 4.7",
+        "thesis 4.7",
+        "-89.98",
+        "## Discussion",
+        "(figures/comparison.png)",
+        "(figures/contours.png)",
+    ):
         assert needle in md, needle
     assert len(figs) == 3 * 2 + 1 + 2
     for p in figs.values():

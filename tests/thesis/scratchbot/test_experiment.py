@@ -15,8 +15,9 @@ STAT = {"mean", "std"}
 
 def test_json_contract_and_the_relations_of_6_3(tmp_path):
     out = tmp_path / "out"
-    res = runner.invoke(app, ["reproduce", "scratchbot", "--quick", "--json", "--workers", "1",
-                              "--out", str(out)])
+    res = runner.invoke(
+        app, ["reproduce", "scratchbot", "--quick", "--json", "--workers", "1", "--out", str(out)]
+    )
     assert res.exit_code == 0, res.output
     s = json.loads(res.stdout)
     conds = s["conditions"]
@@ -24,8 +25,12 @@ def test_json_contract_and_the_relations_of_6_3(tmp_path):
     grid = {(c["radial_distance_mm"], c["whisk_frequency_hz"]) for c in conds}
     assert grid == {(r, f) for r in (70.0, 100.0, 130.0) for f in (2.0, 4.0, 6.0)}
     for c in conds:
-        assert set(c) == {"radial_distance_mm", "whisk_frequency_hz", "peak_deflection_v",
-                          "contact_duration_s"}
+        assert set(c) == {
+            "radial_distance_mm",
+            "whisk_frequency_hz",
+            "peak_deflection_v",
+            "contact_duration_s",
+        }
         for k in ("peak_deflection_v", "contact_duration_s"):
             assert set(c[k]) == STAT and all(math.isfinite(v) for v in c[k].values())
             assert c[k]["mean"] > 0
@@ -42,13 +47,18 @@ def test_json_contract_and_the_relations_of_6_3(tmp_path):
     for r in (70.0, 100.0, 130.0):
         durs = [by[(r, f)]["contact_duration_s"]["mean"] for f in (2.0, 4.0, 6.0)]
         assert durs[0] > durs[1] > durs[2], r
-    assert s["relations"] == {"peak_falls_with_distance": True,
-                              "duration_falls_with_frequency": True}
+    assert s["relations"] == {
+        "peak_falls_with_distance": True,
+        "duration_falls_with_frequency": True,
+    }
     # the closed loop on the physical whisker: RCP presses less on the pole (3.2.4) and
     # shortens the contact (6.4: "RCP tends to reduce ... the duration of contact")
     cl = s["closed_loop"]["settings"]
-    assert [(c["sigma_z"], c["tau_z_periods"]) for c in cl] == [(0.0, 0.25), (0.7, 0.25),
-                                                               (2.0, 0.1)]
+    assert [(c["sigma_z"], c["tau_z_periods"]) for c in cl] == [
+        (0.0, 0.25),
+        (0.7, 0.25),
+        (2.0, 0.1),
+    ]
     assert cl[0]["max_z"] == 0.0 and all(0 < c["max_z"] <= 1 for c in cl[1:])
     assert cl[0]["peak_deflection_v"] > cl[1]["peak_deflection_v"] > cl[2]["peak_deflection_v"]
     assert cl[0]["contact_time_per_whisk_s"] > cl[2]["contact_time_per_whisk_s"] > 0

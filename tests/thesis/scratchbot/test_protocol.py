@@ -31,24 +31,26 @@ def test_the_pole_touches_the_turned_whisker_at_the_radial_distance(angle):
     assert along == pytest.approx(100.0) and across == pytest.approx(1.5)
 
 
-@pytest.mark.parametrize(("kwargs", "match"), [
-    ({"whisk_frequencies_hz": (2.0, 0.0)}, "whisk frequency must be > 0"),
-    ({"whisk_frequencies_hz": (-4.0,)}, "whisk frequency must be > 0"),
-    ({"sigma_z": -0.7}, "sigma_z"),
-    ({"tau_z_periods": -0.25}, "tau_z_periods"),
-    ({"contact_angle_deg": 0.0}, "inside the whisker's reach at rest"),
-    ({"contact_angle_deg": -5.0}, "inside the whisker's reach at rest"),
-    ({"contact_angle_deg": 12.0}, "never reaches the pole"),
-    ({"radial_distances_mm": (250.0,)}, "radial_distance_mm"),
-    ({"n_whisks": 1}, "n_whisks"),
-    ({"whisker": "nope"}, "unknown whisker preset"),
-    ({"rcp_settings": ((0.7, 0.25), (-2.0, 0.1))}, "sigma_z"),
-    ({"rcp_settings": ()}, "rcp_settings"),
-    ({"rcp_whisk_frequency_hz": 0.0}, "frequency_hz"),
-    ({"rcp_radial_distance_mm": 0.2},
-     "radial_distance_mm"),
-    ({"rcp_whisks": 0}, "rcp_whisks"),
-])
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"whisk_frequencies_hz": (2.0, 0.0)}, "whisk frequency must be > 0"),
+        ({"whisk_frequencies_hz": (-4.0,)}, "whisk frequency must be > 0"),
+        ({"sigma_z": -0.7}, "sigma_z"),
+        ({"tau_z_periods": -0.25}, "tau_z_periods"),
+        ({"contact_angle_deg": 0.0}, "inside the whisker's reach at rest"),
+        ({"contact_angle_deg": -5.0}, "inside the whisker's reach at rest"),
+        ({"contact_angle_deg": 12.0}, "never reaches the pole"),
+        ({"radial_distances_mm": (250.0,)}, "radial_distance_mm"),
+        ({"n_whisks": 1}, "n_whisks"),
+        ({"whisker": "nope"}, "unknown whisker preset"),
+        ({"rcp_settings": ((0.7, 0.25), (-2.0, 0.1))}, "sigma_z"),
+        ({"rcp_settings": ()}, "rcp_settings"),
+        ({"rcp_whisk_frequency_hz": 0.0}, "frequency_hz"),
+        ({"rcp_radial_distance_mm": 0.2}, "radial_distance_mm"),
+        ({"rcp_whisks": 0}, "rcp_whisks"),
+    ],
+)
 def test_bad_input_is_refused_in_one_line_before_any_simulation(kwargs, match, monkeypatch):
     import vibrissa.thesis.scratchbot.protocol as mod
 
@@ -73,5 +75,5 @@ def test_one_condition_keeps_each_whisk_with_its_own_samples():
     assert np.all(np.abs(x[:, :per] - 2.5).max(axis=1) > 0.5)
     assert res["force_n"].max() > 0 and res["saturated"][0] == 0.0
     # the in-air reference is what was subtracted
-    whisk1 = res["raw_v"][per:2 * per] - res["air_v"][per:2 * per] + 2.5
+    whisk1 = res["raw_v"][per : 2 * per] - res["air_v"][per : 2 * per] + 2.5
     np.testing.assert_allclose(x[0, :per], whisk1)

@@ -146,7 +146,7 @@ def equalise(
             raise ImportMappingError(
                 f"{names[k]} has {lengths[k]} samples but {names[0]} has {lengths[0]} "
                 f"(recordings range from {lengths.min()} to {lengths.max()} samples); "
-                "set \"ragged\": \"crop\" (--crop) to cut all to the shortest"
+                'set "ragged": "crop" (--crop) to cut all to the shortest'
             )
         cropped_from = int(lengths.max())
         n = int(lengths.min())

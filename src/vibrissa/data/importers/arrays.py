@@ -157,7 +157,7 @@ def import_array(source: Source, mapping: ImportMapping) -> dict[str, Any]:
                 keep_mask.append(False)
                 continue
             raise ImportMappingError(
-                f"{nm} is empty; set \"empty\": \"skip\" (--skip-empty) to leave it out"
+                f'{nm} is empty; set "empty": "skip" (--skip-empty) to leave it out'
             )
         recs.append(_numeric_recording(c, nm, mapping.time_axis, matlab_vectors=is_cell))
         rec_names.append(nm)
@@ -180,8 +180,14 @@ def import_array(source: Source, mapping: ImportMapping) -> dict[str, Any]:
                 f"{n_all} recordings in {name!r}"
             )
         labels[label] = vals[mask]
-    return {"signal": signal, "labels": labels, "cropped_from": cropped_from,
-            "sample_rate_hz": _sample_rate(mapping, source), "time": None, "signal_name": name}
+    return {
+        "signal": signal,
+        "labels": labels,
+        "cropped_from": cropped_from,
+        "sample_rate_hz": _sample_rate(mapping, source),
+        "time": None,
+        "signal_name": name,
+    }
 
 
 def _axis_values(

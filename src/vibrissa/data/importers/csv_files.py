@@ -61,7 +61,7 @@ def import_csv(path: Path, mapping: ImportMapping) -> dict[str, Any]:
     if tcol not in cols:
         raise ImportMappingError(
             f"{path}: no trial column {tcol!r} (long layout: one row per sample); "
-            f"columns: {cols}. Set 'trial_column', or \"layout\": \"wide\""
+            f'columns: {cols}. Set \'trial_column\', or "layout": "wide"'
         )
     time_col = mapping.time_column
     if time_col is UNSET:
@@ -135,8 +135,15 @@ def import_csv(path: Path, mapping: ImportMapping) -> dict[str, Any]:
     if isinstance(fs, str):
         raise ImportMappingError("'sample_rate_hz' must be a number for CSV files")
     labels = {label: _label_values([r[label] for r in labels_rows]) for label in label_cols}
-    return {"signal": signal, "labels": labels, "cropped_from": cropped_from,
-            "sample_rate_hz": float(fs), "time": time, "channels": chans, "signal_name": None}
+    return {
+        "signal": signal,
+        "labels": labels,
+        "cropped_from": cropped_from,
+        "sample_rate_hz": float(fs),
+        "time": time,
+        "channels": chans,
+        "signal_name": None,
+    }
 
 
 def _read_csv(path: Path) -> Any:
@@ -282,8 +289,13 @@ def _import_csv_wide(
     cols = list(df.columns)
     chans = list(mapping.channels) if mapping.channels is not None else None
     if chans is None:
-        prefixes = sorted({m.group(1) for c in cols if (m := re.fullmatch(r"(.+)_(\d+)", c))
-                           and c not in label_cols.values()})
+        prefixes = sorted(
+            {
+                m.group(1)
+                for c in cols
+                if (m := re.fullmatch(r"(.+)_(\d+)", c)) and c not in label_cols.values()
+            }
+        )
         if not prefixes:
             raise ImportMappingError(f"{path}: no sample columns named CHANNEL_0, CHANNEL_1, ...")
         chans = prefixes
@@ -325,6 +337,12 @@ def _import_csv_wide(
     if mapping.sample_rate_hz is None or isinstance(mapping.sample_rate_hz, str):
         raise ImportMappingError("the sampling rate is not given: set 'sample_rate_hz' (a number)")
     labels = {label: _label_values(df[col].tolist()) for label, col in label_cols.items()}
-    return {"signal": signal, "labels": labels, "cropped_from": cropped_from,
-            "sample_rate_hz": float(mapping.sample_rate_hz), "time": None, "channels": chans,
-            "signal_name": None}
+    return {
+        "signal": signal,
+        "labels": labels,
+        "cropped_from": cropped_from,
+        "sample_rate_hz": float(mapping.sample_rate_hz),
+        "time": None,
+        "channels": chans,
+        "signal_name": None,
+    }

@@ -151,8 +151,13 @@ def import_recording(
         attrs["cropped_from_samples"] = res["cropped_from"]
     try:
         return make_dataset(
-            signal, sample_rate_hz=fs, channels=channels, time=time, labels=labels,
-            attrs=attrs, units=m.units,
+            signal,
+            sample_rate_hz=fs,
+            channels=channels,
+            time=time,
+            labels=labels,
+            attrs=attrs,
+            units=m.units,
         )
     except ImportMappingError:
         raise

@@ -38,8 +38,16 @@ __all__ = [
 FORMATS = ("mat", "csv", "npz")
 
 _COMMON_KEYS = {
-    "format", "sample_rate_hz", "channels", "labels", "constants", "ragged", "empty", "t0_s",
-    "units", "attrs",
+    "format",
+    "sample_rate_hz",
+    "channels",
+    "labels",
+    "constants",
+    "ragged",
+    "empty",
+    "t0_s",
+    "units",
+    "attrs",
 }
 _ARRAY_KEYS = {"signal", "cell_axes", "time_axis", "trial_axes"}
 _CSV_KEYS = {"layout", "trial_column", "time_column"}
@@ -232,8 +240,7 @@ def load_mapping(source: Mapping[str, Any] | str | os.PathLike[str] | None) -> I
             isinstance(k, str) and isinstance(v, str) for k, v in labels.items()
         ):
             raise ImportMappingError(
-                "mapping 'labels' must map label names to variable/column names, "
-                f"got {labels!r}"
+                f"mapping 'labels' must map label names to variable/column names, got {labels!r}"
             )
         kw["labels"] = dict(labels)
     consts = raw.get("constants")
@@ -245,8 +252,12 @@ def load_mapping(source: Mapping[str, Any] | str | os.PathLike[str] | None) -> I
                 f"mapping 'constants' must map label names to a number or string, got {consts!r}"
             )
         kw["constants"] = dict(consts)
-    for key, choices in (("ragged", ("error", "crop")), ("empty", ("error", "skip")),
-                         ("layout", ("long", "wide")), ("trial_axes", ("first", "last"))):
+    for key, choices in (
+        ("ragged", ("error", "crop")),
+        ("empty", ("error", "skip")),
+        ("layout", ("long", "wide")),
+        ("trial_axes", ("first", "last")),
+    ):
         if key in raw:
             if raw[key] not in choices:
                 raise ImportMappingError(
@@ -335,8 +346,7 @@ def parse_range(text: str) -> list[Any]:
     except ValueError:
         return items
     return [
-        int(x) if x.is_integer() and "." not in t else x
-        for x, t in zip(nums2, items, strict=True)
+        int(x) if x.is_integer() and "." not in t else x for x, t in zip(nums2, items, strict=True)
     ]
 
 

@@ -66,8 +66,7 @@ class H5MatSource(Source):
             return self._get(name)
         except _H5_ERRORS as exc:  # damaged HDF5 objects
             raise ImportMappingError(
-                f"{self.path}: variable {name!r} cannot be read (corrupt or truncated "
-                f"file?): {exc}"
+                f"{self.path}: variable {name!r} cannot be read (corrupt or truncated file?): {exc}"
             ) from None
 
     def _get(self, name: str) -> np.ndarray:
@@ -80,7 +79,8 @@ class H5MatSource(Source):
                 where = f"struct {walked!r}" if walked else "the file"
                 have = (
                     sorted(k for k in obj.keys() if not k.startswith("#"))
-                    if isinstance(obj, h5py.Group) else []
+                    if isinstance(obj, h5py.Group)
+                    else []
                 )
                 raise ImportMappingError(
                     f"{self.path}: {where} has no variable/field {part!r}; it has {have}"

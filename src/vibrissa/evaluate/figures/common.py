@@ -62,5 +62,3 @@ def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: int = 200) -> Pa
     with atomic_path(path, suffix=".png") as tmp:
         fig.savefig(tmp, format="png", dpi=dpi)
     return Path(path)
-
-

@@ -131,8 +131,13 @@ def deflection_traces(
             idx = np.flatnonzero(keep & np.isclose(r, rd) & np.isclose(s, sp))
             if idx.size == 0:
                 continue
-            ax.plot(t, x[idx[0], ch], lw=1.0, color=f"C{i % 10}",
-                    label=f"R = {rd:g} mm, S = {sp:g} mm/s")
+            ax.plot(
+                t,
+                x[idx[0], ch],
+                lw=1.0,
+                color=f"C{i % 10}",
+                label=f"R = {rd:g} mm, S = {sp:g} mm/s",
+            )
             i += 1
     ax.set_xlabel("time from peak deflection (ms)")
     units = ds["signal"].attrs.get("units", "V")
@@ -163,10 +168,21 @@ def typical_traces_figure(ds: xr.Dataset, *, channel: int | str = 0) -> Figure:
     s = np.asarray(ds["speed_mm_s"].values, float)
     fig = Figure(figsize=(11.0, 4.0), layout="constrained")
     a, b = fig.subplots(1, 2)
-    deflection_traces(ds, speeds_mm_s=[_median_value(s)], channel=channel, ax=a,
-                      title="(a) radial distances at the median speed")
-    deflection_traces(ds, radial_distances_mm=[_median_value(r)], speeds_mm_s=_spread(s),
-                      channel=channel, ax=b, title="(b) speeds at the median radial distance")
+    deflection_traces(
+        ds,
+        speeds_mm_s=[_median_value(s)],
+        channel=channel,
+        ax=a,
+        title="(a) radial distances at the median speed",
+    )
+    deflection_traces(
+        ds,
+        radial_distances_mm=[_median_value(r)],
+        speeds_mm_s=_spread(s),
+        channel=channel,
+        ax=b,
+        title="(b) speeds at the median radial distance",
+    )
     return fig
 
 
@@ -205,18 +221,17 @@ def angle_texture_traces(
     x = _signal(ds)
     t = _time_ms(ds)
     if fig is None:
-        fig = Figure(figsize=(2.6 * len(textures) + 1, 1.4 * len(angles) + 1),
-                     layout="constrained")
-    axs = np.asarray(fig.subplots(len(angles), len(textures), sharex=True, sharey=True,
-                                  squeeze=False))
+        fig = Figure(figsize=(2.6 * len(textures) + 1, 1.4 * len(angles) + 1), layout="constrained")
+    axs = np.asarray(
+        fig.subplots(len(angles), len(textures), sharex=True, sharey=True, squeeze=False)
+    )
     for i, a in enumerate(angles):
         for j, tx in enumerate(textures):
             ax = axs[i, j]
             for k, sp in enumerate(speeds):
                 idx = np.flatnonzero(np.isclose(ang, a) & (tex == tx) & np.isclose(s, sp))
                 if idx.size:
-                    ax.plot(t, x[idx[0], ch], lw=0.8, color=f"C{k % 10}",
-                            label=f"{sp:g} mm/s")
+                    ax.plot(t, x[idx[0], ch], lw=0.8, color=f"C{k % 10}", label=f"{sp:g} mm/s")
             if i == 0:
                 ax.set_title(tx)
             if j == 0:

@@ -37,8 +37,11 @@ def _pool(workers: int) -> ThreadPoolExecutor:
         if _POOL is None or _POOL[0] != os.getpid() or _POOL[1] != workers:
             if _POOL is not None and _POOL[0] == os.getpid():
                 _POOL[2].shutdown(wait=False)  # another size asked for: no idle leftovers
-            _POOL = (os.getpid(), workers,
-                     ThreadPoolExecutor(workers, thread_name_prefix="crunchbot-whisker"))
+            _POOL = (
+                os.getpid(),
+                workers,
+                ThreadPoolExecutor(workers, thread_name_prefix="crunchbot-whisker"),
+            )
         return _POOL[2]
 
 

@@ -97,8 +97,7 @@ class Arena:
             v.positive(f"{where}: obstacles[{i}].size_m", ob.size_m)
             x0, y0, x1, y1 = ob.bounds()
             if x0 < 0 or y0 < 0 or x1 > self.size_m or y1 > self.size_m:
-                raise ValueError(f"{where}: obstacles[{i}] lies outside the "
-                                 f"{self.size_m} m arena")
+                raise ValueError(f"{where}: obstacles[{i}] lies outside the {self.size_m} m arena")
             for j in range(i):
                 if _overlap(ob.bounds(), self.obstacles[j].bounds()) > 0:
                     raise ValueError(f"{where}: obstacles[{i}] overlaps obstacles[{j}]")
@@ -108,16 +107,23 @@ class Arena:
         if not self.tiles:
             return
         n = self.size_m / self.tile_m
-        if abs(n - round(n)) > 1e-9 or len(self.tiles) != round(n) or any(
-                len(row) != round(n) for row in self.tiles):
-            raise ValueError(f"{where}: tiles must be {round(n)} rows of {round(n)} names "
-                             f"({self.tile_m} m tiles over {self.size_m} m)")
+        if (
+            abs(n - round(n)) > 1e-9
+            or len(self.tiles) != round(n)
+            or any(len(row) != round(n) for row in self.tiles)
+        ):
+            raise ValueError(
+                f"{where}: tiles must be {round(n)} rows of {round(n)} names "
+                f"({self.tile_m} m tiles over {self.size_m} m)"
+            )
         known = floor_names()
         for r, row in enumerate(self.tiles):
             for c, name in enumerate(row):
                 if name not in known:
-                    raise ValueError(f"{where}: unknown tile texture {name!r} at row {r}, "
-                                     f"column {c}; choose one of {', '.join(known)}")
+                    raise ValueError(
+                        f"{where}: unknown tile texture {name!r} at row {r}, "
+                        f"column {c}; choose one of {', '.join(known)}"
+                    )
 
     def _check_start(self, where: str) -> None:
         s = self.start
@@ -125,12 +131,16 @@ class Arena:
             v.finite(f"{where}: start.{key}", getattr(s, key))
         r = ROBOT_RADIUS_M
         if not (r <= s.x_m <= self.size_m - r and r <= s.y_m <= self.size_m - r):
-            raise ValueError(f"{where}: the robot starts outside the arena (its body, radius "
-                             f"{r} m, at ({s.x_m}, {s.y_m}) m must lie inside the walls)")
+            raise ValueError(
+                f"{where}: the robot starts outside the arena (its body, radius "
+                f"{r} m, at ({s.x_m}, {s.y_m}) m must lie inside the walls)"
+            )
         for i, ob in enumerate(self.obstacles):
             if _disc_hits_box(s.x_m, s.y_m, r, ob.bounds()):
-                raise ValueError(f"{where}: the robot starts inside obstacles[{i}] (its "
-                                 f"body, radius {r} m, at ({s.x_m}, {s.y_m}) m)")
+                raise ValueError(
+                    f"{where}: the robot starts inside obstacles[{i}] (its "
+                    f"body, radius {r} m, at ({s.x_m}, {s.y_m}) m)"
+                )
 
     def texture_at(self, x_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
         """Tile texture names under points (``""`` outside the arena or with no tiles)."""
@@ -171,8 +181,13 @@ class Arena:
         centres = (np.arange(n) + 0.5) * cell_m - self.map_offset_m(map_size_m, cell_m)
         x, y = np.meshgrid(centres, centres, indexing="ij")
         outside = (x < 0) | (y < 0) | (x > self.size_m) | (y > self.size_m)
-        wall = outside & (x > -cell_m) & (y > -cell_m) & (x < self.size_m + cell_m) & (
-            y < self.size_m + cell_m)
+        wall = (
+            outside
+            & (x > -cell_m)
+            & (y > -cell_m)
+            & (x < self.size_m + cell_m)
+            & (y < self.size_m + cell_m)
+        )
         occ = wall.copy()
         for ob in self.obstacles:
             x0, y0, x1, y1 = ob.bounds()
@@ -208,8 +223,9 @@ def arena_from_dict(spec: dict, source: str = "") -> Arena:
     allowed = {"name", "size_m", "tile_m", "tiles", "obstacles", "start"}
     extra = sorted(set(spec) - allowed)
     if extra:
-        raise ValueError(f"{where}: unknown key {extra[0]!r}; keys are "
-                         f"{', '.join(sorted(allowed))}")
+        raise ValueError(
+            f"{where}: unknown key {extra[0]!r}; keys are {', '.join(sorted(allowed))}"
+        )
     for key in ("size_m", "start"):
         if key not in spec:
             raise ValueError(f"{where}: missing key {key!r}")
@@ -217,17 +233,29 @@ def arena_from_dict(spec: dict, source: str = "") -> Arena:
     if not isinstance(start, dict) or not {"x_m", "y_m"} <= set(start):
         raise ValueError(f"{where}: start must be a table with x_m, y_m and heading_deg")
     try:
-        obstacles = tuple(Obstacle(float(o["x_m"]), float(o["y_m"]), float(o["size_m"]))
-                          for o in spec.get("obstacles", []))
-        pose = Pose(float(start["x_m"]), float(start["y_m"]),
-                    math.radians(float(start.get("heading_deg", 0.0))))
+        obstacles = tuple(
+            Obstacle(float(o["x_m"]), float(o["y_m"]), float(o["size_m"]))
+            for o in spec.get("obstacles", [])
+        )
+        pose = Pose(
+            float(start["x_m"]),
+            float(start["y_m"]),
+            math.radians(float(start.get("heading_deg", 0.0))),
+        )
         tiles = tuple(tuple(str(t) for t in row) for row in spec.get("tiles", []))
-        return Arena(name=str(spec.get("name", Path(where).stem)), size_m=float(spec["size_m"]),
-                     start=pose, obstacles=obstacles, tiles=tiles,
-                     tile_m=float(spec.get("tile_m", 0.5)), path=source)
+        return Arena(
+            name=str(spec.get("name", Path(where).stem)),
+            size_m=float(spec["size_m"]),
+            start=pose,
+            obstacles=obstacles,
+            tiles=tiles,
+            tile_m=float(spec.get("tile_m", 0.5)),
+            path=source,
+        )
     except (KeyError, TypeError) as exc:
-        raise ValueError(f"{where}: each obstacle needs x_m, y_m and size_m numbers "
-                         f"({exc})") from None
+        raise ValueError(
+            f"{where}: each obstacle needs x_m, y_m and size_m numbers ({exc})"
+        ) from None
 
 
 def load_arena(path: str | Path) -> Arena:
@@ -262,7 +290,9 @@ _ROW_C = ("smooth-carpet", "rough-carpet", "vinyl", "smooth-carpet", "rough-carp
 #: we do not have): see each preset's ``note``.
 PRESETS: dict[str, Arena] = {
     "tiles": Arena(
-        name="tiles", size_m=2.5, start=Pose(0.75, 0.75, 0.0),
+        name="tiles",
+        size_m=2.5,
+        start=Pose(0.75, 0.75, 0.0),
         tiles=(_ROW_A, _ROW_B, _ROW_C, _ROW_A, _ROW_B),
         obstacles=(Obstacle(1.5, 0.5, 0.5), Obstacle(0.5, 1.5, 0.5)),
         note=(
@@ -274,7 +304,9 @@ PRESETS: dict[str, Arena] = {
         ),
     ),
     "slam": Arena(
-        name="slam", size_m=1.25, start=Pose(0.3, 0.3, 0.0),
+        name="slam",
+        size_m=1.25,
+        start=Pose(0.3, 0.3, 0.0),
         obstacles=(Obstacle(0.5, 0.5, 0.25), Obstacle(1.05, 0.0, 0.2), Obstacle(0.0, 1.05, 0.2)),
         note=(
             "6.5.3: a 1.25 m square arena 'containing several square objects' that the robot "
@@ -302,5 +334,6 @@ def get_arena(name_or_path: str | Path) -> Arena:
         return PRESETS[key]
     if Path(key).suffix.lower() in (".toml", ".json"):
         return load_arena(key)
-    raise ValueError(f"unknown arena {key!r}; choose a preset ({', '.join(PRESETS)}) or a "
-                     ".toml/.json file")
+    raise ValueError(
+        f"unknown arena {key!r}; choose a preset ({', '.join(PRESETS)}) or a .toml/.json file"
+    )

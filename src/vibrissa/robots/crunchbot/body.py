@@ -29,13 +29,18 @@ from vibrissa.slam.filter import noisy_increment
 __all__ = ["body_collides_many", "plan_motion", "relative_increment", "odometry"]
 
 
-def body_collides_many(arena: Arena, xy: np.ndarray, radius_m: float = ROBOT_RADIUS_M
-                       ) -> np.ndarray:
+def body_collides_many(
+    arena: Arena, xy: np.ndarray, radius_m: float = ROBOT_RADIUS_M
+) -> np.ndarray:
     """Per row of ``xy`` (``(n, 2)`` arena metres): does the body disc leave the arena or
     overlap an obstacle (touching does not count)?"""
     x, y = xy[:, 0], xy[:, 1]
-    hit = (x < radius_m) | (y < radius_m) | (x > arena.size_m - radius_m) | (
-        y > arena.size_m - radius_m)
+    hit = (
+        (x < radius_m)
+        | (y < radius_m)
+        | (x > arena.size_m - radius_m)
+        | (y > arena.size_m - radius_m)
+    )
     for ob in arena.obstacles:
         x0, y0, x1, y1 = ob.bounds()
         dx = x - np.clip(x, x0, x1)
@@ -44,9 +49,13 @@ def body_collides_many(arena: Arena, xy: np.ndarray, radius_m: float = ROBOT_RAD
     return hit
 
 
-def plan_motion(arena: Arena, pose: np.ndarray, command: MotorCommand,
-                sample_rate_hz: float = 2000.0, radius_m: float = ROBOT_RADIUS_M
-                ) -> tuple[np.ndarray, bool]:
+def plan_motion(
+    arena: Arena,
+    pose: np.ndarray,
+    command: MotorCommand,
+    sample_rate_hz: float = 2000.0,
+    radius_m: float = ROBOT_RADIUS_M,
+) -> tuple[np.ndarray, bool]:
     """The true poses at the step's samples, cut at the bumper.
 
     Parameters
@@ -86,7 +95,7 @@ def plan_motion(arena: Arena, pose: np.ndarray, command: MotorCommand,
         return poses, False  # turning on the spot never moves the disc
     hit = body_collides_many(arena, poses[:, :2], radius_m)
     if hit.any():
-        return poses[:int(np.argmax(hit))], True
+        return poses[: int(np.argmax(hit))], True
     return poses, False
 
 
@@ -95,11 +104,17 @@ def relative_increment(start: np.ndarray, end: np.ndarray) -> np.ndarray:
     in the frame of ``start``."""
     c, s = math.cos(start[2]), math.sin(start[2])
     dx, dy = end[0] - start[0], end[1] - start[1]
-    return np.array([c * dx + s * dy, -s * dx + c * dy,
-                     math.remainder(end[2] - start[2], math.tau)])
+    return np.array(
+        [c * dx + s * dy, -s * dx + c * dy, math.remainder(end[2] - start[2], math.tau)]
+    )
 
 
-def odometry(start: np.ndarray, end: np.ndarray, rng: np.random.Generator,
-             error: float = 0.1, drift_rad_m: float = 0.1) -> np.ndarray:
+def odometry(
+    start: np.ndarray,
+    end: np.ndarray,
+    rng: np.random.Generator,
+    error: float = 0.1,
+    drift_rad_m: float = 0.1,
+) -> np.ndarray:
     """The Create's measured increment: the true one with ``error`` of each movement."""
     return noisy_increment(relative_increment(start, end), 1, error, drift_rad_m, rng)[0]

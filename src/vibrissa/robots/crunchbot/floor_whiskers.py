@@ -149,11 +149,20 @@ class FloorWhiskers:
         Lead-in of window mode (s).
     """
 
-    def __init__(self, arena: Arena, sample_rate_hz: float = 2000.0, seed: int = 0, *,
-                 tilt_deg: float = _ROOMBA.tilt_deg, preload_mm: float = 10.0,
-                 n_elements: int = N_ELEMENTS, dt_s: float = 1.25e-4,
-                 sensor: HallSettings | None = None, default_texture: str = "vinyl",
-                 lead_in_s: float = LEAD_IN_S) -> None:
+    def __init__(
+        self,
+        arena: Arena,
+        sample_rate_hz: float = 2000.0,
+        seed: int = 0,
+        *,
+        tilt_deg: float = _ROOMBA.tilt_deg,
+        preload_mm: float = 10.0,
+        n_elements: int = N_ELEMENTS,
+        dt_s: float = 1.25e-4,
+        sensor: HallSettings | None = None,
+        default_texture: str = "vinyl",
+        lead_in_s: float = LEAD_IN_S,
+    ) -> None:
         if not isinstance(arena, Arena):
             raise TypeError(f"arena must be an Arena, got {type(arena).__name__}")
         self.arena = arena
@@ -171,8 +180,10 @@ class FloorWhiskers:
         self.model = RodModel(geometry, n_elements)
         settings = sensor if sensor is not None else HallSettings(sample_rate_hz=sample_rate_hz)
         if abs(settings.sample_rate_hz - self.sample_rate_hz) > 1e-9 * self.sample_rate_hz:
-            raise ValueError(f"sensor samples at {settings.sample_rate_hz:g} Hz, but "
-                             f"sample_rate_hz is {self.sample_rate_hz:g} Hz")
+            raise ValueError(
+                f"sensor samples at {settings.sample_rate_hz:g} Hz, but "
+                f"sample_rate_hz is {self.sample_rate_hz:g} Hz"
+            )
         self.sensor: HallSensor = settings.calibrate(geometry, n_elements)
         self._sheets: dict[str, Surface] = {}
         self._contacts: dict[str, SurfaceContact] = {}
@@ -225,20 +236,23 @@ class FloorWhiskers:
             rng = np.random.default_rng(np.random.SeedSequence([self.seed, 16, 1, key]))
             self._sheets[texture] = make_floor(spec, seed=rng)
             self._contacts[texture] = SurfaceContact(
-                self._sheets[texture], angle_deg=self.tilt_deg, stiffness_n_m=spec.stiffness_n_m)
+                self._sheets[texture], angle_deg=self.tilt_deg, stiffness_n_m=spec.stiffness_n_m
+            )
         return self._contacts[texture]
 
     def _plane(self) -> tuple[np.ndarray, np.ndarray]:
         """The pressed floor's base point (x, z; mm) at slide 0 and the u direction (x, z)."""
         if self._base is None:
-            n, u, _ = SurfaceContact(make_floor("vinyl", tile_u_mm=1.0, tile_w_mm=1.0),
-                                     angle_deg=self.tilt_deg).frame()
+            n, u, _ = SurfaceContact(
+                make_floor("vinyl", tile_u_mm=1.0, tile_w_mm=1.0), angle_deg=self.tilt_deg
+            ).frame()
             tip = np.array([0.0, 0.0, self.model.geometry.length_mm])
             self._base = ((tip + n * self.preload_mm)[[0, 2]], u[[0, 2]])
         return self._base
 
-    def settled(self, texture: str, slide_mm: Sequence[float] = (0.0, 0.0),
-                sliding_s: float = 0.0) -> DynamicState:
+    def settled(
+        self, texture: str, slide_mm: Sequence[float] = (0.0, 0.0), sliding_s: float = 0.0
+    ) -> DynamicState:
         """The whisker settled on ``texture``: pressed on from a 2 mm gap over the Roomba's
         settling time, then (``sliding_s`` > 0) dragged along ``u`` at FWD speed for
         ``sliding_s``, ending with the sheet at ``slide_mm`` (along u, across y) under the
@@ -265,8 +279,9 @@ class FloorWhiskers:
         return self._settled[key].copy()
 
     # ------------------------------------------------------------------ stepping
-    def advance(self, time_s: np.ndarray, pose: np.ndarray, window_s: float | None = None
-                ) -> np.ndarray:
+    def advance(
+        self, time_s: np.ndarray, pose: np.ndarray, window_s: float | None = None
+    ) -> np.ndarray:
         """Simulate both floor whiskers over one step of the robot.
 
         Parameters
@@ -309,12 +324,14 @@ class FloorWhiskers:
         if first:
             self._t, self._pose = t[0] - period, p[0].copy()
         elif t[0] <= self._t:
-            raise ValueError(f"time_s must start after the last call's end ({self._t:g} s), "
-                             f"got {t[0]:g} s")
+            raise ValueError(
+                f"time_s must start after the last call's end ({self._t:g} s), got {t[0]:g} s"
+            )
         times = np.concatenate([[self._t], t])
         poses = np.vstack([self._pose, p])
         slide = self._slide[None] + np.concatenate(
-            [np.zeros((1, 2, 2)), np.cumsum(_slides(poses), axis=0)])
+            [np.zeros((1, 2, 2)), np.cumsum(_slides(poses), axis=0)]
+        )
         tex = self._tile_names(poses)
         if window_s is None:
             for w in range(2):
@@ -331,8 +348,9 @@ class FloorWhiskers:
         self._t, self._pose, self._slide = float(t[-1]), p[-1].copy(), slide[-1].copy()
         return out
 
-    def _remember(self, times: np.ndarray, slide: np.ndarray, tex: np.ndarray,
-                  window_s: float) -> None:
+    def _remember(
+        self, times: np.ndarray, slide: np.ndarray, tex: np.ndarray, window_s: float
+    ) -> None:
         """Keep the last lead-in + window of slide and texture for window mode."""
         keep = times[-1] - (self.lead_in_s + max(window_s, 0.5) + 1e-9)
         ht = np.concatenate([self._hist_t, times[1:] if self._hist_t.size else times])
@@ -341,8 +359,9 @@ class FloorWhiskers:
         m = ht >= keep
         self._hist_t, self._hist_slide, self._hist_tex = ht[m], hs[m], hx[m]
 
-    def _window(self, t: np.ndarray, times: np.ndarray, slide: np.ndarray, tex: np.ndarray,
-                window_s: float) -> np.ndarray:
+    def _window(
+        self, t: np.ndarray, times: np.ndarray, slide: np.ndarray, tex: np.ndarray, window_s: float
+    ) -> np.ndarray:
         """Window mode: lead-in + window from the settled whiskers."""
         out = np.full((t.size, 2, 2), np.nan, dtype=np.float32)
         if self._hist_t.size:
@@ -391,23 +410,31 @@ class FloorWhiskers:
             heights.append(_spline_height(H, dx, float(r @ u), float(r @ w)))
         return 1e3 * (heights[0] - heights[1])
 
-    def _simulate(self, contact: SurfaceContact, traj: Trajectory,
-                  state: DynamicState) -> SimulationResult:
+    def _simulate(
+        self, contact: SurfaceContact, traj: Trajectory, state: DynamicState
+    ) -> SimulationResult:
         """:func:`simulate` over ``traj`` from ``state``; a step that diverges (a tip caught
         hard on a carpet loop) is retried with the time step halved, twice."""
         duration = float(traj.time_s[-1] - traj.time_s[0])
         for halving in range(RETRY_HALVINGS + 1):
             try:
-                return simulate(self.model, contact, traj, duration,
-                                self.dt_s / 2**halving, initial_state=state)
+                return simulate(
+                    self.model, contact, traj, duration, self.dt_s / 2**halving, initial_state=state
+                )
             except SimulationError:
                 if halving == RETRY_HALVINGS:
                     raise
         raise AssertionError("unreachable")  # pragma: no cover
 
-    def _run(self, w: int, times: np.ndarray, slide: np.ndarray, tex: np.ndarray,
-             state: DynamicState, lift_mm: np.ndarray | None = None
-             ) -> tuple[np.ndarray, DynamicState]:
+    def _run(
+        self,
+        w: int,
+        times: np.ndarray,
+        slide: np.ndarray,
+        tex: np.ndarray,
+        state: DynamicState,
+        lift_mm: np.ndarray | None = None,
+    ) -> tuple[np.ndarray, DynamicState]:
         """Simulate whisker ``w`` over ``times`` (``times[0]`` = the state's time), split at
         texture changes, the floor shifted along its normal by ``lift_mm``; Hall volts at
         ``times[1:]``."""
@@ -422,10 +449,13 @@ class FloorWhiskers:
         for a, b in zip(cuts[:-1], cuts[1:], strict=True):
             if b <= a:
                 continue
-            seg_t = times[a:b + 1]
-            pos = (base[None] + u[None] * slide[a:b + 1, 0][:, None]
-                   + normal[None] * lift[a:b + 1, None])
-            traj = Trajectory(seg_t, pos, lateral_mm=slide[a:b + 1, 1])
+            seg_t = times[a : b + 1]
+            pos = (
+                base[None]
+                + u[None] * slide[a : b + 1, 0][:, None]
+                + normal[None] * lift[a : b + 1, None]
+            )
+            traj = Trajectory(seg_t, pos, lateral_mm=slide[a : b + 1, 1])
             res = self._simulate(self._sheet(tex[a + 1]), traj, state)
             rows = np.rint((seg_t[1:] - seg_t[0]) / res.dt_s).astype(int)
             tan[a:b] = res.tan_xy[np.minimum(rows, res.tan_xy.shape[0] - 1)]
@@ -483,12 +513,17 @@ def _line_arena(textures: Sequence[str], start_x_m: float) -> Arena:
     """A square arena of ``len(textures)`` columns of 0.5 m tiles, each column one texture."""
     n = len(textures)
     row = tuple(floor_spec(x).name for x in textures)
-    return Arena(name="texture-course", size_m=0.5 * n,
-                 start=Pose(start_x_m, 0.25 * n, 0.0), tiles=(row,) * n)
+    return Arena(
+        name="texture-course",
+        size_m=0.5 * n,
+        start=Pose(start_x_m, 0.25 * n, 0.0),
+        tiles=(row,) * n,
+    )
 
 
-def _drive(arena: Arena, seconds: float, speed_m_s: float, seed: int, step_s: float = 0.5,
-           **kwargs: object) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _drive(
+    arena: Arena, seconds: float, speed_m_s: float, seed: int, step_s: float = 0.5, **kwargs: object
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Drive straight along +x from the arena's start; time, Hall, truth per sample."""
     fw = FloorWhiskers(arena, seed=seed, **kwargs)  # type: ignore[arg-type]
     fs = fw.sample_rate_hz
@@ -499,15 +534,19 @@ def _drive(arena: Arena, seconds: float, speed_m_s: float, seed: int, step_s: fl
     hall = np.empty((n, 2, 2), dtype=np.float32)
     per = max(1, int(round(step_s * fs)))
     for a in range(0, n, per):
-        hall[a:a + per] = fw.advance(t[a:a + per], pose[a:a + per])
+        hall[a : a + per] = fw.advance(t[a : a + per], pose[a : a + per])
     return t, hall, fw._tile_names(pose)
 
 
-def collect_floor_training(textures: Sequence[str] = ("vinyl", "smooth-carpet", "rough-carpet"),
-                           seconds_per_texture: float = 50.0, seed: int = 0, *,
-                           speed_m_s: float = FWD_SPEED_M_S,
-                           window_samples: int = WINDOW_SAMPLES,
-                           **kwargs: object) -> tuple[np.ndarray, np.ndarray]:
+def collect_floor_training(
+    textures: Sequence[str] = ("vinyl", "smooth-carpet", "rough-carpet"),
+    seconds_per_texture: float = 50.0,
+    seed: int = 0,
+    *,
+    speed_m_s: float = FWD_SPEED_M_S,
+    window_samples: int = WINDOW_SAMPLES,
+    **kwargs: object,
+) -> tuple[np.ndarray, np.ndarray]:
     """6.5.2's training data: the robot driven over tiles of one texture at a time.
 
     "Training data for floor texture discrimination was collected by running the robot
@@ -540,10 +579,16 @@ def collect_floor_training(textures: Sequence[str] = ("vinyl", "smooth-carpet", 
     return np.concatenate(out).astype(float), np.array(labels)
 
 
-def texture_course(textures: Sequence[str] = FIGURE_6_11, seed: int = 0,
-                   classifier: object | None = None, *, speed_m_s: float = FWD_SPEED_M_S,
-                   seconds: float | None = None, decision_s: float = 0.1,
-                   **kwargs: object) -> TextureCourse:
+def texture_course(
+    textures: Sequence[str] = FIGURE_6_11,
+    seed: int = 0,
+    classifier: object | None = None,
+    *,
+    speed_m_s: float = FWD_SPEED_M_S,
+    seconds: float | None = None,
+    decision_s: float = 0.1,
+    **kwargs: object,
+) -> TextureCourse:
     """Figure 6.11: drive across a line of tiles, classifying every 100 ms.
 
     Parameters
@@ -570,13 +615,13 @@ def texture_course(textures: Sequence[str] = FIGURE_6_11, seed: int = 0,
     every = int(round(decision_s * fs))
     ends = np.arange(max(every, WINDOW_SAMPLES), t.size + 1, every)
     if classifier is None:
-        return TextureCourse(t, hall, truth, t[ends - 1], np.full((ends.size, 2), ""),
-                             np.zeros((ends.size, 2, 0)))
+        return TextureCourse(
+            t, hall, truth, t[ends - 1], np.full((ends.size, 2), ""), np.zeros((ends.size, 2, 0))
+        )
     classes = tuple(classifier.classes_)  # type: ignore[attr-defined]
     ll = np.empty((ends.size, 2, len(classes)))
     for i, e in enumerate(ends):
         for w in range(2):
-            ll[i, w] = classifier.loglik(hall[e - WINDOW_SAMPLES:e, w])  # type: ignore[attr-defined]
+            ll[i, w] = classifier.loglik(hall[e - WINDOW_SAMPLES : e, w])  # type: ignore[attr-defined]
     pred = np.array(classes, dtype=object)[np.argmax(ll, axis=-1)]
     return TextureCourse(t, hall, truth, t[ends - 1], pred, ll, classes)
-

@@ -23,7 +23,14 @@ import numpy as np
 from vibrissa import _validate as v
 
 FWD_1, HIT_1, FWD_2, HIT_2, ABORT, BACK, TURN = (
-    "FWD_1", "HIT_1", "FWD_2", "HIT_2", "ABORT", "BACK", "TURN")
+    "FWD_1",
+    "HIT_1",
+    "FWD_2",
+    "HIT_2",
+    "ABORT",
+    "BACK",
+    "TURN",
+)
 #: Every state, in the thesis' order.
 STATES = (FWD_1, HIT_1, FWD_2, HIT_2, ABORT, BACK, TURN)
 
@@ -47,11 +54,19 @@ class FsmSettings:
     turn_rate_rad_s: float = 0.3
     strain_limit: float = 1.0
     turn_components: tuple[tuple[float, float, float], ...] = (
-        (0.5, 0.14 * math.pi, 0.0), (0.5, 0.3 * math.pi, 0.25 * math.pi))
+        (0.5, 0.14 * math.pi, 0.0),
+        (0.5, 0.3 * math.pi, 0.25 * math.pi),
+    )
 
     def __post_init__(self) -> None:
-        for name in ("step_s", "fwd1_speed_m_s", "fwd2_speed_m_s", "back_speed_m_s",
-                     "turn_rate_rad_s", "strain_limit"):
+        for name in (
+            "step_s",
+            "fwd1_speed_m_s",
+            "fwd2_speed_m_s",
+            "back_speed_m_s",
+            "turn_rate_rad_s",
+            "strain_limit",
+        ):
             v.positive(name, getattr(self, name))
         if not self.turn_components:
             raise ValueError("turn_components must hold at least one (weight, mean, variance)")
@@ -119,13 +134,15 @@ def command_for(name: str, settings: FsmSettings, rng: np.random.Generator) -> M
         return MotorCommand(-s.back_speed_m_s, 0.0, s.step_s)
     if name == TURN:
         angle = draw_turn(s, rng)
-        return MotorCommand(0.0, math.copysign(s.turn_rate_rad_s, angle),
-                            abs(angle) / s.turn_rate_rad_s)
+        return MotorCommand(
+            0.0, math.copysign(s.turn_rate_rad_s, angle), abs(angle) / s.turn_rate_rad_s
+        )
     return STOP
 
 
-def transition(state: FsmState, obs: Observation, rng: np.random.Generator,
-               settings: FsmSettings | None = None) -> tuple[FsmState, MotorCommand]:
+def transition(
+    state: FsmState, obs: Observation, rng: np.random.Generator, settings: FsmSettings | None = None
+) -> tuple[FsmState, MotorCommand]:
     """One step of the FSM: the next state and the command to carry out in it.
 
     Parameters

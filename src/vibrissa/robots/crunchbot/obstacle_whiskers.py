@@ -62,8 +62,14 @@ from vibrissa.whisker.simulate import (
 from vibrissa.whisker.surfaces import Surface
 
 __all__ = [
-    "CORNER_RADIUS_MM", "REACH_MARGIN_M", "STRAIN_SOURCE", "Feature", "ObstacleWhiskers",
-    "StepSignals", "arena_features", "feature_distances",
+    "CORNER_RADIUS_MM",
+    "REACH_MARGIN_M",
+    "STRAIN_SOURCE",
+    "Feature",
+    "ObstacleWhiskers",
+    "StepSignals",
+    "arena_features",
+    "feature_distances",
 ]
 
 #: Radius of an obstacle's vertical corner edge (mm; ours).
@@ -90,9 +96,11 @@ STRAIN_WINDOW = 20
 #: less than the 25 mm BACK reverses, so backing off frees a whisker pressed head-on).
 SAFE_TIP_DEFLECTION_MM = 20.0
 #: Where the strain measure comes from.
-STRAIN_SOURCE = ("magnet tilt |tan| (proportional to the base moment) over the tilt of a "
-                 f"static {SAFE_TIP_DEFLECTION_MM:g} mm tip deflection, 10 ms trailing "
-                 "average, counted while the whisker touches")
+STRAIN_SOURCE = (
+    "magnet tilt |tan| (proportional to the base moment) over the tilt of a "
+    f"static {SAFE_TIP_DEFLECTION_MM:g} mm tip deflection, 10 ms trailing "
+    "average, counted while the whisker touches"
+)
 _REST_TOL_V = 2.5e-4
 _FLAT = Surface(np.zeros((4, 4)), 1e-3, WALL_FRICTION, "wall")
 
@@ -114,8 +122,9 @@ def _on_border(p: np.ndarray, size: float) -> bool:
 
 def _along_border(a: np.ndarray, b: np.ndarray, size: float) -> bool:
     """Whether segment ``a``-``b`` lies on one of the arena's walls (hidden by it)."""
-    return any(abs(a[i] - edge) < 1e-9 and abs(b[i] - edge) < 1e-9
-               for i in (0, 1) for edge in (0.0, size))
+    return any(
+        abs(a[i] - edge) < 1e-9 and abs(b[i] - edge) < 1e-9 for i in (0, 1) for edge in (0.0, size)
+    )
 
 
 def arena_features(arena: Arena) -> tuple[Feature, ...]:
@@ -152,8 +161,9 @@ def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
 
 
-def feature_distances(base: np.ndarray, tip: np.ndarray, a: np.ndarray, b: np.ndarray,
-                      is_pole: np.ndarray) -> np.ndarray:
+def feature_distances(
+    base: np.ndarray, tip: np.ndarray, a: np.ndarray, b: np.ndarray, is_pole: np.ndarray
+) -> np.ndarray:
     """Distance of each feature from each straight whisker ``base``-``tip`` (..., 2):
     ``(..., F)``. A corner (``is_pole``) is a point ``a``; a face is the segment
     ``a``-``b``, and where it is nearest the whisker at one of its ends it counts 1 mm
@@ -200,9 +210,9 @@ class StepSignals:
 @dataclass
 class _Whisker:
     state: DynamicState | None = None  # None: at rest in its housing
-    feature: int = -1                  # the feature it touches or last met (-1: none)
+    feature: int = -1  # the feature it touches or last met (-1: none)
     touching: bool = False
-    sim_feature: int = -1              # the feature its state's friction anchors refer to
+    sim_feature: int = -1  # the feature its state's friction anchors refer to
 
 
 def _turn_state(st: DynamicState, theta: float) -> DynamicState:
@@ -219,9 +229,14 @@ def _turn_state(st: DynamicState, theta: float) -> DynamicState:
     x = st.positions_m
     pole = np.zeros_like(st.pole_anchor)
     pole[4] = st.pole_anchor[4]  # which side of the pole the shaft is on survives
-    return DynamicState(rot(x, x[0].copy()), rot(st.velocities_m_s, None),
-                        rot(st.accelerations_m_s2, None), pole,
-                        np.zeros_like(st.plane_anchors), st.time_s)
+    return DynamicState(
+        rot(x, x[0].copy()),
+        rot(st.velocities_m_s, None),
+        rot(st.accelerations_m_s2, None),
+        pole,
+        np.zeros_like(st.plane_anchors),
+        st.time_s,
+    )
 
 
 class ObstacleWhiskers:
@@ -243,17 +258,21 @@ class ObstacleWhiskers:
         in ``failures``: rare deep contacts where the rod model gives up).
     """
 
-    def __init__(self, arena: Arena, sample_rate_hz: float = 2000.0,
-                 layout: WhiskerLayout = CRUNCHBOT_LAYOUT, hall: HallSettings | None = None,
-                 dt_s: float = 2.5e-4) -> None:
+    def __init__(
+        self,
+        arena: Arena,
+        sample_rate_hz: float = 2000.0,
+        layout: WhiskerLayout = CRUNCHBOT_LAYOUT,
+        hall: HallSettings | None = None,
+        dt_s: float = 2.5e-4,
+    ) -> None:
         self.arena = arena
         self.layout = layout
         self.rate = float(sample_rate_hz)
         self.dt_s = float(dt_s)
         self.model = RodModel(preset("crunchbot"), n_elements=N_ELEMENTS)
         settings = hall or HallSettings(sample_rate_hz=self.rate)
-        self.sensor: HallSensor = settings.calibrate(self.model.geometry,
-                                                     self.model.n_elements)
+        self.sensor: HallSensor = settings.calibrate(self.model.geometry, self.model.n_elements)
         probe = self.model.static_force(1e-4, self.model.geometry.length_mm)
         self.tan_safe = abs(probe.tan_x) * SAFE_TIP_DEFLECTION_MM / abs(probe.deflection_mm)
         self.length_m = self.model.geometry.length_mm * 1e-3
@@ -280,8 +299,9 @@ class ObstacleWhiskers:
         """Whisker bases ``(n, W, 2)`` and directions ``(n, W)`` (rad) at poses ``(n, 3)``."""
         c, s = np.cos(poses[:, 2])[:, None], np.sin(poses[:, 2])[:, None]
         bx, by = self.layout.base_m[:, 0], self.layout.base_m[:, 1]
-        base = np.stack([poses[:, 0, None] + c * bx - s * by,
-                         poses[:, 1, None] + s * bx + c * by], axis=-1)
+        base = np.stack(
+            [poses[:, 0, None] + c * bx - s * by, poses[:, 1, None] + s * bx + c * by], axis=-1
+        )
         return base, poses[:, 2, None] + np.asarray(self.layout.angle_rad)[None, :]
 
     def _distances(self, poses: np.ndarray) -> np.ndarray:
@@ -305,8 +325,9 @@ class ObstacleWhiskers:
         return out
 
     # ---------------------------------------------------------------- physics
-    def _contact_for(self, feat: Feature, base0: np.ndarray, phi0: float
-                     ) -> tuple[PoleContact | SurfaceContact, np.ndarray]:
+    def _contact_for(
+        self, feat: Feature, base0: np.ndarray, phi0: float
+    ) -> tuple[PoleContact | SurfaceContact, np.ndarray]:
         """The simulator's contact for ``feat`` in a frame with rest direction ``phi0``
         and base ``base0`` (arena m), and the point fixed on the object (arena m) whose
         motion the trajectory follows: the corner, or where the whisker's rest line
@@ -324,18 +345,23 @@ class ObstacleWhiskers:
         nz = float(feat.normal @ d)
         angle = math.degrees(math.asin(min(max(-nz, 0.0), 1.0)))
         side = 1 if nx >= 0 else -1
-        return SurfaceContact(_FLAT, angle_deg=min(angle, MAX_SURFACE_ANGLE_DEG),
-                              side=side, friction=WALL_FRICTION), point
+        return SurfaceContact(
+            _FLAT, angle_deg=min(angle, MAX_SURFACE_ANGLE_DEG), side=side, friction=WALL_FRICTION
+        ), point
 
     def _to_frame(self, pts: np.ndarray, base: np.ndarray, phi0: float) -> np.ndarray:
         """Arena points ``(n, 2)`` relative to ``base`` ``(n, 2)`` in the frame (x, z) mm."""
         r = pts - base
-        return 1e3 * np.column_stack([-math.sin(phi0) * r[:, 0] + math.cos(phi0) * r[:, 1],
-                                      math.cos(phi0) * r[:, 0] + math.sin(phi0) * r[:, 1]])
+        return 1e3 * np.column_stack(
+            [
+                -math.sin(phi0) * r[:, 0] + math.cos(phi0) * r[:, 1],
+                math.cos(phi0) * r[:, 0] + math.sin(phi0) * r[:, 1],
+            ]
+        )
 
-    def _simulate(self, w: int, poses: np.ndarray, feature: int,
-                  state: DynamicState | None) -> tuple[np.ndarray, np.ndarray, np.ndarray,
-                                                       DynamicState, float]:
+    def _simulate(
+        self, w: int, poses: np.ndarray, feature: int, state: DynamicState | None
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, DynamicState, float]:
         """Run whisker ``w`` over ``poses`` (start pose first, then the samples).
 
         Returns tan ``(m, 2)``, contact ``(m,)``, first-contact arc (m, NaN per sample
@@ -348,17 +374,25 @@ class ObstacleWhiskers:
         times = np.arange(m + 1) / self.rate  # each call runs in its own local time
         theta = ang - phi0
         if state is not None:
-            state = DynamicState(state.positions_m, state.velocities_m_s,
-                                 state.accelerations_m_s2, state.pole_anchor,
-                                 state.plane_anchors, 0.0)
+            state = DynamicState(
+                state.positions_m,
+                state.velocities_m_s,
+                state.accelerations_m_s2,
+                state.pole_anchor,
+                state.plane_anchors,
+                0.0,
+            )
         contact, traj = None, None
         if feature >= 0:
             feat = self.features[feature]
             contact, point = self._contact_for(feat, base[0], phi0)
             rel = self._to_frame(np.broadcast_to(point, base.shape), base, phi0)
             traj = Trajectory(times, rel)
-        if isinstance(contact, SurfaceContact) and state is not None and \
-                self._penetration(state, contact, traj) > PENETRATION_LIMIT_M:
+        if (
+            isinstance(contact, SurfaceContact)
+            and state is not None
+            and self._penetration(state, contact, traj) > PENETRATION_LIMIT_M
+        ):
             contact, traj = None, None  # bent round the face's end: the face is not there
         motion = None
         if np.any(theta != 0.0):
@@ -366,8 +400,15 @@ class ObstacleWhiskers:
         dt = self.dt_s
         for attempt in range(4):
             try:
-                res = simulate(self.model, contact, traj, m / self.rate, dt_s=dt,
-                               initial_state=state, base_motion=motion)
+                res = simulate(
+                    self.model,
+                    contact,
+                    traj,
+                    m / self.rate,
+                    dt_s=dt,
+                    initial_state=state,
+                    base_motion=motion,
+                )
                 break
             except SimulationError:
                 if attempt == 3:
@@ -402,25 +443,29 @@ class ObstacleWhiskers:
         origin = np.array([p[0, 0], 0.0, p[0, 1]]) * 1e-3
         return (state.positions_m - origin) @ n
 
-    def _penetration(self, state: DynamicState, contact: SurfaceContact,
-                     traj: Trajectory) -> float:
+    def _penetration(self, state: DynamicState, contact: SurfaceContact, traj: Trajectory) -> float:
         """How deep (m) the state's shaft lies inside the face (0: outside)."""
         return max(0.0, -float(self._gaps(state, contact, traj)[2:].min()))
 
-    def _plane_contact_arc(self, state: DynamicState, contact: SurfaceContact,
-                           traj: Trajectory) -> float:
+    def _plane_contact_arc(
+        self, state: DynamicState, contact: SurfaceContact, traj: Trajectory
+    ) -> float:
         """Arc length (m) of the node nearest the face at the state's time (0)."""
         j = int(np.argmin(self._gaps(state, contact, traj)[2:])) + 2
         return float(self._node_arc[j])
 
     def _at_rest(self, tan: np.ndarray, touching: np.ndarray) -> bool:
-        tail = tan[-max(1, int(0.02 * self.rate)):]
-        return (not touching[-1]) and float(np.abs(tail).max()) * self.sensor.gain_v < \
-            _REST_TOL_V
+        tail = tan[-max(1, int(0.02 * self.rate)) :]
+        return (not touching[-1]) and float(np.abs(tail).max()) * self.sensor.gain_v < _REST_TOL_V
 
-    def advance(self, start_pose: np.ndarray, poses: np.ndarray, rng: np.random.Generator,
-                stop_strain: float | None = None, stop_on_contact: bool = False
-                ) -> tuple[StepSignals, int]:
+    def advance(
+        self,
+        start_pose: np.ndarray,
+        poses: np.ndarray,
+        rng: np.random.Generator,
+        stop_strain: float | None = None,
+        stop_on_contact: bool = False,
+    ) -> tuple[StepSignals, int]:
         """Carry the whiskers through one step of the body.
 
         Parameters
@@ -448,8 +493,13 @@ class ObstacleWhiskers:
         W = self.layout.n_whiskers
         self.steps += 1
         if m == 0:
-            return StepSignals(np.zeros((0, W, 2)), np.zeros((0, W), bool),
-                               np.full(W, np.nan), np.zeros((0, W)), np.zeros(W, bool)), 0
+            return StepSignals(
+                np.zeros((0, W, 2)),
+                np.zeros((0, W), bool),
+                np.full(W, np.nan),
+                np.zeros((0, W)),
+                np.zeros(W, bool),
+            ), 0
         allp = np.vstack([start_pose[None, :], poses])
         sub = allp[np.unique(np.r_[np.arange(0, m + 1, 10), m])]
         met = self._first_met(self._distances(sub))
@@ -468,7 +518,7 @@ class ObstacleWhiskers:
             if stop.any():
                 m_used = min(m_used, int(np.argmax(stop)) + 1)
         if m_used < m:
-            results = self._run_all(run, allp[:m_used + 1])
+            results = self._run_all(run, allp[: m_used + 1])
         tan = np.zeros((m_used, W, 2))
         contact = np.zeros((m_used, W), bool)
         first = np.full(W, np.nan)
@@ -501,8 +551,9 @@ class ObstacleWhiskers:
 
     def _run_all(self, run: list[int], allp: np.ndarray) -> dict[int, tuple]:
         """:meth:`_run` for each whisker in ``run``, on up to :attr:`workers` threads."""
-        return dict(zip(run, map_threads(lambda w: self._run(w, allp), run, self.workers),
-                        strict=True))
+        return dict(
+            zip(run, map_threads(lambda w: self._run(w, allp), run, self.workers), strict=True)
+        )
 
     def _run(self, w: int, allp: np.ndarray) -> tuple:
         """Whisker ``w`` over the poses, split so no piece turns the housing too far."""
@@ -519,7 +570,7 @@ class ObstacleWhiskers:
         for a, b in zip(cuts[:-1], cuts[1:], strict=True):
             if b <= a:
                 continue
-            outs.append(self._simulate(w, allp[a:b + 1], feature, state))
+            outs.append(self._simulate(w, allp[a : b + 1], feature, state))
             state = outs[-1][3]
         tan = np.vstack([o[0] for o in outs])
         touch = np.concatenate([o[1] for o in outs])

@@ -84,9 +84,14 @@ class RunRecord:
     def __post_init__(self) -> None:
         n = np.shape(self.time_s)[0] if np.ndim(self.time_s) == 1 else -1
         t = self.log.n_steps
-        shapes = {"hall_v": (n, len(WHISKER_NAMES), 2), "pose": (n, 3),
-                  "step_start": (t + 1,), "contact_true_m": (t, N_OBSTACLE_WHISKERS),
-                  "floor_texture_true": (t, 2), "floor_texture_pred": (t, 2)}
+        shapes = {
+            "hall_v": (n, len(WHISKER_NAMES), 2),
+            "pose": (n, 3),
+            "step_start": (t + 1,),
+            "contact_true_m": (t, N_OBSTACLE_WHISKERS),
+            "floor_texture_true": (t, 2),
+            "floor_texture_pred": (t, 2),
+        }
         if n < 0:
             raise ValueError(f"run record: time_s must be 1-D, got shape {np.shape(self.time_s)}")
         for name, shape in shapes.items():
@@ -97,12 +102,15 @@ class RunRecord:
         if t and (np.any(np.diff(starts) < 0) or starts[0] < 0 or starts[-1] > n):
             raise ValueError("run record: step_start must be non-decreasing sample indices")
         if not self.sample_rate_hz > 0:
-            raise ValueError(f"run record: sample_rate_hz must be positive, "
-                             f"got {self.sample_rate_hz!r}")
+            raise ValueError(
+                f"run record: sample_rate_hz must be positive, got {self.sample_rate_hz!r}"
+            )
         unknown = set(self.latency_s) - set(CLASSIFIERS)
         if unknown:
-            raise ValueError(f"run record: unknown classifier(s) {sorted(unknown)} in "
-                             f"latency_s; known: {', '.join(CLASSIFIERS)}")
+            raise ValueError(
+                f"run record: unknown classifier(s) {sorted(unknown)} in "
+                f"latency_s; known: {', '.join(CLASSIFIERS)}"
+            )
 
     @property
     def seconds(self) -> float:

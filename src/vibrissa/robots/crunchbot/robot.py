@@ -95,9 +95,21 @@ class _Loop:
     """The bookkeeping of one run: rows of the log and the per-sample arrays."""
 
     def __init__(self) -> None:
-        self.rows: dict[str, list] = {k: [] for k in (
-            "state", "odo", "contact", "dist", "angle", "floor", "pose", "true_m",
-            "tex_true", "tex_pred")}
+        self.rows: dict[str, list] = {
+            k: []
+            for k in (
+                "state",
+                "odo",
+                "contact",
+                "dist",
+                "angle",
+                "floor",
+                "pose",
+                "true_m",
+                "tex_true",
+                "tex_pred",
+            )
+        }
         self.hall: list[np.ndarray] = []
         self.pose: list[np.ndarray] = []
         self.step_start = [0]
@@ -138,8 +150,15 @@ class _FloorInBackground:
     one step's floor is finished before the next step's is started, in order.
     """
 
-    def __init__(self, loop: _Loop, floor_sim: Any, clf: FloorTextureNB | None, n_obstacle: int,
-                 window_n: int, window_s: float | None) -> None:
+    def __init__(
+        self,
+        loop: _Loop,
+        floor_sim: Any,
+        clf: FloorTextureNB | None,
+        n_obstacle: int,
+        window_n: int,
+        window_s: float | None,
+    ) -> None:
         self.loop, self.sim, self.clf = loop, floor_sim, clf
         self.cols = slice(n_obstacle, n_obstacle + 2)
         self.window_n, self.window_s = window_n, window_s
@@ -168,11 +187,14 @@ class _FloorInBackground:
             return
         window = self.loop.recent(self.window_n, self.cols, chunks)
         if len(window) == self.window_n and np.all(np.isfinite(window)):
-            loglik = np.stack([self.loop.timed("floor_texture", self.clf.loglik,
-                                               window[:, k].astype(float)) for k in range(2)])
+            loglik = np.stack(
+                [
+                    self.loop.timed("floor_texture", self.clf.loglik, window[:, k].astype(float))
+                    for k in range(2)
+                ]
+            )
             self.loop.rows["floor"][row] = loglik
-            self.loop.rows["tex_pred"][row] = tuple(
-                self.classes[int(np.argmax(r))] for r in loglik)
+            self.loop.rows["tex_pred"][row] = tuple(self.classes[int(np.argmax(r))] for r in loglik)
 
     def close(self) -> None:
         """Let the thread go (a step still running is finished and dropped)."""
@@ -211,14 +233,23 @@ def _one_blas_thread(fn: Callable[..., RunRecord]) -> Callable[..., RunRecord]:
 
 
 @_one_blas_thread
-def run_crunchbot(arena: Arena, seconds: float = 360.0, seed: int = 0,
-                  classifiers: RealtimeClassifiers | None = None, *, floor: str = "window",
-                  progress: Callable[[float], None] | None = None,
-                  settings: fsm.FsmSettings | None = None, sample_rate_hz: float = 2000.0,
-                  odometry_error: float = 0.1, heading_drift_rad_m: float = 0.1,
-                  map_size_m: float = 2.5, cell_m: float = 0.05,
-                  floor_factory: Callable[[Arena, float, int], Any] | None = None,
-                  stats: dict | None = None) -> RunRecord:
+def run_crunchbot(
+    arena: Arena,
+    seconds: float = 360.0,
+    seed: int = 0,
+    classifiers: RealtimeClassifiers | None = None,
+    *,
+    floor: str = "window",
+    progress: Callable[[float], None] | None = None,
+    settings: fsm.FsmSettings | None = None,
+    sample_rate_hz: float = 2000.0,
+    odometry_error: float = 0.1,
+    heading_drift_rad_m: float = 0.1,
+    map_size_m: float = 2.5,
+    cell_m: float = 0.05,
+    floor_factory: Callable[[Arena, float, int], Any] | None = None,
+    stats: dict | None = None,
+) -> RunRecord:
     """Run the simulated CrunchBot for ``seconds`` of robot time.
 
     Parameters
@@ -265,20 +296,23 @@ def run_crunchbot(arena: Arena, seconds: float = 360.0, seed: int = 0,
     wall0 = time.perf_counter()
     s = settings or fsm.FsmSettings()
     rng_fsm, rng_odo, rng_noise, rng_floor = (
-        np.random.default_rng(q) for q in np.random.SeedSequence(seed).spawn(4))
+        np.random.default_rng(q) for q in np.random.SeedSequence(seed).spawn(4)
+    )
     whiskers = ObstacleWhiskers(arena, sample_rate_hz, CRUNCHBOT_LAYOUT)
     offset = whiskers.sensor.offset_v
     floor_sim = None
     if floor != "off":
         floor_sim = (floor_factory or _default_floor)(
-            arena, sample_rate_hz, int(rng_floor.integers(2**31)))
+            arena, sample_rate_hz, int(rng_floor.integers(2**31))
+        )
     floor_clf = classifiers.floor if classifiers is not None and floor != "off" else None
     textures = tuple(floor_clf.classes_) if floor_clf is not None else ()
     window_n = int(round(FLOOR_WINDOW_S * sample_rate_hz))
     W = CRUNCHBOT_LAYOUT.n_whiskers
     loop = _Loop()
-    floor_bg = _FloorInBackground(loop, floor_sim, floor_clf, W, window_n,
-                                  FLOOR_WINDOW_S if floor == "window" else None)
+    floor_bg = _FloorInBackground(
+        loop, floor_sim, floor_clf, W, window_n, FLOOR_WINDOW_S if floor == "window" else None
+    )
     pose = arena.start.as_array()
     state = fsm.FsmState(fsm.FWD_1)
     command = fsm.command_for(fsm.FWD_1, s, rng_fsm)
@@ -294,9 +328,13 @@ def run_crunchbot(arena: Arena, seconds: float = 360.0, seed: int = 0,
             start = pose.copy()
             planned, bumped = plan_motion(arena, pose, command, sample_rate_hz)
             forward = command.linear_m_s > 0
-            sig, m = whiskers.advance(start, planned, rng_noise,
-                                      s.strain_limit if forward else None,
-                                      stop_on_contact=state.name == fsm.FWD_1)
+            sig, m = whiskers.advance(
+                start,
+                planned,
+                rng_noise,
+                s.strain_limit if forward else None,
+                stop_on_contact=state.name == fsm.FWD_1,
+            )
             bumped = bumped and m == len(planned)
             # the last step's floor whiskers ran beside this step's obstacle whiskers;
             # they are finished before the classifiers run, so no simulation thread
@@ -322,7 +360,8 @@ def run_crunchbot(arena: Arena, seconds: float = 360.0, seed: int = 0,
                 rec = deflection_volts(loop.since(hit1_sample), offset).reshape(-1, 2 * W)
                 if len(rec) >= 2:
                     angle = math.remainder(
-                        float(loop.timed("surface_angle", angle_clf.predict, rec)), math.pi)
+                        float(loop.timed("surface_angle", angle_clf.predict, rec)), math.pi
+                    )
             if state.name == fsm.HIT_1:
                 hit1_sample = loop.n
             fl = apply_motion(pose, np.c_[FLOOR_WHISKERS_M, np.zeros(2)])
@@ -344,8 +383,9 @@ def run_crunchbot(arena: Arena, seconds: float = 360.0, seed: int = 0,
                 # report of this step's row are filled in when they finish
                 floor_bg.submit(t_s, poses, hall, len(r["state"]) - 1)
             elapsed += max(m, 1) / sample_rate_hz if command.duration_s > 0 else 0.0
-            obs = fsm.Observation(tuple(bool(x) for x in touching),
-                                  tuple(float(x) for x in strain), bumped)
+            obs = fsm.Observation(
+                tuple(bool(x) for x in touching), tuple(float(x) for x in strain), bumped
+            )
             state, command = fsm.transition(state, obs, rng_fsm, s)
             if progress is not None:
                 progress(min(elapsed / seconds, 1.0))
@@ -354,16 +394,36 @@ def run_crunchbot(arena: Arena, seconds: float = 360.0, seed: int = 0,
         raise
     floor_bg.finish(np.zeros((2, len(textures))), ("", ""))
     if stats is not None:
-        stats.update(steps=whiskers.steps, physics_steps=whiskers.physics_steps,
-                     physics_whisker_steps=whiskers.physics_whisker_steps,
-                     touch_steps=touch_steps, failures=whiskers.failures)
-    return _record(arena, seed, loop, pose, textures, sample_rate_hz, map_size_m, cell_m,
-                   floor_clf is not None, time.perf_counter() - wall0)
+        stats.update(
+            steps=whiskers.steps,
+            physics_steps=whiskers.physics_steps,
+            physics_whisker_steps=whiskers.physics_whisker_steps,
+            touch_steps=touch_steps,
+            failures=whiskers.failures,
+        )
+    return _record(
+        arena,
+        seed,
+        loop,
+        pose,
+        textures,
+        sample_rate_hz,
+        map_size_m,
+        cell_m,
+        floor_clf is not None,
+        time.perf_counter() - wall0,
+    )
 
 
-def _radial(loop: _Loop, classifiers: RealtimeClassifiers | None, sig: Any,
-            touching: np.ndarray, true_m: np.ndarray, offset: float,
-            length_m: float) -> np.ndarray:
+def _radial(
+    loop: _Loop,
+    classifiers: RealtimeClassifiers | None,
+    sig: Any,
+    touching: np.ndarray,
+    true_m: np.ndarray,
+    offset: float,
+    length_m: float,
+) -> np.ndarray:
     """Radial distance per touching whisker: the classifier's, or the truth."""
     out = np.full(len(touching), np.nan)
     for w in np.flatnonzero(touching):
@@ -380,28 +440,52 @@ def _radial(loop: _Loop, classifiers: RealtimeClassifiers | None, sig: Any,
     return out
 
 
-def _record(arena: Arena, seed: int, loop: _Loop, pose: np.ndarray,
-            textures: tuple[str, ...], rate: float, map_size_m: float, cell_m: float,
-            with_floor: bool, wall_s: float) -> RunRecord:
+def _record(
+    arena: Arena,
+    seed: int,
+    loop: _Loop,
+    pose: np.ndarray,
+    textures: tuple[str, ...],
+    rate: float,
+    map_size_m: float,
+    cell_m: float,
+    with_floor: bool,
+    wall_s: float,
+) -> RunRecord:
     r = loop.rows
     offset = arena.map_offset_m(map_size_m, cell_m)
     true_pose = np.vstack([*r["pose"], pose]) + np.array([offset, offset, 0.0])
     log = SensorLog(
-        layout=CRUNCHBOT_LAYOUT, state=np.array(r["state"]), odometry=np.array(r["odo"]),
-        contact=np.array(r["contact"]), radial_distance_m=np.array(r["dist"]),
-        surface_angle_rad=np.array(r["angle"]), start_pose=true_pose[0].copy(),
+        layout=CRUNCHBOT_LAYOUT,
+        state=np.array(r["state"]),
+        odometry=np.array(r["odo"]),
+        contact=np.array(r["contact"]),
+        radial_distance_m=np.array(r["dist"]),
+        surface_angle_rad=np.array(r["angle"]),
+        start_pose=true_pose[0].copy(),
         floor_loglik=np.array(r["floor"]) if with_floor else None,
         floor_whisker_m=FLOOR_WHISKERS_M if with_floor else None,
-        textures=textures if with_floor else (), true_pose=true_pose)
+        textures=textures if with_floor else (),
+        true_pose=true_pose,
+    )
     n = loop.n
-    hall = np.concatenate(loop.hall).astype(np.float32) if loop.hall else np.zeros(
-        (0, 6, 2), np.float32)
+    hall = (
+        np.concatenate(loop.hall).astype(np.float32)
+        if loop.hall
+        else np.zeros((0, 6, 2), np.float32)
+    )
     return RunRecord(
-        arena=arena, seed=seed, log=log, sample_rate_hz=rate,
-        time_s=np.arange(1, n + 1) / rate, hall_v=hall,
+        arena=arena,
+        seed=seed,
+        log=log,
+        sample_rate_hz=rate,
+        time_s=np.arange(1, n + 1) / rate,
+        hall_v=hall,
         pose=np.concatenate(loop.pose) if loop.pose else np.zeros((0, 3)),
-        step_start=np.array(loop.step_start), contact_true_m=np.array(r["true_m"]),
+        step_start=np.array(loop.step_start),
+        contact_true_m=np.array(r["true_m"]),
         floor_texture_true=np.array(r["tex_true"], dtype=str).reshape(-1, 2),
         floor_texture_pred=np.array(r["tex_pred"], dtype=str).reshape(-1, 2),
         latency_s={k: np.array(x) for k, x in loop.latency.items()},
-        wall_seconds=wall_s)
+        wall_seconds=wall_s,
+    )

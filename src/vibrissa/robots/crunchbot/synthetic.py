@@ -29,8 +29,8 @@ from vibrissa.slam.log import SensorLog, WhiskerLayout
 #: Four forward whiskers on the Create's front edge (ours: the thesis gives no layout;
 #: RC25 whiskers are 160 mm long, 140 mm outside the follicle, 6.5.4).
 CRUNCHBOT_LAYOUT = WhiskerLayout(
-    base_m=0.15 * np.stack([np.cos([-0.5, -0.17, 0.17, 0.5]),
-                            np.sin([-0.5, -0.17, 0.17, 0.5])], axis=1),
+    base_m=0.15
+    * np.stack([np.cos([-0.5, -0.17, 0.17, 0.5]), np.sin([-0.5, -0.17, 0.17, 0.5])], axis=1),
     angle_rad=np.array([-0.8, -0.25, 0.25, 0.8]),
     length_m=np.full(4, 0.14),
     body_radius_m=ROBOT_RADIUS_M,
@@ -39,8 +39,9 @@ CRUNCHBOT_LAYOUT = WhiskerLayout(
 FLOOR_WHISKERS_M = np.array([[0.12, 0.16], [0.12, -0.16]])
 
 
-def cast_rays(segments: np.ndarray, origins: np.ndarray, directions: np.ndarray,
-              length: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def cast_rays(
+    segments: np.ndarray, origins: np.ndarray, directions: np.ndarray, length: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """First crossing of each ray with any segment, within its length.
 
     Parameters
@@ -75,12 +76,14 @@ def cast_rays(segments: np.ndarray, origins: np.ndarray, directions: np.ndarray,
     return np.where(found, best * length, np.inf), np.where(found, seg, -1)
 
 
-def whisker_contacts(arena: Arena, pose: np.ndarray,
-                     layout: WhiskerLayout = CRUNCHBOT_LAYOUT) -> tuple[np.ndarray, np.ndarray]:
+def whisker_contacts(
+    arena: Arena, pose: np.ndarray, layout: WhiskerLayout = CRUNCHBOT_LAYOUT
+) -> tuple[np.ndarray, np.ndarray]:
     """Radial distance of each whisker's contact at an arena-frame pose (``inf``: none),
     and the touched segment of :meth:`Arena.segments` (``-1``: none)."""
-    base = apply_motion(np.asarray(pose, float), np.c_[layout.base_m, np.zeros(
-        layout.n_whiskers)])[:, :2]
+    base = apply_motion(np.asarray(pose, float), np.c_[layout.base_m, np.zeros(layout.n_whiskers)])[
+        :, :2
+    ]
     ang = pose[2] + np.asarray(layout.angle_rad, float)
     d = np.stack([np.cos(ang), np.sin(ang)], axis=1)
     return cast_rays(arena.segments(), base, d, np.asarray(layout.length_m, float))
@@ -100,8 +103,9 @@ def body_collides(arena: Arena, pose: np.ndarray, radius_m: float) -> bool:
     return False
 
 
-def texture_grid(arena: Arena, textures: tuple[str, ...], cell_m: float = 0.05,
-                 map_size_m: float = 2.5) -> np.ndarray:
+def texture_grid(
+    arena: Arena, textures: tuple[str, ...], cell_m: float = 0.05, map_size_m: float = 2.5
+) -> np.ndarray:
     """The arena's tiles as a map-frame grid of indices into ``textures`` (-1: none)."""
     n = int(round(map_size_m / cell_m))
     c = (np.arange(n) + 0.5) * cell_m - arena.map_offset_m(map_size_m, cell_m)
@@ -117,11 +121,19 @@ def _strain(distance: np.ndarray, layout: WhiskerLayout) -> np.ndarray:
     return np.where(np.isfinite(distance), 2 * (length - distance) / length, 0.0)
 
 
-def synthetic_log(arena: Arena, seconds: float = 360.0, seed: int = 0,
-                  layout: WhiskerLayout = CRUNCHBOT_LAYOUT, odometry_error: float = 0.1,
-                  heading_drift_rad_m: float = 0.1, settings: fsm.FsmSettings | None = None,
-                  map_size_m: float = 2.5, cell_m: float = 0.05, substeps: int = 10,
-                  floor_likelihood: float = 0.8) -> SensorLog:
+def synthetic_log(
+    arena: Arena,
+    seconds: float = 360.0,
+    seed: int = 0,
+    layout: WhiskerLayout = CRUNCHBOT_LAYOUT,
+    odometry_error: float = 0.1,
+    heading_drift_rad_m: float = 0.1,
+    settings: fsm.FsmSettings | None = None,
+    map_size_m: float = 2.5,
+    cell_m: float = 0.05,
+    substeps: int = 10,
+    floor_likelihood: float = 0.8,
+) -> SensorLog:
     """Drive the FSM in ``arena`` for ``seconds`` of robot time with exact sensors.
 
     Returns a :class:`SensorLog` in the map frame (the arena centred in a ``map_size_m``
@@ -139,8 +151,9 @@ def synthetic_log(arena: Arena, seconds: float = 360.0, seed: int = 0,
     pose = arena.start.as_array()
     state = fsm.FsmState(fsm.FWD_1)
     command = fsm.command_for(fsm.FWD_1, s, rng)
-    rows: dict[str, list] = {k: [] for k in ("state", "odo", "contact", "dist", "angle",
-                                              "floor", "pose")}
+    rows: dict[str, list] = {
+        k: [] for k in ("state", "odo", "contact", "dist", "angle", "floor", "pose")
+    }
     first_segment = -1
     elapsed = 0.0
     while elapsed < seconds:
@@ -151,8 +164,9 @@ def synthetic_log(arena: Arena, seconds: float = 360.0, seed: int = 0,
         if command.duration_s > 0:
             dt = command.duration_s / substeps
             for _ in range(substeps):
-                nxt = apply_motion(pose, np.array([command.linear_m_s * dt, 0.0,
-                                                   command.angular_rad_s * dt]))
+                nxt = apply_motion(
+                    pose, np.array([command.linear_m_s * dt, 0.0, command.angular_rad_s * dt])
+                )
                 if body_collides(arena, nxt, layout.body_radius_m):
                     bumped = True
                     break
@@ -165,8 +179,9 @@ def synthetic_log(arena: Arena, seconds: float = 360.0, seed: int = 0,
         touching = np.isfinite(dist)
         c, sn = math.cos(start[2]), math.sin(start[2])
         dx, dy = pose[0] - start[0], pose[1] - start[1]
-        true_inc = np.array([c * dx + sn * dy, -sn * dx + c * dy,
-                             math.remainder(pose[2] - start[2], math.tau)])
+        true_inc = np.array(
+            [c * dx + sn * dy, -sn * dx + c * dy, math.remainder(pose[2] - start[2], math.tau)]
+        )
         odo = noisy_increment(true_inc, 1, odometry_error, heading_drift_rad_m, rng)[0]
         if state.name == fsm.FWD_1 and touching.any():
             first_segment = int(seg[np.flatnonzero(touching)[0]])
@@ -184,21 +199,29 @@ def synthetic_log(arena: Arena, seconds: float = 360.0, seed: int = 0,
             fl = apply_motion(pose, np.c_[FLOOR_WHISKERS_M, np.zeros(len(FLOOR_WHISKERS_M))])
             names = arena.texture_at(fl[:, 0], fl[:, 1])
             other = (1 - floor_likelihood) / max(len(textures) - 1, 1)
-            rows["floor"].append(np.log([[floor_likelihood if t == n else other
-                                          for t in textures] for n in names]))
-        obs = fsm.Observation(tuple(bool(x) for x in touching), tuple(float(x) for x in peak),
-                              bumped)
+            rows["floor"].append(
+                np.log([[floor_likelihood if t == n else other for t in textures] for n in names])
+            )
+        obs = fsm.Observation(
+            tuple(bool(x) for x in touching), tuple(float(x) for x in peak), bumped
+        )
         state, command = fsm.transition(state, obs, rng, s)
     offset = arena.map_offset_m(map_size_m, cell_m)
     shift = np.array([offset, offset, 0.0])
     true_pose = np.vstack([*rows["pose"], pose]) + shift
     return SensorLog(
-        layout=layout, state=np.array(rows["state"]), odometry=np.array(rows["odo"]),
-        contact=np.array(rows["contact"]), radial_distance_m=np.array(rows["dist"]),
-        surface_angle_rad=np.array(rows["angle"]), start_pose=true_pose[0].copy(),
+        layout=layout,
+        state=np.array(rows["state"]),
+        odometry=np.array(rows["odo"]),
+        contact=np.array(rows["contact"]),
+        radial_distance_m=np.array(rows["dist"]),
+        surface_angle_rad=np.array(rows["angle"]),
+        start_pose=true_pose[0].copy(),
         floor_loglik=np.array(rows["floor"]) if textures else None,
-        floor_whisker_m=FLOOR_WHISKERS_M if textures else None, textures=textures,
-        true_pose=true_pose)
+        floor_whisker_m=FLOOR_WHISKERS_M if textures else None,
+        textures=textures,
+        true_pose=true_pose,
+    )
 
 
 def _step_durations(log: SensorLog, settings: fsm.FsmSettings) -> np.ndarray:
@@ -214,9 +237,15 @@ def _step_durations(log: SensorLog, settings: fsm.FsmSettings) -> np.ndarray:
 _SYNTHETIC_FLOOR_NOISE_V = {"vinyl": 0.01, "smooth-carpet": 0.03, "rough-carpet": 0.06}
 
 
-def synthetic_record(arena: Arena, seconds: float = 360.0, seed: int = 0,
-                     sample_rate_hz: float = 2000.0, gain_v: float = 1.0,
-                     noise_v: float = 0.005, **log_options) -> RunRecord:
+def synthetic_record(
+    arena: Arena,
+    seconds: float = 360.0,
+    seed: int = 0,
+    sample_rate_hz: float = 2000.0,
+    gain_v: float = 1.0,
+    noise_v: float = 0.005,
+    **log_options,
+) -> RunRecord:
     """A :class:`RunRecord` from :func:`synthetic_log`: SYNTHETIC Hall signals, no physics.
 
     For tests and the viewer while the simulated robot is not there: the contacts are the
@@ -242,8 +271,7 @@ def synthetic_record(arena: Arena, seconds: float = 360.0, seed: int = 0,
     settings = log_options.get("settings") or fsm.FsmSettings()
     log = synthetic_log(arena, seconds, seed, **log_options)
     rng = np.random.default_rng([seed, 1])
-    offset = arena.map_offset_m(log_options.get("map_size_m", 2.5), log_options.get("cell_m",
-                                                                                  0.05))
+    offset = arena.map_offset_m(log_options.get("map_size_m", 2.5), log_options.get("cell_m", 0.05))
     true = np.asarray(log.true_pose) - np.array([offset, offset, 0.0])
     true[:, 2] = np.unwrap(true[:, 2])
     counts = np.round(_step_durations(log, settings) * sample_rate_hz).astype(np.int64)
@@ -253,8 +281,9 @@ def synthetic_record(arena: Arena, seconds: float = 360.0, seed: int = 0,
     frac = (np.arange(n) - start[step]) / np.maximum(counts[step], 1)
     pose = true[step] + frac[:, None] * (true[step + 1] - true[step])
     length = np.asarray(log.layout.length_m, float)
-    defl = np.where(log.contact, gain_v * (length - np.nan_to_num(log.radial_distance_m,
-                                                                  nan=0.0)) / length, 0.0)
+    defl = np.where(
+        log.contact, gain_v * (length - np.nan_to_num(log.radial_distance_m, nan=0.0)) / length, 0.0
+    )
     hall = rng.normal(0.0, noise_v, (n, 6, 2))
     hall[:, :N_OBSTACLE_WHISKERS, 0] += defl[step]
     fl = apply_motion(true[1:, None, :], np.c_[FLOOR_WHISKERS_M, np.zeros(2)][None])
@@ -266,8 +295,17 @@ def synthetic_record(arena: Arena, seconds: float = 360.0, seed: int = 0,
     else:
         pred = np.full((log.n_steps, 2), "", dtype=object)
     return RunRecord(
-        arena=arena, seed=seed, log=log, sample_rate_hz=float(sample_rate_hz),
-        time_s=np.arange(n) / sample_rate_hz, hall_v=hall.astype(np.float32), pose=pose,
-        step_start=start, contact_true_m=np.where(log.contact, log.radial_distance_m, np.nan),
-        floor_texture_true=tex_true.astype(object), floor_texture_pred=pred.astype(object),
-        latency_s={}, wall_seconds=time.perf_counter() - t0)
+        arena=arena,
+        seed=seed,
+        log=log,
+        sample_rate_hz=float(sample_rate_hz),
+        time_s=np.arange(n) / sample_rate_hz,
+        hall_v=hall.astype(np.float32),
+        pose=pose,
+        step_start=start,
+        contact_true_m=np.where(log.contact, log.radial_distance_m, np.nan),
+        floor_texture_true=tex_true.astype(object),
+        floor_texture_pred=pred.astype(object),
+        latency_s={},
+        wall_seconds=time.perf_counter() - t0,
+    )

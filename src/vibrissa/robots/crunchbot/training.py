@@ -45,8 +45,15 @@ from vibrissa.robots.crunchbot.obstacle_whiskers import ObstacleWhiskers
 from vibrissa.robots.crunchbot.robot import RealtimeClassifiers, deflection_volts
 from vibrissa.robots.crunchbot.synthetic import CRUNCHBOT_LAYOUT
 
-__all__ = ["ANGLES_DEG", "RADIAL_POINTS_M", "TILE_TEXTURES", "body_whisk", "collect_angle_training",
-           "collect_radial_training", "train_classifiers"]
+__all__ = [
+    "ANGLES_DEG",
+    "RADIAL_POINTS_M",
+    "TILE_TEXTURES",
+    "body_whisk",
+    "collect_angle_training",
+    "collect_radial_training",
+    "train_classifiers",
+]
 
 #: Where the radial-distance training contacts are (m from the base).
 RADIAL_POINTS_M = 0.135 - 0.01 * np.arange(6)
@@ -61,8 +68,9 @@ _ARENA_M = 1.25
 _START = np.array([0.4, 0.625, 0.0])
 
 
-def body_whisk(settings: fsm.FsmSettings | None = None, toward: int = 1,
-               reverse_m: float = 0.01) -> tuple[fsm.MotorCommand, ...]:
+def body_whisk(
+    settings: fsm.FsmSettings | None = None, toward: int = 1, reverse_m: float = 0.01
+) -> tuple[fsm.MotorCommand, ...]:
     """The body whisk of 6.5.1 as motor commands: reverse a little, rotate at pi/24
     rad/s toward the object for 1 s, away for 1 s, reverse.
 
@@ -82,9 +90,9 @@ def _block_at(corner: np.ndarray, pointing_left: bool) -> Obstacle:
     return Obstacle(float(corner[0]), float(corner[1]), _BLOCK_M)
 
 
-def collect_radial_training(seed: int = 0, contacts_per_point: int = 5,
-                            whiskers: tuple[int, ...] = (0, 1, 2, 3)
-                            ) -> dict[int, tuple[np.ndarray, np.ndarray]]:
+def collect_radial_training(
+    seed: int = 0, contacts_per_point: int = 5, whiskers: tuple[int, ...] = (0, 1, 2, 3)
+) -> dict[int, tuple[np.ndarray, np.ndarray]]:
     """Radial-distance training contacts per whisker.
 
     Returns
@@ -107,8 +115,9 @@ def collect_radial_training(seed: int = 0, contacts_per_point: int = 5,
                 side = np.array([-d[1], d[0]]) * (1.0 if left else -1.0)
                 gap = 1.5e-3 + rng.uniform(0.0, 0.5e-3)  # clear of the shaft at the start
                 corner = _START[:2] + lay.base_m[w] + r * d - gap * side
-                arena = Arena("radial", _ARENA_M, Pose(*_START),
-                              obstacles=(_block_at(corner, left),))
+                arena = Arena(
+                    "radial", _ARENA_M, Pose(*_START), obstacles=(_block_at(corner, left),)
+                )
                 ow = ObstacleWhiskers(arena)
                 poses, _ = plan_motion(arena, _START, fsm.MotorCommand(0.02, 0.0, 1.0))
                 sig, _ = ow.advance(_START, poses, rng)
@@ -157,9 +166,9 @@ def _approach(angle_deg: float, rng: np.random.Generator) -> np.ndarray:
     return rec
 
 
-def collect_angle_training(seed: int = 0, runs_per_angle: int = 4,
-                           angles_deg: np.ndarray = ANGLES_DEG
-                           ) -> tuple[np.ndarray, np.ndarray]:
+def collect_angle_training(
+    seed: int = 0, runs_per_angle: int = 4, angles_deg: np.ndarray = ANGLES_DEG
+) -> tuple[np.ndarray, np.ndarray]:
     """Surface-angle training drives: ``(recordings (n, 4000, 8), angles_rad (n,))``."""
     rng = np.random.default_rng(seed)
     recs, labels = [], []
@@ -177,11 +186,11 @@ def train_classifiers(seed: int = 0, quick: bool = False) -> RealtimeClassifiers
     (for tests and previews); otherwise the thesis' 5, 4 and 10 s.
     """
     radial_data = collect_radial_training(seed, 2 if quick else 5)
-    radial = tuple(RadialDistanceLinear().fit(*radial_data[w])
-                   for w in range(CRUNCHBOT_LAYOUT.n_whiskers))
+    radial = tuple(
+        RadialDistanceLinear().fit(*radial_data[w]) for w in range(CRUNCHBOT_LAYOUT.n_whiskers)
+    )
     recs, angles = collect_angle_training(seed + 1, 2 if quick else 4)
     angle = SurfaceAngleTemplates().fit(recs, angles, 2000.0)
-    windows, labels = collect_floor_training(TILE_TEXTURES, 2.0 if quick else 10.0,
-                                             seed + 2)
+    windows, labels = collect_floor_training(TILE_TEXTURES, 2.0 if quick else 10.0, seed + 2)
     floor = FloorTextureNB().fit(windows, labels, 2000.0)
     return RealtimeClassifiers(floor=floor, radial=radial, angle=angle)

@@ -87,8 +87,11 @@ def check_chapter5_dataset(
         raise ValueError("dataset needs a 'signal' variable with dims (trial, channel, time)")
     missing = [c for c in _COORDS if c not in ds.coords and c not in ds.data_vars]
     if missing:
-        raise ValueError("dataset lacks the per-trial coordinate(s) "
-                         + ", ".join(repr(m) for m in missing) + " needed by chapter 5")
+        raise ValueError(
+            "dataset lacks the per-trial coordinate(s) "
+            + ", ".join(repr(m) for m in missing)
+            + " needed by chapter 5"
+        )
     if ds.sizes["trial"] == 0:
         raise ValueError("dataset has no trials")
     sets = np.asarray(ds["set"].values)
@@ -125,11 +128,13 @@ def chapter5_arrays(ds: xr.Dataset, signal: bool = True) -> tuple[np.ndarray | N
     y : ndarray of shape (n_trials, 3)
         Texture as :data:`vibrissa.data.TEXTURE_CODES` codes.
     """
-    y = np.column_stack([
-        np.asarray(ds["angle_deg"].values, dtype=float),
-        np.asarray(ds["speed_mm_s"].values, dtype=float),
-        encode_texture(ds["texture"].values).astype(float),
-    ])
+    y = np.column_stack(
+        [
+            np.asarray(ds["angle_deg"].values, dtype=float),
+            np.asarray(ds["speed_mm_s"].values, dtype=float),
+            encode_texture(ds["texture"].values).astype(float),
+        ]
+    )
     if not np.all(np.isfinite(y)):
         raise ValueError("angle_deg or speed_mm_s contains NaN or infinite values")
     X = None
@@ -167,11 +172,19 @@ def split_chapter5(ds: xr.Dataset, seed: int = 0, *, require_complete: bool = Tr
         run_vals = np.asarray(ds["run"].values)
         perm = rng.permutation(len(runs))
         train_runs = set(runs[perm[: len(runs) // 2]].tolist())
-        tr = sorted({json_value(s) for s, r in zip(set_vals, run_vals, strict=True)
-                     if json_value(r) in train_runs})
+        tr = sorted(
+            {
+                json_value(s)
+                for s, r in zip(set_vals, run_vals, strict=True)
+                if json_value(r) in train_runs
+            }
+        )
         te = sorted(s for s in names if s not in tr)
-        if not te or any(json_value(s) in te for s, r in zip(set_vals, run_vals, strict=True)
-                         if json_value(r) in train_runs):
+        if not te or any(
+            json_value(s) in te
+            for s, r in zip(set_vals, run_vals, strict=True)
+            if json_value(r) in train_runs
+        ):
             raise ValueError("recorded sets must not span runs")
     else:
         perm = rng.permutation(len(names))
@@ -210,8 +223,13 @@ def score_chapter5(y_true: np.ndarray, y_pred: np.ndarray) -> dict[str, Any]:
 
 
 def texture_alone_predictions(
-    estimator: Any, X_tr: np.ndarray, y_tr: np.ndarray, X_te: np.ndarray, y_te: np.ndarray,
-    *, sample_rate_hz: float | None = None,
+    estimator: Any,
+    X_tr: np.ndarray,
+    y_tr: np.ndarray,
+    X_te: np.ndarray,
+    y_te: np.ndarray,
+    *,
+    sample_rate_hz: float | None = None,
 ) -> np.ndarray:
     """Texture predicted by classifiers trained per speed-angle combination (5.3.6).
 
@@ -233,8 +251,9 @@ def texture_alone_predictions(
         mte = np.isclose(y_te[:, 0], a) & np.isclose(y_te[:, 1], v)
         if len(np.unique(y_tr[mtr, 2])) < 2:
             raise ValueError(f"training set has fewer than 2 textures at angle {a}, speed {v}")
-        est = clone(estimator).fit(X_tr[mtr], y_tr[mtr],
-                                   **sample_rate_fit_params(estimator, sample_rate_hz))
+        est = clone(estimator).fit(
+            X_tr[mtr], y_tr[mtr], **sample_rate_fit_params(estimator, sample_rate_hz)
+        )
         if sample_rate_hz is not None:
             check_sample_rate(est, sample_rate_hz)
         out[mte] = np.asarray(est.predict(X_te[mte]), dtype=float)[:, 2]
@@ -242,8 +261,13 @@ def texture_alone_predictions(
 
 
 def _sequential_curve(
-    fitted: Any, X_te: np.ndarray, y_te: np.ndarray,
-    contacts: Sequence[int], seed: int, threshold: float, sample_rate_hz: float,
+    fitted: Any,
+    X_te: np.ndarray,
+    y_te: np.ndarray,
+    contacts: Sequence[int],
+    seed: int,
+    threshold: float,
+    sample_rate_hz: float,
 ) -> dict[str, Any]:
     from vibrissa.classify import SequentialEvidenceClassifier, draw_sequences
 
@@ -328,11 +352,16 @@ def run_chapter5(
     X, y = chapter5_arrays(ds)
     if not np.all(np.isfinite(X)):
         raise ValueError("dataset 'signal' contains NaN or infinite values")
-    X_tr, y_tr, X_te, y_te = (X[split.train_index], y[split.train_index],
-                              X[split.test_index], y[split.test_index])
+    X_tr, y_tr, X_te, y_te = (
+        X[split.train_index],
+        y[split.train_index],
+        X[split.test_index],
+        y[split.test_index],
+    )
     do_seq = sequential_base is not None and sequential_base in classifiers
-    prog = Progress(progress, len(classifiers) * (2 if texture_alone else 1) + int(do_seq),
-                    "chapter 5")
+    prog = Progress(
+        progress, len(classifiers) * (2 if texture_alone else 1) + int(do_seq), "chapter 5"
+    )
     results: dict[str, Any] = {}
     preds: dict[str, Any] = {}
     seq_fitted: Any = None
@@ -349,11 +378,13 @@ def run_chapter5(
             ta = texture_alone_predictions(est0, X_tr, y_tr, X_te, y_te, sample_rate_hz=fs)
             ta_s = time.perf_counter() - t3
             prog.step(f"{name}: texture alone")
-        ta_scores = (None if ta is None
-                     else metrics.parameter_scores(y_te[:, 2], ta, np.unique(y_te[:, 2])))
+        ta_scores = (
+            None if ta is None else metrics.parameter_scores(y_te[:, 2], ta, np.unique(y_te[:, 2]))
+        )
         results[name] = {
             "kappa": {
-                "angle": sc["angle"]["kappa"], "speed": sc["speed"]["kappa"],
+                "angle": sc["angle"]["kappa"],
+                "speed": sc["speed"]["kappa"],
                 "texture": sc["texture"]["kappa"],
                 "texture_alone": None if ta_scores is None else ta_scores["kappa"],
             },
@@ -363,8 +394,9 @@ def run_chapter5(
             },
             "errors": {
                 unit: {k: v for k, v in sc[key].items() if k != "confusion"}
-                for key, unit in zip(PARAMETERS5, ("angle_deg", "speed_mm_s", "texture"),
-                                     strict=True)
+                for key, unit in zip(
+                    PARAMETERS5, ("angle_deg", "speed_mm_s", "texture"), strict=True
+                )
             },
             "confusion": {
                 **{k: sc[k]["confusion"] for k in PARAMETERS5},
@@ -374,8 +406,7 @@ def run_chapter5(
             **rec.timing(),
             "texture_alone_seconds": ta_s,
         }
-        preds[name] = {"y_pred": p.tolist(),
-                       "texture_alone": None if ta is None else ta.tolist()}
+        preds[name] = {"y_pred": p.tolist(), "texture_alone": None if ta is None else ta.tolist()}
     sequential: dict[str, Any] = {}
     detail: dict[str, Any] | None = None
     if do_seq:
@@ -386,13 +417,17 @@ def run_chapter5(
     out: dict[str, Any] = {
         "meta": {
             "evaluation": "evans2011_chapter5",
-            "n_trials": int(X.shape[0]), "n_channels": int(X.shape[1]),
+            "n_trials": int(X.shape[0]),
+            "n_channels": int(X.shape[1]),
             "n_timepoints": int(X.shape[2]),
             "sample_rate_hz": fs,
-            "split": {"train_sets": [json_value(s) for s in split.train_set],
-                      "test_sets": [json_value(s) for s in split.test_set],
-                      "n_train": int(X_tr.shape[0]), "n_test": int(X_te.shape[0]),
-                      "seed": int(seed)},
+            "split": {
+                "train_sets": [json_value(s) for s in split.train_set],
+                "test_sets": [json_value(s) for s in split.test_set],
+                "n_train": int(X_tr.shape[0]),
+                "n_test": int(X_te.shape[0]),
+                "seed": int(seed),
+            },
             "angles_deg": np.unique(y[:, 0]).tolist(),
             "speeds_mm_s": np.unique(y[:, 1]).tolist(),
             "texture_codes": dict(TEXTURE_CODES),
@@ -401,8 +436,12 @@ def run_chapter5(
         "parameters": {
             key: {"coordinate": coord, "unit": unit, "values": np.unique(y[:, i]).tolist()}
             for i, (key, coord, unit) in enumerate(
-                (("angle", "angle_deg", "deg"), ("speed", "speed_mm_s", "mm/s"),
-                 ("texture", "texture", "code (TEXTURE_CODES)")))
+                (
+                    ("angle", "angle_deg", "deg"),
+                    ("speed", "speed_mm_s", "mm/s"),
+                    ("texture", "texture", "code (TEXTURE_CODES)"),
+                )
+            )
         },
         "classifiers": results,
         "sequential": sequential,

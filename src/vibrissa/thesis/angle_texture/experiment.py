@@ -26,14 +26,23 @@ class AngleTexture(Experiment):
     name = "angle-texture"
     chapter = 5
     title = "Chapter 5 reproduction: surface angle, contact speed and texture"
-    description = ("XY robot, textured surfaces: angle, speed and texture at once, Cohen's "
-                   "kappa of every chapter-5 method, evidence over contacts")
+    description = (
+        "XY robot, textured surfaces: angle, speed and texture at once, Cohen's "
+        "kappa of every chapter-5 method, evidence over contacts"
+    )
 
     def protocol(self, quick: bool, seed: int) -> SimulationProtocol:
         return get_protocol("angle-texture", quick=quick, seed=seed)
 
-    def evaluate(self, ds: xr.Dataset, *, seed: int, progress: Callable | None,
-                 options: Mapping[str, int], workers: int | None = None) -> Evaluation:
+    def evaluate(
+        self,
+        ds: xr.Dataset,
+        *,
+        seed: int,
+        progress: Callable | None,
+        options: Mapping[str, int],
+        workers: int | None = None,
+    ) -> Evaluation:
         # chapter 5's evaluation runs in this process (``workers`` is not used)
         from vibrissa.classify import chapter5_classifiers, dataset_sample_rate, resonance_hz
         from vibrissa.data import whisker_params
@@ -45,17 +54,27 @@ class AngleTexture(Experiment):
         results["meta"]["notch_hz"] = notch
         return Evaluation(results)
 
-    def write_outputs(self, results: Mapping[str, Any], out_dir: Path, *,
-                      dataset: xr.Dataset | None, figures: bool,
-                      workers: int | None = None,
-                      artifacts: Mapping[str, Any] | None = None) -> dict[str, Path]:
+    def write_outputs(
+        self,
+        results: Mapping[str, Any],
+        out_dir: Path,
+        *,
+        dataset: xr.Dataset | None,
+        figures: bool,
+        workers: int | None = None,
+        artifacts: Mapping[str, Any] | None = None,
+    ) -> dict[str, Path]:
         # chapter 5's figures are drawn in this process (``workers`` is not used)
         from vibrissa.thesis.angle_texture.report import write_outputs
 
         return write_outputs(results, out_dir, figures=figures)
 
-    def report_sections(self, results: Mapping[str, Any], figures: Mapping[str, Path],
-                        baseline: Mapping[str, Any] | None) -> str:
+    def report_sections(
+        self,
+        results: Mapping[str, Any],
+        figures: Mapping[str, Path],
+        baseline: Mapping[str, Any] | None,
+    ) -> str:
         from vibrissa.thesis.angle_texture.report import markdown_chapter5
 
         return markdown_chapter5(results, figures, baseline)
@@ -79,9 +98,15 @@ class AngleTexture(Experiment):
             table.add_column(col, justify="left" if col == "classifier" else "right")
         for name, e in summary["classifiers"].items():
             k = e["kappa"]
-            table.add_row(name, *(f"{k[p]:.2f}" if k.get(p) is not None else "-"
-                                  for p in ("angle", "speed", "texture", "texture_alone")),
-                          f"{e['classify_seconds']:.2f}")
-        seq = ", ".join(f"{n} contacts {v:.2f}" for n, v in summary["sequential"].items()
-                        if v is not None)
+            table.add_row(
+                name,
+                *(
+                    f"{k[p]:.2f}" if k.get(p) is not None else "-"
+                    for p in ("angle", "speed", "texture", "texture_alone")
+                ),
+                f"{e['classify_seconds']:.2f}",
+            )
+        seq = ", ".join(
+            f"{n} contacts {v:.2f}" for n, v in summary["sequential"].items() if v is not None
+        )
         return Group(table, Text(f"sequential texture kappa: {seq}")) if seq else table

@@ -104,13 +104,20 @@ def kappa_figure(results: Mapping[str, Any], axes: Any = None) -> Any:
     for ax, p, colour in zip(axs, PARAMETERS5, colours, strict=True):
         ours = [results["classifiers"][n]["kappa"].get(p) for n in names]
         th = [THESIS_CHAPTER5.get(n, {}).get("kappa", {}).get(p) for n in names]
-        ax.bar(x - 0.2, [np.nan if v is None else v for v in ours], 0.4, color=colour,
-               label="this run")
-        ax.bar(x + 0.2, [np.nan if v is None else v for v in th], 0.4, color="white",
-               edgecolor=colour, hatch="///", label="thesis (fig. 5.15, 5.4)")
+        ax.bar(
+            x - 0.2, [np.nan if v is None else v for v in ours], 0.4, color=colour, label="this run"
+        )
+        ax.bar(
+            x + 0.2,
+            [np.nan if v is None else v for v in th],
+            0.4,
+            color="white",
+            edgecolor=colour,
+            hatch="///",
+            label="thesis (fig. 5.15, 5.4)",
+        )
         ax.set_ylabel(f"{p} kappa (-)")
-        ax.set_xticks(x, names if ax is axs[-1] else [""] * len(names), rotation=70,
-                      fontsize=8)
+        ax.set_xticks(x, names if ax is axs[-1] else [""] * len(names), rotation=70, fontsize=8)
         ax.axhline(0.0, color="black", lw=0.6)
         ax.set_ylim(min(-0.1, *(v for v in ours if v is not None)), 1.0)
         ax.legend(fontsize=7, loc="upper left", ncols=2)
@@ -128,14 +135,22 @@ def sequential_figure(results: Mapping[str, Any], ax: Any = None) -> Any:
     seq = results.get("sequential") or {}
     ax = _figure_axes(None if ax is None else [ax], 1, (4.5, 3.5))[0]
     n = [int(k) for k in seq]
-    ax.plot(n, [np.nan if v is None else v for v in seq.values()], "o-",
-            label=f"accumulated ({(results.get('sequential_detail') or {}).get('base', '')})")
-    single = {k: v["kappa"].get("texture") for k, v in results.get("classifiers", {}).items()
-              if v.get("kappa", {}).get("texture") is not None}
+    ax.plot(
+        n,
+        [np.nan if v is None else v for v in seq.values()],
+        "o-",
+        label=f"accumulated ({(results.get('sequential_detail') or {}).get('base', '')})",
+    )
+    single = {
+        k: v["kappa"].get("texture")
+        for k, v in results.get("classifiers", {}).items()
+        if v.get("kappa", {}).get("texture") is not None
+    }
     if single:
         best = max(single, key=single.__getitem__)
-        ax.axhline(single[best], color="grey", ls="--", lw=0.8,
-                   label=f"best single contact ({best})")
+        ax.axhline(
+            single[best], color="grey", ls="--", lw=0.8, label=f"best single contact ({best})"
+        )
     ax.legend(fontsize=7, loc="lower right")
     ax.set_xlabel("contacts with the same surface (count)")
     ax.set_ylabel("texture kappa (-)")
@@ -143,8 +158,9 @@ def sequential_figure(results: Mapping[str, Any], ax: Any = None) -> Any:
     return ax
 
 
-def chapter5_figures(results: Mapping[str, Any], out_dir: str | os.PathLike[str],
-                     dpi: int = 200) -> dict[str, Path]:
+def chapter5_figures(
+    results: Mapping[str, Any], out_dir: str | os.PathLike[str], dpi: int = 200
+) -> dict[str, Path]:
     """Write every chapter-5 figure as PNG (atomically) and return their paths.
 
     Returns
@@ -158,11 +174,11 @@ def chapter5_figures(results: Mapping[str, Any], out_dir: str | os.PathLike[str]
     paths: dict[str, Path] = {}
     for name, entry in results["classifiers"].items():
         paths[f"confusion/{name}"] = save_figure(
-            confusion_figure(entry, name)[0].figure, out / f"confusion_{name}.png", dpi)
+            confusion_figure(entry, name)[0].figure, out / f"confusion_{name}.png", dpi
+        )
     paths["kappa"] = save_figure(kappa_figure(results)[0].figure, out / "kappa.png", dpi)
     if results.get("sequential"):
-        paths["sequential"] = save_figure(sequential_figure(results).figure,
-                                          out / "sequential.png", dpi)
+        paths["sequential"] = save_figure(
+            sequential_figure(results).figure, out / "sequential.png", dpi
+        )
     return paths
-
-

@@ -7,14 +7,18 @@ from typing import Any
 
 
 def _k(angle, speed, texture, alone, table=None) -> dict[str, Any]:
-    return {"kappa": {"angle": angle, "speed": speed, "texture": texture,
-                      "texture_alone": alone}, "errors": table}
+    return {
+        "kappa": {"angle": angle, "speed": speed, "texture": texture, "texture_alone": alone},
+        "errors": table,
+    }
 
 
 def _t(a_mean, a_std, s_mean, s_std, t_mean, t_std) -> dict[str, Any]:
-    return {"angle_deg": {"mean": a_mean, "std": a_std},
-            "speed_mm_s": {"mean": s_mean, "std": s_std},
-            "texture": {"mean": t_mean, "std": t_std}}
+    return {
+        "angle_deg": {"mean": a_mean, "std": a_std},
+        "speed_mm_s": {"mean": s_mean, "std": s_std},
+        "texture": {"mean": t_mean, "std": t_std},
+    }
 
 
 #: Thesis values (Evans 2011, 5.4). ``kappa``: simultaneous angle, speed, texture and
@@ -46,8 +50,9 @@ THESIS_CHAPTER5: dict[str, dict[str, Any]] = {
     # 5.4.3.1, table 5.9 ("NBV" of figure 5.15)
     "naive_bayes_velocity": _k(0.39, 0.18, 0.38, 0.37, _t(-0.9, 15.5, 3.2, 18.8, 0.01, 1.08)),
     # 5.4.3.2, table 5.10
-    "naive_bayes_acceleration": _k(0.25, 0.12, 0.27, 0.28,
-                                   _t(-2.0, 19.9, -2.64, 24.45, 0.04, 1.24)),
+    "naive_bayes_acceleration": _k(
+        0.25, 0.12, 0.27, 0.28, _t(-2.0, 19.9, -2.64, 24.45, 0.04, 1.24)
+    ),
     # 5.4.5, table 5.11: texture with speed fixed 0.18, with speed and angle fixed 0.18
     # (the latter is placed under texture_alone; it is not the per-combination training)
     "combined": _k(0.26, 0.43, 0.18, 0.18, _t(-0.5, 20.1, 1.8, 12.12, 0.09, 1.31)),

@@ -31,8 +31,15 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-__all__ = ["CLASSIFIERS", "FWHM_PER_SIGMA", "TASKS", "evaluate_g1", "g1_classifiers",
-           "hit_rate_curves", "whisk_statistics"]
+__all__ = [
+    "CLASSIFIERS",
+    "FWHM_PER_SIGMA",
+    "TASKS",
+    "evaluate_g1",
+    "g1_classifiers",
+    "hit_rate_curves",
+    "whisk_statistics",
+]
 
 #: The three problems of 6.4.4.
 TASKS = ("joint", "texture", "distance")
@@ -42,9 +49,12 @@ CLASSIFIERS = ("naive_bayes", "template")
 FWHM_PER_SIGMA = 2.0 * np.sqrt(2.0 * np.log(2.0))
 
 
-def g1_classifiers(sample_rate_hz: float, n_bins: int = 100,
-                   smoothing_fwhm_bins: float = 5.0,
-                   value_range: str | None = None) -> dict[str, Callable[[], Any]]:
+def g1_classifiers(
+    sample_rate_hz: float,
+    n_bins: int = 100,
+    smoothing_fwhm_bins: float = 5.0,
+    value_range: str | None = None,
+) -> dict[str, Callable[[], Any]]:
     """Factories of the two classifiers of 6.4.2-6.4.3 (fresh, unfitted each call).
 
     ``value_range``: naive Bayes' bins; ``None`` spans each channel's whole training
@@ -55,10 +65,15 @@ def g1_classifiers(sample_rate_hz: float, n_bins: int = 100,
     sigma = float(smoothing_fwhm_bins) / FWHM_PER_SIGMA
     return {
         "naive_bayes": lambda: StationaryNaiveBayes(
-            signal="raw", n_bins=n_bins, value_range=value_range, smoothing_sigma=sigma,
-            sample_rate_hz=sample_rate_hz),
+            signal="raw",
+            n_bins=n_bins,
+            value_range=value_range,
+            smoothing_sigma=sigma,
+            sample_rate_hz=sample_rate_hz,
+        ),
         "template": lambda: TimeTemplateClassifier(
-            sample_rate_hz=sample_rate_hz, cutoff_hz=None, templates="mean", distance="sse"),
+            sample_rate_hz=sample_rate_hz, cutoff_hz=None, templates="mean", distance="sse"
+        ),
     }
 
 
@@ -70,10 +85,13 @@ def _labels(texture: np.ndarray, distance: np.ndarray) -> dict[str, np.ndarray]:
     }
 
 
-def hit_rate_curves(ds: xr.Dataset, max_training: int = 8,
-                    progress: Callable[[int, int, str], None] | None = None,
-                    classifiers: tuple[str, ...] = CLASSIFIERS,
-                    **classifier_options: Any) -> dict[str, Any]:
+def hit_rate_curves(
+    ds: xr.Dataset,
+    max_training: int = 8,
+    progress: Callable[[int, int, str], None] | None = None,
+    classifiers: tuple[str, ...] = CLASSIFIERS,
+    **classifier_options: Any,
+) -> dict[str, Any]:
     """Hit rates of every strategy, classifier and task for 1..``max_training`` whisks.
 
     Parameters
@@ -97,8 +115,7 @@ def hit_rate_curves(ds: xr.Dataset, max_training: int = 8,
         ``n_validation[strategy]``: validation whisks per number.
     """
     fs = float(ds.attrs["sample_rate_hz"])
-    makers = {k: v for k, v in g1_classifiers(fs, **classifier_options).items()
-              if k in classifiers}
+    makers = {k: v for k, v in g1_classifiers(fs, **classifier_options).items() if k in classifiers}
     X_all = np.asarray(ds["signal"].values, dtype=float)
     strat = np.asarray(ds["strategy"].values).astype(str)
     order = list(dict.fromkeys(strat.tolist()))
@@ -108,10 +125,13 @@ def hit_rate_curves(ds: xr.Dataset, max_training: int = 8,
         sel = strat == s
         X = X_all[sel]
         whisk = np.asarray(ds["whisk"].values)[sel]
-        labels = _labels(np.asarray(ds["texture"].values)[sel],
-                         np.asarray(ds["distance_mm"].values, dtype=float)[sel])
+        labels = _labels(
+            np.asarray(ds["texture"].values)[sel],
+            np.asarray(ds["distance_mm"].values, dtype=float)[sel],
+        )
         curves: dict[str, dict[str, list[float | None]]] = {
-            c: {t: [] for t in TASKS} for c in makers}
+            c: {t: [] for t in TASKS} for c in makers
+        }
         n_val[s] = []
         for n in range(1, max_training + 1):
             train, val = whisk <= n, whisk > n
@@ -140,8 +160,9 @@ def whisk_statistics(ds: xr.Dataset) -> dict[str, dict[str, float]]:
     xs = [i for i, c in enumerate(chans) if c.endswith("x")]
     sig = np.asarray(ds["signal"].values)[:, xs, :]
     peak = np.abs(sig - np.median(sig[:, :, :20], axis=2, keepdims=True)).max(axis=2)
-    cls = np.array([f"{t}@{d:g}" for t, d in zip(ds["texture"].values,
-                                                  ds["distance_mm"].values, strict=True)])
+    cls = np.array(
+        [f"{t}@{d:g}" for t, d in zip(ds["texture"].values, ds["distance_mm"].values, strict=True)]
+    )
     out: dict[str, dict[str, float]] = {}
     for s in dict.fromkeys(strat.tolist()):
         sel = strat == s
@@ -151,8 +172,7 @@ def whisk_statistics(ds: xr.Dataset) -> dict[str, dict[str, float]]:
             if p.shape[0] > 1:
                 spreads.append(np.mean(p.std(axis=0) / np.maximum(p.mean(axis=0), 1e-12)))
         out[s] = {
-            "contact_time_s": float(np.mean(np.sum(ds["force_n"].values[sel] > 0, axis=2))
-                                    / fs),
+            "contact_time_s": float(np.mean(np.sum(ds["force_n"].values[sel] > 0, axis=2)) / fs),
             "peak_deflection_v": float(np.mean(peak[sel])),
             "peak_spread": float(np.mean(spreads)) if spreads else float("nan"),
             "max_z": float(np.max(ds["gating"].values[sel])),
@@ -174,13 +194,15 @@ def _checks(hit: Mapping[str, Any]) -> dict[str, Any]:
         un = hit["unmodulated"]["naive_bayes"]["joint"]
         a, b = _mean(r7[:2]), _mean(un[:2])
         out["rcp7_beats_unmodulated_nb_joint_1_2_whisks"] = (
-            None if a is None or b is None else bool(a > b))
+            None if a is None or b is None else bool(a > b)
+        )
         out["rcp7_nb_joint_mean_1_2"] = a
         out["unmodulated_nb_joint_mean_1_2"] = b
         out["rcp7_nb_joint_at_7"] = r7[6] if len(r7) > 6 else None
     out["first_perfect_nb_joint"] = {
         s: next((i + 1 for i, r in enumerate(c["naive_bayes"]["joint"]) if r == 1.0), None)
-        for s, c in hit.items()}
+        for s, c in hit.items()
+    }
     return out
 
 
@@ -209,25 +231,28 @@ def evaluate_g1(ds: xr.Dataset, *, progress: Callable | None = None) -> dict[str
     textures = list(dict.fromkeys(np.asarray(ds["texture"].values).astype(str).tolist()))
     dists = sorted({float(v) for v in ds["distance_mm"].values})
     return {
-        "meta": {"n_trials": int(ds.sizes["trial"]),
-                 "sample_rate_hz": float(ds.attrs["sample_rate_hz"]),
-                 "channels": [str(c) for c in ds["channel"].values],
-                 "whisks_per_class": int(ds["whisk"].values.max()),
-                 "protocol": proto,
-                 "textures": json.loads(ds.attrs.get("textures", "{}")),
-                 "evaluation": "train on whisks 1..n of every class, validate on the "
-                               "rest (6.4.4); hit rate = correct / validation whisks"},
-        "parameters": {"texture": {"coordinate": "texture", "unit": "name",
-                                   "values": textures},
-                       "distance_mm": {"coordinate": "distance_mm", "unit": "mm",
-                                       "values": dists}},
-        "classifiers": {"naive_bayes": "stationary naive Bayes, raw values, 100 bins over "
-                                       "each channel's range, Gaussian FWHM 5 bins",
-                        "template": "class-mean templates, raw, sum of squared errors"},
+        "meta": {
+            "n_trials": int(ds.sizes["trial"]),
+            "sample_rate_hz": float(ds.attrs["sample_rate_hz"]),
+            "channels": [str(c) for c in ds["channel"].values],
+            "whisks_per_class": int(ds["whisk"].values.max()),
+            "protocol": proto,
+            "textures": json.loads(ds.attrs.get("textures", "{}")),
+            "evaluation": "train on whisks 1..n of every class, validate on the "
+            "rest (6.4.4); hit rate = correct / validation whisks",
+        },
+        "parameters": {
+            "texture": {"coordinate": "texture", "unit": "name", "values": textures},
+            "distance_mm": {"coordinate": "distance_mm", "unit": "mm", "values": dists},
+        },
+        "classifiers": {
+            "naive_bayes": "stationary naive Bayes, raw values, 100 bins over "
+            "each channel's range, Gaussian FWHM 5 bins",
+            "template": "class-mean templates, raw, sum of squared errors",
+        },
         "hit_rate": res["hit_rate"],
         "n_validation": res["n_validation"],
-        "naive_bayes_robust_range": {s: v["naive_bayes"]
-                                     for s, v in robust["hit_rate"].items()},
+        "naive_bayes_robust_range": {s: v["naive_bayes"] for s, v in robust["hit_rate"].items()},
         "whisks": whisk_statistics(ds),
         "checks": _checks(res["hit_rate"]),
     }

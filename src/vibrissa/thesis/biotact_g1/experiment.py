@@ -30,13 +30,20 @@ class BiotactG1(Experiment):
     name = "biotact-g1"
     chapter = 6
     title = "Chapter 6.4 reproduction: texture and distance on the BIOTACT G1 with RCP"
-    description = ("BIOTACT G1 head (2 x 3 whiskers) whisking into 3 textures at 3 distances, "
-                   "unmodulated, RCP7 and RCP9: naive Bayes and template hit rates against "
-                   "training whisks (figures 6.6, 6.7)")
+    description = (
+        "BIOTACT G1 head (2 x 3 whiskers) whisking into 3 textures at 3 distances, "
+        "unmodulated, RCP7 and RCP9: naive Bayes and template hit rates against "
+        "training whisks (figures 6.6, 6.7)"
+    )
     options = (
-        Option("distances", "", "Horizontal distances of the surface from the head's front, "
-               "mm, comma-separated (default 5,10,15; --quick 5,15).", minimum=2,
-               numbers=True),
+        Option(
+            "distances",
+            "",
+            "Horizontal distances of the surface from the head's front, "
+            "mm, comma-separated (default 5,10,15; --quick 5,15).",
+            minimum=2,
+            numbers=True,
+        ),
         Option("whisk_frequency", "", "Whisk frequency, Hz (default 2).", numbers=True),
     )
 
@@ -45,8 +52,9 @@ class BiotactG1(Experiment):
 
         return biotact_protocol(quick=quick, seed=seed)
 
-    def protocol_for(self, quick: bool, seed: int,
-                     options: Mapping[str, Any]) -> SimulationProtocol:
+    def protocol_for(
+        self, quick: bool, seed: int, options: Mapping[str, Any]
+    ) -> SimulationProtocol:
         from vibrissa.robots.biotact import G1Head
         from vibrissa.thesis.biotact_g1.protocol import biotact_protocol
 
@@ -59,25 +67,45 @@ class BiotactG1(Experiment):
         for d in dists:
             G1Head().check_distance(d, "--distances")
         try:
-            return biotact_protocol(quick=quick, seed=seed, distances_mm=dists or None,
-                                    whisk_frequency_hz=freq[0] if freq else None)
+            return biotact_protocol(
+                quick=quick,
+                seed=seed,
+                distances_mm=dists or None,
+                whisk_frequency_hz=freq[0] if freq else None,
+            )
         except ValueError as exc:
-            raise ValueError(str(exc).replace("whisk_frequency_hz", "--whisk-frequency")
-                             .replace("distances_mm", "--distances")) from None
+            raise ValueError(
+                str(exc)
+                .replace("whisk_frequency_hz", "--whisk-frequency")
+                .replace("distances_mm", "--distances")
+            ) from None
 
     def n_trials(self, quick: bool) -> int:
         return int(self.protocol(quick, 0).n_trials)
 
-    def evaluate(self, ds: xr.Dataset, *, seed: int, progress: Callable | None,
-                 options: Mapping[str, Any], workers: int | None = None) -> Evaluation:
+    def evaluate(
+        self,
+        ds: xr.Dataset,
+        *,
+        seed: int,
+        progress: Callable | None,
+        options: Mapping[str, Any],
+        workers: int | None = None,
+    ) -> Evaluation:
         from vibrissa.thesis.biotact_g1.evaluation import evaluate_g1
 
         return Evaluation(evaluate_g1(ds, progress=progress))
 
-    def write_outputs(self, results: Mapping[str, Any], out_dir: Path, *,
-                      dataset: xr.Dataset | None, figures: bool,
-                      workers: int | None = None,
-                      artifacts: Mapping[str, Any] | None = None) -> dict[str, Path]:
+    def write_outputs(
+        self,
+        results: Mapping[str, Any],
+        out_dir: Path,
+        *,
+        dataset: xr.Dataset | None,
+        figures: bool,
+        workers: int | None = None,
+        artifacts: Mapping[str, Any] | None = None,
+    ) -> dict[str, Path]:
         from vibrissa.evaluate.figures.common import save_figure
         from vibrissa.thesis.biotact_g1.figures import hit_rate_figure
 
@@ -93,16 +121,24 @@ class BiotactG1(Experiment):
             out.update(_trajectory_figures(dataset, fig_dir))
         return out
 
-    def report_sections(self, results: Mapping[str, Any], figures: Mapping[str, Path],
-                        baseline: Mapping[str, Any] | None) -> str:
+    def report_sections(
+        self,
+        results: Mapping[str, Any],
+        figures: Mapping[str, Path],
+        baseline: Mapping[str, Any] | None,
+    ) -> str:
         from vibrissa.thesis.biotact_g1.report import markdown_g1
 
         return markdown_g1(results, figures)
 
     def summary(self, results: Mapping[str, Any]) -> dict[str, Any]:
-        return {"hit_rate": results["hit_rate"], "n_validation": results["n_validation"],
-                "naive_bayes_robust_range": results.get("naive_bayes_robust_range"),
-                "whisks": results["whisks"], "checks": results["checks"]}
+        return {
+            "hit_rate": results["hit_rate"],
+            "n_validation": results["n_validation"],
+            "naive_bayes_robust_range": results.get("naive_bayes_robust_range"),
+            "whisks": results["whisks"],
+            "checks": results["checks"],
+        }
 
 
 def _trajectory_figures(ds: xr.Dataset, fig_dir: Path) -> dict[str, Path]:
@@ -134,9 +170,14 @@ def _trajectory_figures(ds: xr.Dataset, fig_dir: Path) -> dict[str, Path]:
         if not picks:
             return
         fig = whisk_trajectories_figure(
-            ds["time"].values, ds["angle_deg"].values[picks, 0],
-            ds["signal"].values[picks, xi], ds["force_n"].values[picks, fi], titles,
-            gating=ds["gating"].values[picks, 0], signal_label="Hall x, L3 (V)")
+            ds["time"].values,
+            ds["angle_deg"].values[picks, 0],
+            ds["signal"].values[picks, xi],
+            ds["force_n"].values[picks, fi],
+            titles,
+            gating=ds["gating"].values[picks, 0],
+            signal_label="Hall x, L3 (V)",
+        )
         out[name] = save_figure(fig, fig_dir / f"{name}.png")
 
     draw([(s, d_mid) for s in dict.fromkeys(strat.tolist())], "trajectories")

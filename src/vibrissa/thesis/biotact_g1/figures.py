@@ -6,11 +6,12 @@ from collections.abc import Mapping, Sequence
 
 from matplotlib.figure import Figure
 
-__all__ = ['hit_rate_figure']
+__all__ = ["hit_rate_figure"]
 
 
-def hit_rate_figure(hit_rate: Mapping[str, Mapping[str, Sequence[float | None]]],
-                    title: str) -> Figure:
+def hit_rate_figure(
+    hit_rate: Mapping[str, Mapping[str, Sequence[float | None]]], title: str
+) -> Figure:
     """Figures 6.6 / 6.7: hit rate against training whisks, one panel per task
     (joint, texture, distance), one line per control strategy.
 
@@ -25,8 +26,15 @@ def hit_rate_figure(hit_rate: Mapping[str, Mapping[str, Sequence[float | None]]]
         for k, (strategy, curves) in enumerate(hit_rate.items()):
             rates = curves[task]
             n = [i + 1 for i, r in enumerate(rates) if r is not None]
-            ax.plot(n, [r for r in rates if r is not None], styles[k % len(styles)],
-                    marker="o", ms=3, color="k", label=strategy)
+            ax.plot(
+                n,
+                [r for r in rates if r is not None],
+                styles[k % len(styles)],
+                marker="o",
+                ms=3,
+                color="k",
+                label=strategy,
+            )
         ax.set(xlabel="training whisks", title=f"({letter}) {task}", ylim=(0, 1.05))
         ax.grid(alpha=0.3)
     axes[0].set_ylabel("hit rate")

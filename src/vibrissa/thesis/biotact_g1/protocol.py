@@ -63,16 +63,19 @@ from vibrissa.whisker.hall import HallSensor, HallSettings, steps_per_sample
 from vibrissa.whisker.rod import RodModel, SimulationError
 from vibrissa.whisker.surfaces import TEXTURES, Surface, TextureSpec, make_surface
 
-__all__ = ["G1_TEXTURES", "STRATEGIES", "BiotactProtocol", "BiotactTrialSpec",
-           "biotact_protocol"]
+__all__ = ["G1_TEXTURES", "STRATEGIES", "BiotactProtocol", "BiotactTrialSpec", "biotact_protocol"]
 
 
 #: The surfaces a G1 session may use: smooth plastic and the sandpaper presets.
 G1_TEXTURES: dict[str, TextureSpec] = {
     "plastic": TextureSpec(
-        "plastic", 0.0, 0.1, 0.35,
+        "plastic",
+        0.0,
+        0.1,
+        0.35,
         "smooth plastic sheet (extruded acrylic or ABS), Ra ~ 0.1 um; friction 0.35, a "
-        "typical tabulated polymer-on-polymer coefficient"),
+        "typical tabulated polymer-on-polymer coefficient",
+    ),
     **{k: v for k, v in TEXTURES.items() if k != "aluminium"},
 }
 
@@ -155,8 +158,11 @@ class BiotactProtocol(ChunkedTrials):
         ds = [self.head.check_distance(d, "distance_mm") for d in self.distances_mm]
         if len(set(ds)) != len(ds):
             raise ValueError(f"distances_mm: each distance once, got {list(self.distances_mm)}")
-        if isinstance(self.n_whisks, bool) or not isinstance(self.n_whisks, int) \
-                or self.n_whisks < 2:
+        if (
+            isinstance(self.n_whisks, bool)
+            or not isinstance(self.n_whisks, int)
+            or self.n_whisks < 2
+        ):
             raise ValueError(f"n_whisks must be an integer >= 2, got {self.n_whisks!r}")
         f = finite("whisk_frequency_hz", self.whisk_frequency_hz)
         if f <= 0:
@@ -171,12 +177,17 @@ class BiotactProtocol(ChunkedTrials):
             raise TypeError(f"sensor must be a HallSettings, got {type(self.sensor).__name__}")
         steps_per_sample(self.dt_s, self.sensor.sample_rate_hz)
         if abs(self.n_samples - self.sensor.sample_rate_hz / f) > 1e-6:
-            raise ValueError(f"whisk_frequency_hz ({f:g}) must give a whole number of samples "
-                             f"per whisk at {self.sensor.sample_rate_hz:g} Hz")
+            raise ValueError(
+                f"whisk_frequency_hz ({f:g}) must give a whole number of samples "
+                f"per whisk at {self.sensor.sample_rate_hz:g} Hz"
+            )
         for L in self.head.lengths_mm:
             self.sensor.calibration_point(preset(_whisker_name(L)))
-        if isinstance(self.seed, bool) or not isinstance(self.seed, int | np.integer) \
-                or self.seed < 0:
+        if (
+            isinstance(self.seed, bool)
+            or not isinstance(self.seed, int | np.integer)
+            or self.seed < 0
+        ):
             raise ValueError(f"seed must be a non-negative integer, got {self.seed!r}")
 
     # ------------------------------------------------------------------ trials
@@ -195,8 +206,7 @@ class BiotactProtocol(ChunkedTrials):
     @property
     def n_trials(self) -> int:
         """Total number of whisks."""
-        return (len(self.strategies) * len(self.textures) * len(self.distances_mm)
-                * self.n_whisks)
+        return len(self.strategies) * len(self.textures) * len(self.distances_mm) * self.n_whisks
 
     @property
     def n_channels(self) -> int:
@@ -210,8 +220,12 @@ class BiotactProtocol(ChunkedTrials):
 
     def channel_names(self) -> list[str]:
         """``L1x, L1y, ..., R3y``: side, whisker (front to rear), direction."""
-        return [f"{s[0].upper()}{i + 1}{c}" for s in SIDES
-                for i in range(self.head.n_whiskers) for c in "xy"]
+        return [
+            f"{s[0].upper()}{i + 1}{c}"
+            for s in SIDES
+            for i in range(self.head.n_whiskers)
+            for c in "xy"
+        ]
 
     def signal_bytes(self) -> int:
         """Bytes of the finished dataset's arrays (float64)."""
@@ -290,13 +304,25 @@ class BiotactProtocol(ChunkedTrials):
             tile = np.array(sheet.heights_m.shape) * sheet.spacing_m * 1e3
             for i in range(head.n_whiskers):
                 offset = rng.uniform(0.0, 1.0, 2) * tile
-                setups.append(head.whisker(i, models[i], sheet, spec.distance_mm, side,
-                                           halls[i].gain_v, friction, (offset[0], offset[1])))
-        amps = head.amplitude_deg + self.amplitude_jitter_deg * rng.standard_normal(
-            (2, n_rec + 1))
-        patterns = [VaryingWhiskPattern(f, head.amplitude_deg, 0.0,
-                                        amplitudes_deg=tuple(float(a) for a in side_amps))
-                    for side_amps in amps]
+                setups.append(
+                    head.whisker(
+                        i,
+                        models[i],
+                        sheet,
+                        spec.distance_mm,
+                        side,
+                        halls[i].gain_v,
+                        friction,
+                        (offset[0], offset[1]),
+                    )
+                )
+        amps = head.amplitude_deg + self.amplitude_jitter_deg * rng.standard_normal((2, n_rec + 1))
+        patterns = [
+            VaryingWhiskPattern(
+                f, head.amplitude_deg, 0.0, amplitudes_deg=tuple(float(a) for a in side_amps)
+            )
+            for side_amps in amps
+        ]
         sigma = STRATEGIES[spec.strategy]
         ctrl = RCPControl(sigma, self.tau_z_periods) if sigma > 0 else None
         fs = self.sensor.sample_rate_hz
@@ -306,9 +332,15 @@ class BiotactProtocol(ChunkedTrials):
         for halvings in range(3):
             dt = self.dt_s / 2**halvings
             try:
-                res = run_whisking(setups, patterns, ctrl, (n_rec + 1) / f,
-                                   control_rate_hz=fs, dt_s=dt,
-                                   motor_bandwidth_hz=self.motor_bandwidth_hz)
+                res = run_whisking(
+                    setups,
+                    patterns,
+                    ctrl,
+                    (n_rec + 1) / f,
+                    control_rate_hz=fs,
+                    dt_s=dt,
+                    motor_bandwidth_hz=self.motor_bandwidth_hz,
+                )
                 break
             except SimulationError:
                 if halvings == 2:
@@ -321,7 +353,7 @@ class BiotactProtocol(ChunkedTrials):
             hall = halls[w % head.n_whiskers]
             tan_y = res.tan_y[w] if res.tan_y is not None else np.zeros_like(res.tan_x[w])
             volts = hall.read(np.column_stack([res.tan_x[w], tan_y]), 1.0 / dt, rng)[:n_all]
-            sig[2 * w: 2 * w + 2] = volts.T
+            sig[2 * w : 2 * w + 2] = volts.T
             rail = (volts[m:] <= hall.v_min + 1e-9) | (volts[m:] >= hall.v_max - 1e-9)
             sat |= rail.reshape(n_rec, m, 2).any(axis=(1, 2))
         force = res.contact_force_n[:, 1:].reshape(len(setups), -1, step).max(axis=2)
@@ -364,38 +396,60 @@ class BiotactProtocol(ChunkedTrials):
             "saturated": np.asarray(results["saturated"], dtype=bool),
             "dt_s": np.asarray(results["dt_s"], dtype=float),
         }
-        coords = signal_coords(len(specs), self.channel_names(), self.n_samples, fs,
-                               "time from full retraction", per_trial)
+        coords = signal_coords(
+            len(specs),
+            self.channel_names(),
+            self.n_samples,
+            fs,
+            "time from full retraction",
+            per_trial,
+        )
         coords["side"] = np.array(SIDES)
-        coords["whisker_id"] = np.array([f"{s[0].upper()}{i + 1}" for s in SIDES
-                                         for i in range(self.head.n_whiskers)])
+        coords["whisker_id"] = np.array(
+            [f"{s[0].upper()}{i + 1}" for s in SIDES for i in range(self.head.n_whiskers)]
+        )
         whiskers = {}
         for L in self.head.lengths_mm:
             g, s = preset(_whisker_name(L)), _hall(self.sensor, L, self.n_elements)
-            whiskers[g.name] = {**g.to_dict(), "n_elements": self.n_elements,
-                                "hall_gain_v": s.gain_v, "hall_offset_v": s.offset_v}
+            whiskers[g.name] = {
+                **g.to_dict(),
+                "n_elements": self.n_elements,
+                "hall_gain_v": s.gain_v,
+                "hall_offset_v": s.offset_v,
+            }
         data = {
             "signal": (("trial", "channel", "time"), results["signal"], {"units": "V"}),
-            "angle_deg": (("trial", "side", "time"), results["angle_deg"],
-                          {"units": "deg", "long_name": "housing angle from full retraction"}),
-            "gating": (("trial", "side", "time"), results["gating"],
-                       {"units": "1", "long_name": "RCP gating variable z (eq. 3.3)"}),
-            "force_n": (("trial", "whisker_id", "time"), results["force_n"],
-                        {"units": "N", "long_name": "largest contact force per sample"}),
+            "angle_deg": (
+                ("trial", "side", "time"),
+                results["angle_deg"],
+                {"units": "deg", "long_name": "housing angle from full retraction"},
+            ),
+            "gating": (
+                ("trial", "side", "time"),
+                results["gating"],
+                {"units": "1", "long_name": "RCP gating variable z (eq. 3.3)"},
+            ),
+            "force_n": (
+                ("trial", "whisker_id", "time"),
+                results["force_n"],
+                {"units": "N", "long_name": "largest contact force per sample"},
+            ),
         }
         return xr.Dataset(
-            data, coords=coords,
+            data,
+            coords=coords,
             attrs={
                 "sample_rate_hz": float(fs),
                 "whisker": json.dumps(whiskers, sort_keys=True),
                 "protocol": self.name,
                 "protocol_params": json.dumps(self.to_dict(), sort_keys=True, default=str),
-                "textures": json.dumps({t: dataclasses.asdict(G1_TEXTURES[t])
-                                        for t in self.textures}),
+                "textures": json.dumps(
+                    {t: dataclasses.asdict(G1_TEXTURES[t]) for t in self.textures}
+                ),
                 "seed": int(self.seed),
                 "vibrissa_version": __version__,
                 "source": "simulated: the BIOTACT G1 head whisking into textured surfaces "
-                          "(thesis 6.4)",
+                "(thesis 6.4)",
             },
         )
 
@@ -428,8 +482,9 @@ def _hall(settings: HallSettings, length_mm: float, n_elements: int) -> HallSens
 def _sheet(texture: str, seed: int, side: int) -> Surface:
     """The sheet of ``texture`` a side's row meets in a session (cached per process)."""
     key = _SHEET_STREAM_BASE + 2 * list(G1_TEXTURES).index(texture) + side
-    return make_surface(G1_TEXTURES[texture],
-                        seed=np.random.default_rng(stream(seed, SURFACES, key)))
+    return make_surface(
+        G1_TEXTURES[texture], seed=np.random.default_rng(stream(seed, SURFACES, key))
+    )
 
 
 def biotact_protocol(quick: bool = False, **overrides: Any) -> BiotactProtocol:
@@ -439,6 +494,10 @@ def biotact_protocol(quick: bool = False, **overrides: Any) -> BiotactProtocol:
     ``overrides`` replace fields (``None`` ignored)."""
     changes = {k: v for k, v in overrides.items() if v is not None}
     if quick:
-        changes = {"textures": ("plastic", "p180"), "distances_mm": (5.0, 15.0),
-                   "n_whisks": 2, **changes}
+        changes = {
+            "textures": ("plastic", "p180"),
+            "distances_mm": (5.0, 15.0),
+            "n_whisks": 2,
+            **changes,
+        }
     return BiotactProtocol(**changes)

@@ -15,16 +15,30 @@ __all__ = ["markdown_g1", "strategies_text"]
 
 def _number(n: int) -> str:
     """``n`` in words up to twelve, as prose writes small counts."""
-    words = ("zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine",
-             "ten", "eleven", "twelve")
+    words = (
+        "zero",
+        "one",
+        "two",
+        "three",
+        "four",
+        "five",
+        "six",
+        "seven",
+        "eight",
+        "nine",
+        "ten",
+        "eleven",
+        "twelve",
+    )
     return words[n] if 0 <= n < len(words) else str(n)
 
 
 def strategies_text(names: list[str] | tuple[str, ...]) -> str:
     """The control strategies of a run in words, e.g. ``unmodulated, RCP7 (sigma_z = 0.7)``
     (sigma_z from :data:`~vibrissa.thesis.biotact_g1.values.STRATEGIES`)."""
-    return ", ".join(n if STRATEGIES[n] == 0 else f"{n.upper()} (sigma_z = {STRATEGIES[n]:g})"
-                     for n in names)
+    return ", ".join(
+        n if STRATEGIES[n] == 0 else f"{n.upper()} (sigma_z = {STRATEGIES[n]:g})" for n in names
+    )
 
 
 def _discussion(ws: Mapping[str, Any], chk: Mapping[str, Any]) -> list[str]:
@@ -48,9 +62,13 @@ def _discussion(ws: Mapping[str, Any], chk: Mapping[str, Any]) -> list[str]:
         f"{un['peak_spread']:.3f}), and RCP7 "
         f"{'beats' if beats else 'does not beat'} unmodulated whisking for naive Bayes after "
         "one or two training whisks."
-        + ("" if steadier else " One possible reason: the feedback turns each contact's "
-           "fluctuations (grains, the ringing left by the previous whisk) into changes of "
-           "the housing's motion, which the unmodulated whisk does not have."),
+        + (
+            ""
+            if steadier
+            else " One possible reason: the feedback turns each contact's "
+            "fluctuations (grains, the ringing left by the previous whisk) into changes of "
+            "the housing's motion, which the unmodulated whisk does not have."
+        ),
     ]
 
 
@@ -80,19 +98,32 @@ def markdown_g1(results: Mapping[str, Any], figures: Mapping[str, Path]) -> str:
         "",
         "## Does RCP7 beat unmodulated whisking for naive Bayes after few whisks?",
         "",
-        md_table(["claim (thesis 6.4.4)", "this run"], [
-            ["RCP7 above unmodulated after 1-2 training whisks (9-class, naive Bayes)",
-             "n/a" if chk.get("rcp7_beats_unmodulated_nb_joint_1_2_whisks") is None else
-             f"{'yes' if chk['rcp7_beats_unmodulated_nb_joint_1_2_whisks'] else 'no'}: "
-             f"mean {fmt(chk['rcp7_nb_joint_mean_1_2'], 3)} against "
-             f"{fmt(chk['unmodulated_nb_joint_mean_1_2'], 3)}"],
-            ["RCP7 reaches 100 % after seven training whisks",
-             "n/a" if chk.get("rcp7_nb_joint_at_7") is None
-             else f"{fmt(100 * chk['rcp7_nb_joint_at_7'], 1)} % after seven"],
-            ["first number of training whisks at 100 % (9-class, naive Bayes)",
-             ", ".join(f"{s}: {v if v is not None else 'never'}"
-                       for s, v in chk["first_perfect_nb_joint"].items())],
-        ]),
+        md_table(
+            ["claim (thesis 6.4.4)", "this run"],
+            [
+                [
+                    "RCP7 above unmodulated after 1-2 training whisks (9-class, naive Bayes)",
+                    "n/a"
+                    if chk.get("rcp7_beats_unmodulated_nb_joint_1_2_whisks") is None
+                    else f"{'yes' if chk['rcp7_beats_unmodulated_nb_joint_1_2_whisks'] else 'no'}: "
+                    f"mean {fmt(chk['rcp7_nb_joint_mean_1_2'], 3)} against "
+                    f"{fmt(chk['unmodulated_nb_joint_mean_1_2'], 3)}",
+                ],
+                [
+                    "RCP7 reaches 100 % after seven training whisks",
+                    "n/a"
+                    if chk.get("rcp7_nb_joint_at_7") is None
+                    else f"{fmt(100 * chk['rcp7_nb_joint_at_7'], 1)} % after seven",
+                ],
+                [
+                    "first number of training whisks at 100 % (9-class, naive Bayes)",
+                    ", ".join(
+                        f"{s}: {v if v is not None else 'never'}"
+                        for s, v in chk["first_perfect_nb_joint"].items()
+                    ),
+                ],
+            ],
+        ),
         "",
     ]
     for c, title in CLASSIFIER_TITLES.items():
@@ -100,11 +131,17 @@ def markdown_g1(results: Mapping[str, Any], figures: Mapping[str, Path]) -> str:
         rows = []
         for task in ("joint", "texture", "distance"):
             for s, curves in hit.items():
-                rows.append([task, s] + [fmt(r, 3) if r is not None else "-"
-                                         for r in curves[c][task]]
-                            + [THESIS[(c, task)] if s == next(iter(hit)) else ""])
-        out += [md_table(["task", "strategy"] + [str(n) for n in range(1, n_max + 1)]
-                         + ["thesis"], rows), ""]
+                rows.append(
+                    [task, s]
+                    + [fmt(r, 3) if r is not None else "-" for r in curves[c][task]]
+                    + [THESIS[(c, task)] if s == next(iter(hit)) else ""]
+                )
+        out += [
+            md_table(
+                ["task", "strategy"] + [str(n) for n in range(1, n_max + 1)] + ["thesis"], rows
+            ),
+            "",
+        ]
         if f"hit_rate_{c}" in figures:
             out += [f"![{title}]({figures[f'hit_rate_{c}']})", ""]
     rob = results.get("naive_bayes_robust_range")
@@ -118,9 +155,14 @@ def markdown_g1(results: Mapping[str, Any], figures: Mapping[str, Path]) -> str:
             "this is the first suspect. The same classifier with each channel's bins "
             "over the central 99 % of its training values:",
             "",
-            md_table(["task", "strategy"] + [str(n) for n in range(1, n_max + 1)],
-                     [[t, s] + [fmt(r, 3) if r is not None else "-" for r in c[t]]
-                      for t in ("joint", "texture", "distance") for s, c in rob.items()]),
+            md_table(
+                ["task", "strategy"] + [str(n) for n in range(1, n_max + 1)],
+                [
+                    [t, s] + [fmt(r, 3) if r is not None else "-" for r in c[t]]
+                    for t in ("joint", "texture", "distance")
+                    for s, c in rob.items()
+                ],
+            ),
             "",
         ]
     ws = results["whisks"]
@@ -133,20 +175,42 @@ def markdown_g1(results: Mapping[str, Any], figures: Mapping[str, Path]) -> str:
         "'may be to increase the repeatability of whisker-surface contacts'), the "
         "largest gating variable z and the whisks with a saturated sensor.",
         "",
-        md_table(["strategy", "contact time (s)", "peak deflection (V)",
-                  "within-class spread", "max z", "saturated whisks"],
-                 [[s, fmt(v["contact_time_s"], 3), fmt(v["peak_deflection_v"], 3),
-                   fmt(v["peak_spread"], 3), fmt(v["max_z"], 2), v["saturated_whisks"]]
-                  for s, v in ws.items()]),
+        md_table(
+            [
+                "strategy",
+                "contact time (s)",
+                "peak deflection (V)",
+                "within-class spread",
+                "max z",
+                "saturated whisks",
+            ],
+            [
+                [
+                    s,
+                    fmt(v["contact_time_s"], 3),
+                    fmt(v["peak_deflection_v"], 3),
+                    fmt(v["peak_spread"], 3),
+                    fmt(v["max_z"], 2),
+                    v["saturated_whisks"],
+                ]
+                for s, v in ws.items()
+            ],
+        ),
         "",
     ]
     out += _discussion(ws, chk) + [""]
-    for key, cap in (("trajectories", "One whisk of each strategy"),
-                     ("distances", "Unmodulated whisks at each distance")):
+    for key, cap in (
+        ("trajectories", "One whisk of each strategy"),
+        ("distances", "Unmodulated whisks at each distance"),
+    ):
         if key in figures:
-            out += [f"{cap} (housing angle of the left row, Hall x of the 158 mm left "
-                    "whisker, gating z; contact of that whisker shaded):", "",
-                    f"![{cap}]({figures[key]})", ""]
+            out += [
+                f"{cap} (housing angle of the left row, Hall x of the 158 mm left "
+                "whisker, gating z; contact of that whisker shaded):",
+                "",
+                f"![{cap}]({figures[key]})",
+                "",
+            ]
     out += [
         "## Modelling choices",
         "",

@@ -32,9 +32,18 @@ from vibrissa.slam import (
 from vibrissa.slam.error import UNEXPLORED
 from vibrissa.slam.filter import apply_motion
 
-__all__ = ["SlamEvaluation", "dead_reckoning", "evaluate_crunchbot", "floor_texture_accuracy",
-           "json_ready", "latency_stats", "radial_distance_errors_mm", "slam_job",
-           "trajectory_error_mm"]
+__all__ = [
+    "SlamEvaluation",
+    "dead_reckoning",
+    "evaluate_crunchbot",
+    "floor_texture_accuracy",
+    "json_ready",
+    "latency_stats",
+    "radial_distance_errors_mm",
+    "slam_job",
+    "trajectory_error_mm",
+]
+
 
 def dead_reckoning(log: SensorLog) -> np.ndarray:
     """``(n_steps + 1, 3)`` poses from the start pose and the odometry alone."""
@@ -53,19 +62,24 @@ def trajectory_error_mm(estimate: np.ndarray, true_pose: np.ndarray) -> float:
     return float(1000 * np.mean(np.hypot(*(est[:, :2] - true[:, :2]).T)))
 
 
-def slam_job(arrays: Mapping[str, np.ndarray], log: SensorLog, mode: str, particles: int,
-             seed: int) -> dict[str, Any]:
+def slam_job(
+    arrays: Mapping[str, np.ndarray], log: SensorLog, mode: str, particles: int, seed: int
+) -> dict[str, Any]:
     """One run in one mode: map error, trajectory error, best map and pose estimate."""
     run = run_slam(log, SlamSettings(n_particles=particles, mode=mode), seed=seed)
     best = run.best_map()
-    return {"map_error": map_error(best, np.asarray(arrays["ground_truth"])),
-            "trajectory_error_mm": trajectory_error_mm(run.pose_estimate, log.true_pose),
-            "best_map": best.astype(np.float32), "pose_estimate": run.pose_estimate,
-            "n_resamples": run.n_resamples}
+    return {
+        "map_error": map_error(best, np.asarray(arrays["ground_truth"])),
+        "trajectory_error_mm": trajectory_error_mm(run.pose_estimate, log.true_pose),
+        "best_map": best.astype(np.float32),
+        "pose_estimate": run.pose_estimate,
+        "n_resamples": run.n_resamples,
+    }
 
 
-def radial_distance_errors_mm(estimated_m: Sequence[np.ndarray], true_m: Sequence[np.ndarray],
-                              names: Sequence[str]) -> dict[str, Any]:
+def radial_distance_errors_mm(
+    estimated_m: Sequence[np.ndarray], true_m: Sequence[np.ndarray], names: Sequence[str]
+) -> dict[str, Any]:
     """Std of estimate - truth (mm) per obstacle whisker over every contact of every run,
     and ``combined`` over all whiskers; NaN where a whisker never touched."""
     est = np.concatenate([np.asarray(a, float) for a in estimated_m])
@@ -95,9 +109,11 @@ def latency_stats(latency_s: Mapping[str, np.ndarray]) -> dict[str, dict[str, An
     for name, lat in latency_s.items():
         a = np.asarray(lat, float)
         a = a[np.isfinite(a)]
-        out[name] = {"median": float(1000 * np.median(a)) if a.size else math.nan,
-                     "p99": float(1000 * np.percentile(a, 99)) if a.size else math.nan,
-                     "n_calls": int(a.size)}
+        out[name] = {
+            "median": float(1000 * np.median(a)) if a.size else math.nan,
+            "p99": float(1000 * np.percentile(a, 99)) if a.size else math.nan,
+            "n_calls": int(a.size),
+        }
     return out
 
 
@@ -150,11 +166,16 @@ class SlamEvaluation:
     truth: np.ndarray
 
 
-def evaluate_crunchbot(logs: Sequence[SensorLog], ground_truth: np.ndarray, *,
-                       particles: int = 100, seed: int = 0, modes: Sequence[str] = MODES,
-                       workers: int | None = None,
-                       progress: Callable[[int, int, str], None] | None = None
-                       ) -> SlamEvaluation:
+def evaluate_crunchbot(
+    logs: Sequence[SensorLog],
+    ground_truth: np.ndarray,
+    *,
+    particles: int = 100,
+    seed: int = 0,
+    modes: Sequence[str] = MODES,
+    workers: int | None = None,
+    progress: Callable[[int, int, str], None] | None = None,
+) -> SlamEvaluation:
     """SLAM in every mode over every run's log, spread over ``workers`` processes.
 
     Parameters
@@ -182,10 +203,12 @@ def evaluate_crunchbot(logs: Sequence[SensorLog], ground_truth: np.ndarray, *,
     if not logs or any(lg.true_pose is None for lg in logs):
         raise ValueError("every run needs a sensor log with its true_pose")
     truth = smooth_ground_truth(np.asarray(ground_truth, float))
-    seeds = [int(np.random.SeedSequence([seed, r]).generate_state(1)[0]) for r in
-             range(len(logs))]
-    jobs = [{"log": lg, "mode": m, "particles": particles, "seed": seeds[r]}
-            for r, lg in enumerate(logs) for m in modes]
+    seeds = [int(np.random.SeedSequence([seed, r]).generate_state(1)[0]) for r in range(len(logs))]
+    jobs = [
+        {"log": lg, "mode": m, "particles": particles, "seed": seeds[r]}
+        for r, lg in enumerate(logs)
+        for m in modes
+    ]
     done = [0]
 
     def tick(i: int) -> None:
@@ -197,20 +220,35 @@ def evaluate_crunchbot(logs: Sequence[SensorLog], ground_truth: np.ndarray, *,
         arrays.add("ground_truth", truth)
         res = run_jobs(slam_job, jobs, arrays, on_done=tick)
     by = {m: [res[r * len(modes) + k] for r in range(len(logs))] for k, m in enumerate(modes)}
-    rng = np.random.default_rng(np.random.SeedSequence([seed, 10 ** 6]))
+    rng = np.random.default_rng(np.random.SeedSequence([seed, 10**6]))
     dr = [trajectory_error_mm(dead_reckoning(lg), lg.true_pose) for lg in logs]
     return SlamEvaluation(
-        map_error={**{m: _mean_std([r["map_error"] for r in by[m]]) for m in modes},
-                      "random": random_map_error(truth, rng),
-                      "random_smoothed": random_map_error(truth, rng, smooth=True),
-                   "empty": map_error(np.full(truth.shape, UNEXPLORED), truth)},
-        trajectory_error_mm={**{m: _mean_std([r["trajectory_error_mm"] for r in by[m]])
-                                for m in modes}, "dead_reckoning": _mean_std(dr)},
-        per_run=[{"run": r, "n_steps": lg.n_steps,
-                     **{m: {"map_error": by[m][r]["map_error"],
-                            "trajectory_error_mm": by[m][r]["trajectory_error_mm"],
-                            "n_resamples": by[m][r]["n_resamples"]} for m in modes},
-                     "dead_reckoning_error_mm": dr[r]} for r, lg in enumerate(logs)],
+        map_error={
+            **{m: _mean_std([r["map_error"] for r in by[m]]) for m in modes},
+            "random": random_map_error(truth, rng),
+            "random_smoothed": random_map_error(truth, rng, smooth=True),
+            "empty": map_error(np.full(truth.shape, UNEXPLORED), truth),
+        },
+        trajectory_error_mm={
+            **{m: _mean_std([r["trajectory_error_mm"] for r in by[m]]) for m in modes},
+            "dead_reckoning": _mean_std(dr),
+        },
+        per_run=[
+            {
+                "run": r,
+                "n_steps": lg.n_steps,
+                **{
+                    m: {
+                        "map_error": by[m][r]["map_error"],
+                        "trajectory_error_mm": by[m][r]["trajectory_error_mm"],
+                        "n_resamples": by[m][r]["n_resamples"],
+                    }
+                    for m in modes
+                },
+                "dead_reckoning_error_mm": dr[r],
+            }
+            for r, lg in enumerate(logs)
+        ],
         mean_maps={m: np.mean([r["best_map"] for r in by[m]], axis=0) for m in modes},
         estimates={m: by[m][0]["pose_estimate"] for m in modes},
         dead_reckoning=dead_reckoning(logs[0]),

@@ -44,8 +44,10 @@ def resolved_options(quick: bool, options: Mapping[str, Any]) -> dict[str, int]:
     ValueError
         One naming the flag: not exactly one positive integer.
     """
-    return {k: _positive_int(k, tuple(options.get(k, ()) or ()), d[1 if quick else 0])
-            for k, d in _DEFAULTS.items()}
+    return {
+        k: _positive_int(k, tuple(options.get(k, ()) or ()), d[1 if quick else 0])
+        for k, d in _DEFAULTS.items()
+    }
 
 
 def _dig(d: Mapping[str, Any], *keys: str) -> Any:
@@ -63,9 +65,11 @@ class CrunchbotSlam(Experiment):
     name = "crunchbot-slam"
     chapter = 6
     title = "Chapter 6.5 reproduction: tactile SLAM on CrunchBot"
-    description = ("CrunchBot's FSM runs in the SLAM arena mapped by a particle filter in "
-                   "blob, geometric and template modes: map error (eq. 6.3, figure 6.14), "
-                   "trajectory error, radial distance, floor texture (6.11), latencies")
+    description = (
+        "CrunchBot's FSM runs in the SLAM arena mapped by a particle filter in "
+        "blob, geometric and template modes: map error (eq. 6.3, figure 6.14), "
+        "trajectory error, radial distance, floor texture (6.11), latencies"
+    )
     options = (
         Option("runs", "", "Runs in the SLAM arena (default 20; quick 3).", numbers=True),
         Option("seconds", "", "Robot seconds per run (default 360; quick 40).", numbers=True),
@@ -77,16 +81,25 @@ class CrunchbotSlam(Experiment):
 
         return crunchbot_protocol(quick=quick, seed=seed)
 
-    def protocol_for(self, quick: bool, seed: int,
-                     options: Mapping[str, Any]) -> SimulationProtocol:
+    def protocol_for(
+        self, quick: bool, seed: int, options: Mapping[str, Any]
+    ) -> SimulationProtocol:
         from vibrissa.thesis.crunchbot_slam.protocol import crunchbot_protocol
 
         o = resolved_options(quick, options)
-        return crunchbot_protocol(quick=quick, seed=seed, n_runs=o["runs"],
-                                  seconds=float(o["seconds"]))
+        return crunchbot_protocol(
+            quick=quick, seed=seed, n_runs=o["runs"], seconds=float(o["seconds"])
+        )
 
-    def evaluate(self, ds: xr.Dataset, *, seed: int, progress: Callable | None,
-                 options: Mapping[str, Any], workers: int | None = None) -> Evaluation:
+    def evaluate(
+        self,
+        ds: xr.Dataset,
+        *,
+        seed: int,
+        progress: Callable | None,
+        options: Mapping[str, Any],
+        workers: int | None = None,
+    ) -> Evaluation:
         from vibrissa.thesis.crunchbot_slam.evaluation import (
             evaluate_crunchbot,
             floor_texture_accuracy,
@@ -99,58 +112,97 @@ class CrunchbotSlam(Experiment):
         proto = json.loads(ds.attrs["protocol_params"])
         particles = resolved_options(False, options)["particles"]
         logs = sensor_logs(ds, "slam")
-        ev = evaluate_crunchbot(logs, ds["ground_truth"].values, particles=particles,
-                                seed=seed, workers=workers, progress=progress)
+        ev = evaluate_crunchbot(
+            logs,
+            ds["ground_truth"].values,
+            particles=particles,
+            seed=seed,
+            workers=workers,
+            progress=progress,
+        )
         slam_runs = ds["kind"].values == "slam"
         names = [str(w) for w in ds["whisker"].values]
         est = ds["radial_distance_m"].values[slam_runs].reshape(-1, len(names))
         tru = ds["contact_true_m"].values[slam_runs].reshape(-1, len(names))
         radial = radial_distance_errors_mm([est], [tru], names)
         textures = json.loads(ds.attrs["textures"])
-        floor_acc = floor_texture_accuracy(ds["floor_texture_true"].values,
-                                           ds["floor_texture_pred"].values)
-        lat = latency_stats({c.removeprefix("latency_").removesuffix("_s"): ds[c].values
-                             for c in ds.data_vars if str(c).startswith("latency_")})
+        floor_acc = floor_texture_accuracy(
+            ds["floor_texture_true"].values, ds["floor_texture_pred"].values
+        )
+        lat = latency_stats(
+            {
+                c.removeprefix("latency_").removesuffix("_s"): ds[c].values
+                for c in ds.data_vars
+                if str(c).startswith("latency_")
+            }
+        )
         rtf = float(ds["seconds"].values.sum() / ds["wall_seconds"].values.sum())
         robot = str(ds.attrs["robot"])
         means = {m: ev.map_error[m]["mean"] for m in ("blob", "geometric", "template")}
-        artifacts = {"mean_maps": ev.mean_maps, "estimates": ev.estimates,
-                     "dead_reckoning": ev.dead_reckoning, "truth": ev.truth,
-                     "true_pose": logs[0].true_pose}
-        return Evaluation(json_ready({
-            "meta": {"robot": robot, "synthetic": robot != "simulated-physics",
-                     "real_time_factor": rtf, "n_runs": len(logs),
-                     "seconds_per_run": float(proto["seconds"]), "particles": particles,
-                     "arena": json.loads(ds.attrs["arena"])["name"],
-                     "texture_arena": (json.loads(ds.attrs["texture_arena"]) or {}).get("name"),
-                     "modes_share_sensor_log": True, "textures": textures,
-                     "random_map": "map_error.random: each cell Bernoulli(0.5), unsmoothed "
-                                   "(expectation exactly 0.5); random_smoothed: the same "
-                                   "maps through the 5 x 5 filter"},
-            "parameters": {},
-            "classifiers": {},
-            "map_error": {**{m: ev.map_error[m] for m in means},
-                          "random": ev.map_error["random"],
-                          "random_smoothed": ev.map_error["random_smoothed"],
-                          "empty": ev.map_error["empty"]},
-            "trajectory_error_mm": ev.trajectory_error_mm,
-            "radial_distance_error_mm": {k: radial[k] for k in (*names, "combined")},
-            "radial_distance_contacts": radial["n_contacts"],
-            "radial_distance_fit_residual_mm": json.loads(
-                ds.attrs.get("radial_fit_residual_mm", "null")),
-            "floor_texture": {"accuracy": floor_acc},
-            "classifier_latency_ms": lat,
-            "ordering": {"template_lt_geometric_lt_blob":
-                         bool(means["template"] < means["geometric"] < means["blob"]),
-                         "order": sorted(means, key=means.get)},
-            "per_run": ev.per_run,
-            "thesis": THESIS,
-        }), artifacts)
+        artifacts = {
+            "mean_maps": ev.mean_maps,
+            "estimates": ev.estimates,
+            "dead_reckoning": ev.dead_reckoning,
+            "truth": ev.truth,
+            "true_pose": logs[0].true_pose,
+        }
+        return Evaluation(
+            json_ready(
+                {
+                    "meta": {
+                        "robot": robot,
+                        "synthetic": robot != "simulated-physics",
+                        "real_time_factor": rtf,
+                        "n_runs": len(logs),
+                        "seconds_per_run": float(proto["seconds"]),
+                        "particles": particles,
+                        "arena": json.loads(ds.attrs["arena"])["name"],
+                        "texture_arena": (json.loads(ds.attrs["texture_arena"]) or {}).get("name"),
+                        "modes_share_sensor_log": True,
+                        "textures": textures,
+                        "random_map": "map_error.random: each cell Bernoulli(0.5), unsmoothed "
+                        "(expectation exactly 0.5); random_smoothed: the same "
+                        "maps through the 5 x 5 filter",
+                    },
+                    "parameters": {},
+                    "classifiers": {},
+                    "map_error": {
+                        **{m: ev.map_error[m] for m in means},
+                        "random": ev.map_error["random"],
+                        "random_smoothed": ev.map_error["random_smoothed"],
+                        "empty": ev.map_error["empty"],
+                    },
+                    "trajectory_error_mm": ev.trajectory_error_mm,
+                    "radial_distance_error_mm": {k: radial[k] for k in (*names, "combined")},
+                    "radial_distance_contacts": radial["n_contacts"],
+                    "radial_distance_fit_residual_mm": json.loads(
+                        ds.attrs.get("radial_fit_residual_mm", "null")
+                    ),
+                    "floor_texture": {"accuracy": floor_acc},
+                    "classifier_latency_ms": lat,
+                    "ordering": {
+                        "template_lt_geometric_lt_blob": bool(
+                            means["template"] < means["geometric"] < means["blob"]
+                        ),
+                        "order": sorted(means, key=means.get),
+                    },
+                    "per_run": ev.per_run,
+                    "thesis": THESIS,
+                }
+            ),
+            artifacts,
+        )
 
-    def write_outputs(self, results: Mapping[str, Any], out_dir: Path, *,
-                      dataset: xr.Dataset | None, figures: bool,
-                      workers: int | None = None,
-                      artifacts: Mapping[str, Any] | None = None) -> dict[str, Path]:
+    def write_outputs(
+        self,
+        results: Mapping[str, Any],
+        out_dir: Path,
+        *,
+        dataset: xr.Dataset | None,
+        figures: bool,
+        workers: int | None = None,
+        artifacts: Mapping[str, Any] | None = None,
+    ) -> dict[str, Path]:
         from vibrissa.evaluate.figures.common import save_figure
         from vibrissa.thesis.crunchbot_slam.figures import (
             average_maps_figure,
@@ -166,33 +218,49 @@ class CrunchbotSlam(Experiment):
         data = artifacts or {}
         if "mean_maps" in data:  # the maps of this evaluation (not of a redrawn report)
             errs = {m: results["map_error"][m]["mean"] for m in data["mean_maps"]}
-            out["maps"] = save_figure(average_maps_figure(data["truth"], data["mean_maps"],
-                                                          errs), fig_dir / "average_maps.png")
+            out["maps"] = save_figure(
+                average_maps_figure(data["truth"], data["mean_maps"], errs),
+                fig_dir / "average_maps.png",
+            )
             est = {**data["estimates"], "dead reckoning": data["dead_reckoning"]}
-            out["trajectory"] = save_figure(trajectory_figure(data["true_pose"], est,
-                                                              data["truth"]),
-                                            fig_dir / "trajectory.png")
+            out["trajectory"] = save_figure(
+                trajectory_figure(data["true_pose"], est, data["truth"]), fig_dir / "trajectory.png"
+            )
         slam_runs = dataset["kind"].values == "slam"
         names = [str(w) for w in dataset["whisker"].values]
         if np.isfinite(dataset["contact_true_m"].values[slam_runs]).any():
-            out["radial"] = save_figure(radial_distance_figure(
-                dataset["radial_distance_m"].values[slam_runs].reshape(-1, len(names)),
-                dataset["contact_true_m"].values[slam_runs].reshape(-1, len(names)), names,
-                results["radial_distance_error_mm"]), fig_dir / "radial_distance.png")
+            out["radial"] = save_figure(
+                radial_distance_figure(
+                    dataset["radial_distance_m"].values[slam_runs].reshape(-1, len(names)),
+                    dataset["contact_true_m"].values[slam_runs].reshape(-1, len(names)),
+                    names,
+                    results["radial_distance_error_mm"],
+                ),
+                fig_dir / "radial_distance.png",
+            )
         tex_runs = np.flatnonzero(dataset["kind"].values == "texture")
         textures = json.loads(dataset.attrs["textures"])
         if tex_runs.size and textures:
             r = int(tex_runs[0])
             n = int(dataset["n_steps"].values[r])
-            out["texture"] = save_figure(texture_trace_figure(
-                dataset["step_end_s"].values[r, :n], dataset["floor_texture_true"].values[r, :n],
-                dataset["floor_texture_pred"].values[r, :n], textures,
-                [str(f) for f in dataset["floor_whisker"].values]),
-                fig_dir / "texture_trace.png")
+            out["texture"] = save_figure(
+                texture_trace_figure(
+                    dataset["step_end_s"].values[r, :n],
+                    dataset["floor_texture_true"].values[r, :n],
+                    dataset["floor_texture_pred"].values[r, :n],
+                    textures,
+                    [str(f) for f in dataset["floor_whisker"].values],
+                ),
+                fig_dir / "texture_trace.png",
+            )
         return out
 
-    def report_sections(self, results: Mapping[str, Any], figures: Mapping[str, Path],
-                        baseline: Mapping[str, Any] | None) -> str:
+    def report_sections(
+        self,
+        results: Mapping[str, Any],
+        figures: Mapping[str, Path],
+        baseline: Mapping[str, Any] | None,
+    ) -> str:
         from vibrissa.thesis.crunchbot_slam.report import markdown_crunchbot
 
         return markdown_crunchbot(results, figures)
@@ -205,8 +273,10 @@ class CrunchbotSlam(Experiment):
             "radial_distance_error_mm": results["radial_distance_error_mm"],
             "radial_distance_fit_residual_mm": results.get("radial_distance_fit_residual_mm"),
             "floor_texture": results["floor_texture"],
-            "classifier_latency_ms": {c: {k: v[k] for k in ("median", "p99")}
-                                      for c, v in results["classifier_latency_ms"].items()},
+            "classifier_latency_ms": {
+                c: {k: v[k] for k in ("median", "p99")}
+                for c, v in results["classifier_latency_ms"].items()
+            },
             "meta": dict(meta),
         }
 
@@ -219,9 +289,13 @@ class CrunchbotSlam(Experiment):
         for col in ("mode", "map error", "thesis", "trajectory error (mm)"):
             table.add_column(col, justify="left" if col == "mode" else "right")
         for m in ("blob", "geometric", "template"):
-            table.add_row(m, fmt(_dig(summary, "map_error", m, "mean"), 3),
-                          fmt(THESIS["map_error"][m]),
-                          fmt(_dig(summary, "trajectory_error_mm", m, "mean"), 1))
-        table.add_row("random", fmt(summary["map_error"]["random"], 3),
-                      fmt(THESIS["map_error"]["random"]), "")
+            table.add_row(
+                m,
+                fmt(_dig(summary, "map_error", m, "mean"), 3),
+                fmt(THESIS["map_error"][m]),
+                fmt(_dig(summary, "trajectory_error_mm", m, "mean"), 1),
+            )
+        table.add_row(
+            "random", fmt(summary["map_error"]["random"], 3), fmt(THESIS["map_error"]["random"]), ""
+        )
         return table

@@ -8,24 +8,34 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from matplotlib.figure import Figure
 
-__all__ = ["average_maps_figure", "radial_distance_figure", "texture_trace_figure",
-           "trajectory_figure"]
+__all__ = [
+    "average_maps_figure",
+    "radial_distance_figure",
+    "texture_trace_figure",
+    "trajectory_figure",
+]
 
 
-def average_maps_figure(truth: np.ndarray, mean_maps: Mapping[str, np.ndarray],
-                        errors: Mapping[str, float], cell_m: float = 0.05) -> Figure:
+def average_maps_figure(
+    truth: np.ndarray,
+    mean_maps: Mapping[str, np.ndarray],
+    errors: Mapping[str, float],
+    cell_m: float = 0.05,
+) -> Figure:
     """The smoothed ground truth beside each mode's map averaged over runs (figure 6.14).
 
     Grids are ``[ix, iy]``; shown with x to the right and y up.
     """
     panels = [("ground truth (smoothed)", truth)] + [
-        (f"{m} (eq. 6.3 error {errors[m]:.3f})", g) for m, g in mean_maps.items()]
+        (f"{m} (eq. 6.3 error {errors[m]:.3f})", g) for m, g in mean_maps.items()
+    ]
     fig = Figure(figsize=(3.2 * len(panels), 3.4), layout="constrained")
     axes = fig.subplots(1, len(panels))
     extent = (0.0, truth.shape[0] * cell_m, 0.0, truth.shape[1] * cell_m)
     for ax, (title, g) in zip(np.atleast_1d(axes), panels, strict=True):
-        im = ax.imshow(np.asarray(g).T, origin="lower", extent=extent, cmap="gray_r",
-                       vmin=0.0, vmax=1.0)
+        im = ax.imshow(
+            np.asarray(g).T, origin="lower", extent=extent, cmap="gray_r", vmin=0.0, vmax=1.0
+        )
         ax.set_title(title, fontsize=9)
         ax.set_xlabel("x (m)")
     np.atleast_1d(axes)[0].set_ylabel("y (m)")
@@ -33,8 +43,13 @@ def average_maps_figure(truth: np.ndarray, mean_maps: Mapping[str, np.ndarray],
     return fig
 
 
-def texture_trace_figure(time_s: np.ndarray, true_codes: np.ndarray, pred_codes: np.ndarray,
-                         textures: Sequence[str], names: Sequence[str]) -> Figure:
+def texture_trace_figure(
+    time_s: np.ndarray,
+    true_codes: np.ndarray,
+    pred_codes: np.ndarray,
+    textures: Sequence[str],
+    names: Sequence[str],
+) -> Figure:
     """True tile texture and the classifier's choice per floor whisker over a run (6.11).
 
     ``true_codes``/``pred_codes`` are ``(n_steps, n_floor_whiskers)`` indices into
@@ -45,11 +60,23 @@ def texture_trace_figure(time_s: np.ndarray, true_codes: np.ndarray, pred_codes:
     axes = np.atleast_1d(fig.subplots(n, 1, sharex=True))
     for k, ax in enumerate(axes):
         t, p = np.asarray(true_codes)[:, k], np.asarray(pred_codes)[:, k]
-        ax.step(time_s, np.where(t >= 0, t, np.nan), where="post", color="0.3", lw=2,
-                label="tile under the tip")
+        ax.step(
+            time_s,
+            np.where(t >= 0, t, np.nan),
+            where="post",
+            color="0.3",
+            lw=2,
+            label="tile under the tip",
+        )
         wrong = (p != t) & (p >= 0)
-        ax.plot(time_s[~wrong & (p >= 0)], p[~wrong & (p >= 0)], "o", ms=2.5, color="tab:green",
-                label="classifier (right)")
+        ax.plot(
+            time_s[~wrong & (p >= 0)],
+            p[~wrong & (p >= 0)],
+            "o",
+            ms=2.5,
+            color="tab:green",
+            label="classifier (right)",
+        )
         ax.plot(time_s[wrong], p[wrong], "x", ms=4, color="tab:red", label="classifier (wrong)")
         ax.set_yticks(range(len(textures)), list(textures))
         ax.set_ylim(-0.5, len(textures) - 0.5)
@@ -59,8 +86,12 @@ def texture_trace_figure(time_s: np.ndarray, true_codes: np.ndarray, pred_codes:
     return fig
 
 
-def radial_distance_figure(estimated_m: np.ndarray, true_m: np.ndarray,
-                           names: Sequence[str], errors_mm: Mapping[str, float]) -> Figure:
+def radial_distance_figure(
+    estimated_m: np.ndarray,
+    true_m: np.ndarray,
+    names: Sequence[str],
+    errors_mm: Mapping[str, float],
+) -> Figure:
     """Estimated against true contact distance per obstacle whisker, and the error (6.12).
 
     ``estimated_m``/``true_m`` are ``(n_contacts_steps, n_whiskers)`` with NaN where no
@@ -90,15 +121,25 @@ def radial_distance_figure(estimated_m: np.ndarray, true_m: np.ndarray,
     return fig
 
 
-def trajectory_figure(true_pose: np.ndarray, estimates: Mapping[str, np.ndarray],
-                      truth: np.ndarray | None = None, cell_m: float = 0.05) -> Figure:
+def trajectory_figure(
+    true_pose: np.ndarray,
+    estimates: Mapping[str, np.ndarray],
+    truth: np.ndarray | None = None,
+    cell_m: float = 0.05,
+) -> Figure:
     """One run's true path against the filter's pose estimate per mode (and dead
     reckoning), over the ground truth."""
     fig = Figure(figsize=(5.5, 5.0), layout="constrained")
     ax = fig.add_subplot()
     if truth is not None:
-        ax.imshow(np.asarray(truth).T, origin="lower", cmap="gray_r", vmin=0, vmax=1,
-                  extent=(0.0, truth.shape[0] * cell_m, 0.0, truth.shape[1] * cell_m))
+        ax.imshow(
+            np.asarray(truth).T,
+            origin="lower",
+            cmap="gray_r",
+            vmin=0,
+            vmax=1,
+            extent=(0.0, truth.shape[0] * cell_m, 0.0, truth.shape[1] * cell_m),
+        )
     ax.plot(true_pose[:, 0], true_pose[:, 1], "k-", lw=2, label="true")
     for name, est in estimates.items():
         ax.plot(est[:, 0], est[:, 1], lw=1, label=name)

@@ -47,8 +47,16 @@ from vibrissa.robots.crunchbot.record import (
 )
 from vibrissa.slam.log import SensorLog, WhiskerLayout
 
-__all__ = ["ROBOT_KINDS", "CrunchbotProtocol", "crunchbot_protocol", "default_robot", "hall_run",
-           "robot_kind", "run_kinds", "sensor_logs"]
+__all__ = [
+    "ROBOT_KINDS",
+    "CrunchbotProtocol",
+    "crunchbot_protocol",
+    "default_robot",
+    "hall_run",
+    "robot_kind",
+    "run_kinds",
+    "sensor_logs",
+]
 
 #: What a protocol's robot is: the simulated physical robot, the exact-contact oracle
 #: with synthetic signals, or a callable the caller passed.
@@ -170,7 +178,7 @@ class CrunchbotProtocol(SelfGenerating, ChunkedTrials):
     # ------------------------------------------------------------------ simulation
     def run_seed(self, index: int) -> int:
         """The seed run ``index`` passes to the robot."""
-        return int(stream(self.seed, TRIALS, index).generate_state(1)[0] % (2 ** 31))
+        return int(stream(self.seed, TRIALS, index).generate_state(1)[0] % (2**31))
 
     def radial_fit_residuals_mm(self) -> dict[str, float] | None:
         """Per obstacle whisker, the residual standard deviation (mm) of the radial
@@ -193,12 +201,12 @@ class CrunchbotProtocol(SelfGenerating, ChunkedTrials):
             _TRAINED[key] = self.train(self.seed, quick=self.quick_training)
         return _TRAINED[key]
 
-    def simulate(self, index: int, progress: Callable[[float], None] | None = None
-                 ) -> RunRecord:
+    def simulate(self, index: int, progress: Callable[[float], None] | None = None) -> RunRecord:
         """Run ``index``: a SLAM run (``index < n_runs``) or the floor-texture run."""
         slam, tex = self.arenas()
-        arena, seconds = (slam, self.seconds) if index < self.n_runs else (
-            tex, self.texture_seconds)
+        arena, seconds = (
+            (slam, self.seconds) if index < self.n_runs else (tex, self.texture_seconds)
+        )
         kwargs: dict[str, Any] = {}
         clf = self.classifiers()
         if clf is not None:
@@ -211,8 +219,10 @@ class CrunchbotProtocol(SelfGenerating, ChunkedTrials):
     def simulate_trials(self, indices: Sequence[int]) -> dict[str, np.ndarray]:
         """Simulate runs ``indices``; their per-step arrays flattened along the first axis
         (one row per step, counts in ``n_steps``), so chunks concatenate."""
-        parts = [_flatten(self.simulate(int(i)), int(i) == self.hall_run, self.textures())
-                 for i in indices]
+        parts = [
+            _flatten(self.simulate(int(i)), int(i) == self.hall_run, self.textures())
+            for i in indices
+        ]
         out = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
         out["index"] = np.asarray(indices, dtype=np.int64)
         return out
@@ -225,16 +235,22 @@ class CrunchbotProtocol(SelfGenerating, ChunkedTrials):
     #: Its chunks may run on a Dask cluster (``scheduler``).
     accepts_scheduler: ClassVar[bool] = True
 
-    def generate_dataset(self, path: Path, workers: int | None = None,
-                         progress: Callable[[int, int], None] | None = None,
-                         scheduler: str | None = None, **kwargs: Any) -> xr.Dataset:
+    def generate_dataset(
+        self,
+        path: Path,
+        workers: int | None = None,
+        progress: Callable[[int, int], None] | None = None,
+        scheduler: str | None = None,
+        **kwargs: Any,
+    ) -> xr.Dataset:
         """Train (in this process, so forked workers share it), then run every chunk with
         :func:`~vibrissa.experiments.generate.generate` into ``path``."""
         from vibrissa.experiments.generate import generate
 
         self.classifiers()
-        ds = generate(self, path, workers=workers, scheduler=scheduler, chunk_size=1,
-                      progress=progress)
+        ds = generate(
+            self, path, workers=workers, scheduler=scheduler, chunk_size=1, progress=progress
+        )
         assert ds is not None
         return ds
 
@@ -253,7 +269,7 @@ class CrunchbotProtocol(SelfGenerating, ChunkedTrials):
             out = np.full((len(n_steps), t_max + extra, *a.shape[1:]), fill, dtype=a.dtype)
             s0 = np.concatenate([[0], np.cumsum(n_steps + extra)])
             for r in range(len(n_steps)):
-                out[r, : n_steps[r] + extra] = a[s0[r]: s0[r + 1]]
+                out[r, : n_steps[r] + extra] = a[s0[r] : s0[r + 1]]
             return out
 
         def per_call(c: str) -> np.ndarray:
@@ -261,53 +277,82 @@ class CrunchbotProtocol(SelfGenerating, ChunkedTrials):
             s0 = np.concatenate([[0], np.cumsum(counts)])
             out = np.full((len(counts), max(int(counts.max()), 1)), np.nan)
             for r in range(len(counts)):
-                out[r, : counts[r]] = merged[f"latency_{c}"][s0[r]: s0[r + 1]]
+                out[r, : counts[r]] = merged[f"latency_{c}"][s0[r] : s0[r + 1]]
             return out
 
         slam, tex = self.arenas()
         kinds = run_kinds(self.n_runs, self.n_trials)
         data: dict[str, Any] = {
-            "signal": (("trial", "channel", "time"),
-                       per_step("odometry", 0.0).transpose(0, 2, 1),
-                       {"units": "m, m, rad", "long_name": "odometry increment of each step"}),
-            "state": (("trial", "time"), per_step("state", -1),
-                      {"long_name": "FSM state (index into attrs['states'], -1 none)"}),
+            "signal": (
+                ("trial", "channel", "time"),
+                per_step("odometry", 0.0).transpose(0, 2, 1),
+                {"units": "m, m, rad", "long_name": "odometry increment of each step"},
+            ),
+            "state": (
+                ("trial", "time"),
+                per_step("state", -1),
+                {"long_name": "FSM state (index into attrs['states'], -1 none)"},
+            ),
             "contact": (("trial", "time", "whisker"), per_step("contact", -1)),
-            "radial_distance_m": (("trial", "time", "whisker"),
-                                  per_step("radial_distance_m", np.nan), {"units": "m"}),
-            "contact_true_m": (("trial", "time", "whisker"), per_step("contact_true_m", np.nan),
-                               {"units": "m"}),
-            "surface_angle_rad": (("trial", "time"), per_step("surface_angle_rad", np.nan),
-                                  {"units": "rad"}),
-            "step_end_s": (("trial", "time"), per_step("step_end_s", np.nan),
-                           {"units": "s", "long_name": "robot time at the step's end"}),
-            "floor_loglik": (("trial", "time", "floor_whisker", "texture"),
-                             per_step("floor_loglik", np.nan)),
-            "floor_texture_true": (("trial", "time", "floor_whisker"),
-                                   per_step("floor_true", -1)),
-            "floor_texture_pred": (("trial", "time", "floor_whisker"),
-                                   per_step("floor_pred", -1)),
-            "true_pose": (("trial", "pose_row", "pose"), per_step("true_pose", np.nan, 1),
-                          {"long_name": "true map-frame pose before each step and after "
-                                        "the last"}),
+            "radial_distance_m": (
+                ("trial", "time", "whisker"),
+                per_step("radial_distance_m", np.nan),
+                {"units": "m"},
+            ),
+            "contact_true_m": (
+                ("trial", "time", "whisker"),
+                per_step("contact_true_m", np.nan),
+                {"units": "m"},
+            ),
+            "surface_angle_rad": (
+                ("trial", "time"),
+                per_step("surface_angle_rad", np.nan),
+                {"units": "rad"},
+            ),
+            "step_end_s": (
+                ("trial", "time"),
+                per_step("step_end_s", np.nan),
+                {"units": "s", "long_name": "robot time at the step's end"},
+            ),
+            "floor_loglik": (
+                ("trial", "time", "floor_whisker", "texture"),
+                per_step("floor_loglik", np.nan),
+            ),
+            "floor_texture_true": (("trial", "time", "floor_whisker"), per_step("floor_true", -1)),
+            "floor_texture_pred": (("trial", "time", "floor_whisker"), per_step("floor_pred", -1)),
+            "true_pose": (
+                ("trial", "pose_row", "pose"),
+                per_step("true_pose", np.nan, 1),
+                {"long_name": "true map-frame pose before each step and after the last"},
+            ),
             "start_pose": (("trial", "pose"), merged["start_pose"]),
-            "hall_v": (("hall_time", "whisker_name", "axis"), merged["hall_v"],
-                       {"units": "V", "long_name": f"Hall outputs of run {self.hall_run}"}),
+            "hall_v": (
+                ("hall_time", "whisker_name", "axis"),
+                merged["hall_v"],
+                {"units": "V", "long_name": f"Hall outputs of run {self.hall_run}"},
+            ),
             "hall_pose": (("hall_time", "pose"), merged["hall_pose"]),
             "hall_step_start": (("hall_step",), merged["hall_step_start"]),
             "ground_truth": (("gx", "gy"), slam.occupancy_grid()),
         }
         for c in CLASSIFIERS:
             data[f"latency_{c}_s"] = (("trial", f"call_{c}"), per_call(c), {"units": "s"})
-        per_trial = {"run_seed": np.array([self.run_seed(i) for i in range(len(n_steps))]),
-                     "kind": np.array(kinds), "n_steps": n_steps,
-                     "wall_seconds": merged["wall_seconds"], "seconds": merged["seconds"],
-                     "sample_rate_hz": merged["sample_rate_hz"]}
+        per_trial = {
+            "run_seed": np.array([self.run_seed(i) for i in range(len(n_steps))]),
+            "kind": np.array(kinds),
+            "n_steps": n_steps,
+            "wall_seconds": merged["wall_seconds"],
+            "seconds": merged["seconds"],
+            "sample_rate_hz": merged["sample_rate_hz"],
+        }
         coords: dict[str, Any] = {
             "trial": np.arange(len(n_steps)),
             "channel": np.array(["forward_m", "left_m", "rotation_rad"]),
-            "time": ("time", np.arange(t_max, dtype=float),
-                     {"units": "step", "long_name": "FSM step"}),
+            "time": (
+                "time",
+                np.arange(t_max, dtype=float),
+                {"units": "step", "long_name": "FSM step"},
+            ),
             "pose": np.array(["x_m", "y_m", "heading_rad"]),
             "whisker": np.array(WHISKER_NAMES[:N_OBSTACLE_WHISKERS]),
             "whisker_name": np.array(WHISKER_NAMES),
@@ -316,29 +361,35 @@ class CrunchbotProtocol(SelfGenerating, ChunkedTrials):
             "texture": np.array(self.textures() or ("none",)),
             **{name: ("trial", vals) for name, vals in per_trial.items()},
         }
-        lay = {k: np.asarray(merged[k][0]).tolist() for k in
-               ("layout_base_m", "layout_angle_rad", "layout_length_m")}
+        lay = {
+            k: np.asarray(merged[k][0]).tolist()
+            for k in ("layout_base_m", "layout_angle_rad", "layout_length_m")
+        }
         lay["body_radius_m"] = float(merged["layout_body_radius_m"][0])
         # runs in an arena without tiles report no floor whiskers: take one that does
         floor = [f for f in merged["floor_whisker_m"] if np.isfinite(f).all()]
         lay["floor_whisker_m"] = np.asarray(floor[0]).tolist() if floor else None
-        return xr.Dataset(data, coords=coords, attrs={
-            "sample_rate_hz": 1.0 / fsm.FsmSettings().step_s,
-            "protocol": self.name,
-            "protocol_params": json.dumps(self.to_dict(), sort_keys=True, default=str),
-            "robot": self.robot_kind,
-            "states": json.dumps(fsm.STATES),
-            "textures": json.dumps(self.textures()),
-            "layout": json.dumps(lay),
-            "arena": json.dumps(_arena_dict(slam)),
-            "texture_arena": json.dumps(_arena_dict(tex) if tex else None),
-            "hall_sample_rate_hz": float(merged["sample_rate_hz"][self.hall_run]),
-            "radial_fit_residual_mm": json.dumps(self.radial_fit_residuals_mm()),
-            "seed": int(self.seed),
-            "vibrissa_version": __version__,
-            "source": f"simulated: CrunchBot tactile SLAM runs (thesis 6.5), robot "
-                      f"{self.robot_kind}",
-        })
+        return xr.Dataset(
+            data,
+            coords=coords,
+            attrs={
+                "sample_rate_hz": 1.0 / fsm.FsmSettings().step_s,
+                "protocol": self.name,
+                "protocol_params": json.dumps(self.to_dict(), sort_keys=True, default=str),
+                "robot": self.robot_kind,
+                "states": json.dumps(fsm.STATES),
+                "textures": json.dumps(self.textures()),
+                "layout": json.dumps(lay),
+                "arena": json.dumps(_arena_dict(slam)),
+                "texture_arena": json.dumps(_arena_dict(tex) if tex else None),
+                "hall_sample_rate_hz": float(merged["sample_rate_hz"][self.hall_run]),
+                "radial_fit_residual_mm": json.dumps(self.radial_fit_residuals_mm()),
+                "seed": int(self.seed),
+                "vibrissa_version": __version__,
+                "source": f"simulated: CrunchBot tactile SLAM runs (thesis 6.5), robot "
+                f"{self.robot_kind}",
+            },
+        )
 
 
 def run_kinds(n_runs: int, n_trials: int) -> list[str]:
@@ -347,10 +398,14 @@ def run_kinds(n_runs: int, n_trials: int) -> list[str]:
 
 
 def _arena_dict(a: Arena) -> dict[str, Any]:
-    return {"name": a.name, "size_m": a.size_m, "tile_m": a.tile_m,
-            "tiles": [list(r) for r in a.tiles],
-            "obstacles": [dataclasses.asdict(o) for o in a.obstacles],
-            "start": dataclasses.asdict(a.start)}
+    return {
+        "name": a.name,
+        "size_m": a.size_m,
+        "tile_m": a.tile_m,
+        "tiles": [list(r) for r in a.tiles],
+        "obstacles": [dataclasses.asdict(o) for o in a.obstacles],
+        "start": dataclasses.asdict(a.start),
+    }
 
 
 def _codes(names: np.ndarray, vocabulary: Sequence[str]) -> np.ndarray:
@@ -406,8 +461,12 @@ def _flatten(rec: RunRecord, keep_hall: bool, textures: tuple[str, ...]) -> dict
 def sensor_logs(ds: xr.Dataset, kind: str = "slam") -> list[SensorLog]:
     """The :class:`SensorLog` of each run of ``kind`` (``"slam"`` or ``"texture"``)."""
     lay = json.loads(ds.attrs["layout"])
-    layout = WhiskerLayout(np.array(lay["layout_base_m"]), np.array(lay["layout_angle_rad"]),
-                           np.array(lay["layout_length_m"]), lay["body_radius_m"])
+    layout = WhiskerLayout(
+        np.array(lay["layout_base_m"]),
+        np.array(lay["layout_angle_rad"]),
+        np.array(lay["layout_length_m"]),
+        lay["body_radius_m"],
+    )
     states = np.array(json.loads(ds.attrs["states"]))
     textures = tuple(json.loads(ds.attrs["textures"]))
     logs = []
@@ -415,17 +474,21 @@ def sensor_logs(ds: xr.Dataset, kind: str = "slam") -> list[SensorLog]:
         t = int(ds["n_steps"].values[r])
         ll = ds["floor_loglik"].values[r, :t]
         has_floor = bool(textures) and np.isfinite(ll).all()
-        logs.append(SensorLog(
-            layout=layout, state=states[ds["state"].values[r, :t].astype(int)],
-            odometry=ds["signal"].values[r, :, :t].T.copy(),
-            contact=ds["contact"].values[r, :t].astype(bool),
-            radial_distance_m=ds["radial_distance_m"].values[r, :t],
-            surface_angle_rad=ds["surface_angle_rad"].values[r, :t],
-            start_pose=ds["start_pose"].values[r],
-            floor_loglik=ll if has_floor else None,
-            floor_whisker_m=np.array(lay["floor_whisker_m"]) if has_floor else None,
-            textures=textures if has_floor else (),
-            true_pose=ds["true_pose"].values[r, : t + 1]))
+        logs.append(
+            SensorLog(
+                layout=layout,
+                state=states[ds["state"].values[r, :t].astype(int)],
+                odometry=ds["signal"].values[r, :, :t].T.copy(),
+                contact=ds["contact"].values[r, :t].astype(bool),
+                radial_distance_m=ds["radial_distance_m"].values[r, :t],
+                surface_angle_rad=ds["surface_angle_rad"].values[r, :t],
+                start_pose=ds["start_pose"].values[r],
+                floor_loglik=ll if has_floor else None,
+                floor_whisker_m=np.array(lay["floor_whisker_m"]) if has_floor else None,
+                textures=textures if has_floor else (),
+                true_pose=ds["true_pose"].values[r, : t + 1],
+            )
+        )
     return logs
 
 
@@ -433,19 +496,31 @@ def hall_run(ds: xr.Dataset) -> dict[str, np.ndarray]:
     """The kept run's 2 kHz arrays: ``time_s``, ``hall_v``, ``pose``, ``step_start``."""
     fs = float(ds.attrs["hall_sample_rate_hz"])
     n = ds.sizes["hall_time"]
-    return {"time_s": np.arange(n) / fs, "hall_v": ds["hall_v"].values,
-            "pose": ds["hall_pose"].values, "step_start": ds["hall_step_start"].values}
+    return {
+        "time_s": np.arange(n) / fs,
+        "hall_v": ds["hall_v"].values,
+        "pose": ds["hall_pose"].values,
+        "step_start": ds["hall_step_start"].values,
+    }
 
 
 def crunchbot_protocol(quick: bool = False, **overrides: Any) -> CrunchbotProtocol:
     """The thesis' session (20 runs of 6 minutes) or, ``quick``, 3 runs of 40 s."""
-    base: dict[str, Any] = ({"n_runs": 3, "seconds": 40.0, "texture_seconds": 30.0,
-                             "quick_training": True} if quick else {})
+    base: dict[str, Any] = (
+        {"n_runs": 3, "seconds": 40.0, "texture_seconds": 30.0, "quick_training": True}
+        if quick
+        else {}
+    )
     return CrunchbotProtocol(**{**base, **overrides})
 
 
 def robot_kind(run: Callable | None) -> str:
     """Which of :data:`ROBOT_KINDS` a ``simulate_run`` callable is."""
     q = _qualname(run)
-    return ("simulated-physics" if q == ":".join(_PHYSICS) else
-            "synthetic-oracle" if q == ":".join(_SYNTHETIC) else "custom")
+    return (
+        "simulated-physics"
+        if q == ":".join(_PHYSICS)
+        else "synthetic-oracle"
+        if q == ":".join(_SYNTHETIC)
+        else "custom"
+    )

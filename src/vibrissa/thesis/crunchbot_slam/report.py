@@ -21,11 +21,14 @@ def markdown_crunchbot(results: Mapping[str, Any], figures: Mapping[str, Path]) 
     modes = ("blob", "geometric", "template")
     out: list[str] = []
     if meta.get("synthetic"):
-        out += [f"> **Synthetic robot ({meta['robot']}).** These runs come from the "
-                "exact-contact oracle with synthetic whisker signals, not from the "
-                "simulated whisker physics: contacts and radial distances are exact and "
-                "no real-time classifier ran. The map and trajectory errors test the "
-                "filter, not the whiskers.", ""]
+        out += [
+            f"> **Synthetic robot ({meta['robot']}).** These runs come from the "
+            "exact-contact oracle with synthetic whisker signals, not from the "
+            "simulated whisker physics: contacts and radial distances are exact and "
+            "no real-time classifier ran. The map and trajectory errors test the "
+            "filter, not the whiskers.",
+            "",
+        ]
     out += [
         f"CrunchBot (thesis 6.5) ran {meta['n_runs']} times for "
         f"{fmt(meta['seconds_per_run'], 0)} s in the `{meta['arena']}` arena; each run's "
@@ -35,18 +38,35 @@ def markdown_crunchbot(results: Mapping[str, Any], figures: Mapping[str, Path]) 
         "",
         "## Map error (eq. 6.3)",
         "",
-        md_table(["mode", "thesis", "this run (mean +/- std over runs)",
-                  "trajectory error (mm)"],
-                 [[m, fmt(th["map_error"][m]), f"{fmt(me[m]['mean'], 3)} +/- "
-                   f"{fmt(me[m]['std'], 3)}", f"{fmt(te[m]['mean'], 1)} +/- "
-                   f"{fmt(te[m]['std'], 1)}"] for m in modes]
-                 + [["random (Bernoulli 0.5)", fmt(th["map_error"]["random"]),
-                     fmt(me["random"], 3), "—"],
-                    ["random, smoothed 5 x 5", "—", fmt(me["random_smoothed"], 3), "—"],
-                    ["empty (nothing explored, all 0.3)", "—", fmt(me["empty"], 3), "—"],
-                    ["dead reckoning", "—", "—",
-                     f"{fmt(te['dead_reckoning']['mean'], 1)} +/- "
-                     f"{fmt(te['dead_reckoning']['std'], 1)}"]]),
+        md_table(
+            ["mode", "thesis", "this run (mean +/- std over runs)", "trajectory error (mm)"],
+            [
+                [
+                    m,
+                    fmt(th["map_error"][m]),
+                    f"{fmt(me[m]['mean'], 3)} +/- {fmt(me[m]['std'], 3)}",
+                    f"{fmt(te[m]['mean'], 1)} +/- {fmt(te[m]['std'], 1)}",
+                ]
+                for m in modes
+            ]
+            + [
+                [
+                    "random (Bernoulli 0.5)",
+                    fmt(th["map_error"]["random"]),
+                    fmt(me["random"], 3),
+                    "—",
+                ],
+                ["random, smoothed 5 x 5", "—", fmt(me["random_smoothed"], 3), "—"],
+                ["empty (nothing explored, all 0.3)", "—", fmt(me["empty"], 3), "—"],
+                [
+                    "dead reckoning",
+                    "—",
+                    "—",
+                    f"{fmt(te['dead_reckoning']['mean'], 1)} +/- "
+                    f"{fmt(te['dead_reckoning']['std'], 1)}",
+                ],
+            ],
+        ),
         "",
         _discussion(results),
         "",
@@ -62,46 +82,103 @@ def markdown_crunchbot(results: Mapping[str, Any], figures: Mapping[str, Path]) 
     if "maps" in figures:
         out += [f"![average maps (figure 6.14)]({figures['maps']})", ""]
     if "trajectory" in figures:
-        out += ["Run 0: the true path and the filter's pose estimate per mode "
-                "(the thesis could not measure this):", "",
-                f"![trajectory]({figures['trajectory']})", ""]
-    out += ["## Per run", "",
-            md_table(["run", "FSM steps", *[f"{m} map error" for m in modes],
-                      *[f"{m} trajectory (mm)" for m in modes], "dead reckoning (mm)"],
-                     [[r["run"], r["n_steps"], *[fmt(r[m]["map_error"], 3) for m in modes],
-                       *[fmt(r[m]["trajectory_error_mm"], 1) for m in modes],
-                       fmt(r["dead_reckoning_error_mm"], 1)] for r in results["per_run"]]),
-            ""]
+        out += [
+            "Run 0: the true path and the filter's pose estimate per mode "
+            "(the thesis could not measure this):",
+            "",
+            f"![trajectory]({figures['trajectory']})",
+            "",
+        ]
+    out += [
+        "## Per run",
+        "",
+        md_table(
+            [
+                "run",
+                "FSM steps",
+                *[f"{m} map error" for m in modes],
+                *[f"{m} trajectory (mm)" for m in modes],
+                "dead reckoning (mm)",
+            ],
+            [
+                [
+                    r["run"],
+                    r["n_steps"],
+                    *[fmt(r[m]["map_error"], 3) for m in modes],
+                    *[fmt(r[m]["trajectory_error_mm"], 1) for m in modes],
+                    fmt(r["dead_reckoning_error_mm"], 1),
+                ]
+                for r in results["per_run"]
+            ],
+        ),
+        "",
+    ]
     rd = results["radial_distance_error_mm"]
     n_c = results["radial_distance_contacts"]
     keys = [k for k in rd if k != "combined"]
     fit = results.get("radial_distance_fit_residual_mm") or {}
-    out += ["## Radial distance (6.5.4)", "",
-            "The thesis' table (6.5.6.2) gives the standard error of each whisker's "
-            "regression on its training contacts (figure 6.12's error bars). Beside it: "
-            "the same residual of our fitted lines on their training contacts, and the "
-            "error of the estimates the robot reported in its SLAM runs against the "
-            "simulator's true contact point, which the thesis could not measure.", "",
-            md_table(["whisker", "thesis std (mm)", "training-fit residual std (mm)",
-                      "in-run error std (mm)", "in-run contact steps"],
-                     [[k, fmt(th["radial_distance_error_mm"].get(k)), fmt(fit.get(k)),
-                       fmt(rd[k]), n_c.get(k, "")] for k in keys]
-                     + [["combined", fmt(th["radial_distance_error_mm"]["combined"]), "",
-                         fmt(rd["combined"]), sum(n_c.values())]]), ""]
+    out += [
+        "## Radial distance (6.5.4)",
+        "",
+        "The thesis' table (6.5.6.2) gives the standard error of each whisker's "
+        "regression on its training contacts (figure 6.12's error bars). Beside it: "
+        "the same residual of our fitted lines on their training contacts, and the "
+        "error of the estimates the robot reported in its SLAM runs against the "
+        "simulator's true contact point, which the thesis could not measure.",
+        "",
+        md_table(
+            [
+                "whisker",
+                "thesis std (mm)",
+                "training-fit residual std (mm)",
+                "in-run error std (mm)",
+                "in-run contact steps",
+            ],
+            [
+                [
+                    k,
+                    fmt(th["radial_distance_error_mm"].get(k)),
+                    fmt(fit.get(k)),
+                    fmt(rd[k]),
+                    n_c.get(k, ""),
+                ]
+                for k in keys
+            ]
+            + [
+                [
+                    "combined",
+                    fmt(th["radial_distance_error_mm"]["combined"]),
+                    "",
+                    fmt(rd["combined"]),
+                    sum(n_c.values()),
+                ]
+            ],
+        ),
+        "",
+    ]
     if "radial" in figures:
         out += [f"![radial distance (figure 6.12)]({figures['radial']})", ""]
     acc = results["floor_texture"]["accuracy"]
-    out += ["## Floor texture (6.5.2) and real-time classifiers", "",
-            f"Floor-texture accuracy over the floor whiskers' steps on a tile, in the "
-            f"`{meta.get('texture_arena')}` arena: {fmt(acc, 3)}.", ""]
+    out += [
+        "## Floor texture (6.5.2) and real-time classifiers",
+        "",
+        f"Floor-texture accuracy over the floor whiskers' steps on a tile, in the "
+        f"`{meta.get('texture_arena')}` arena: {fmt(acc, 3)}.",
+        "",
+    ]
     if "texture" in figures:
         out += [f"![texture trace (figure 6.11)]({figures['texture']})", ""]
     lat = results["classifier_latency_ms"]
-    out += [md_table(["classifier", "median (ms)", "p99 (ms)", "calls"],
-                     [[c, fmt(v["median"], 3), fmt(v["p99"], 3), v["n_calls"]]
-                      for c, v in lat.items()]), "",
-            f"Real-time factor (simulated seconds per wall second of the robot): "
-            f"{fmt(meta['real_time_factor'], 1)}.", ""]
+    out += [
+        md_table(
+            ["classifier", "median (ms)", "p99 (ms)", "calls"],
+            [[c, fmt(v["median"], 3), fmt(v["p99"], 3), v["n_calls"]] for c, v in lat.items()],
+        ),
+        "",
+        f"Real-time factor (simulated seconds per wall second of the robot): "
+        f"{fmt(meta['real_time_factor'], 1)}.",
+        "",
+    ]
     return "\n".join(out)
 
 
@@ -115,13 +192,17 @@ def _discussion(results: Mapping[str, Any]) -> str:
     beats = [m for m in order if me[m]["mean"] < me["random"]]
     useful = [m for m in order if me[m]["mean"] < me["empty"]]
     best_traj = min(order, key=lambda m: te[m]["mean"])
-    text = (f"The thesis' ordering template < geometric < blob "
-            f"{'holds' if holds else 'does not hold'} here: from best to worst "
-            f"{' < '.join(order)}, a spread of {spread:.3f} against a standard error of the "
-            f"mean of about {noise:.3f}")
-    text += (" (within the run-to-run noise)." if spread < 2 * noise else ".")
-    text += (f" {len(beats)} of 3 modes beat the random map and {len(useful)} of 3 the "
-             f"empty map ({me['empty']:.3f}). The best trajectory is "
-             f"{best_traj}'s ({te[best_traj]['mean']:.1f} mm), dead reckoning "
-             f"{te['dead_reckoning']['mean']:.1f} mm.")
+    text = (
+        f"The thesis' ordering template < geometric < blob "
+        f"{'holds' if holds else 'does not hold'} here: from best to worst "
+        f"{' < '.join(order)}, a spread of {spread:.3f} against a standard error of the "
+        f"mean of about {noise:.3f}"
+    )
+    text += " (within the run-to-run noise)." if spread < 2 * noise else "."
+    text += (
+        f" {len(beats)} of 3 modes beat the random map and {len(useful)} of 3 the "
+        f"empty map ({me['empty']:.3f}). The best trajectory is "
+        f"{best_traj}'s ({te[best_traj]['mean']:.1f} mm), dead reckoning "
+        f"{te['dead_reckoning']['mean']:.1f} mm."
+    )
     return text

@@ -8,6 +8,5 @@ from typing import Any
 #: map; radial-distance error (std, mm) per obstacle whisker and all together.
 THESIS: dict[str, Any] = {
     "map_error": {"blob": 0.40, "geometric": 0.39, "template": 0.37, "random": 0.47},
-    "radial_distance_error_mm": {"w1": 5.68, "w2": 2.78, "w3": 1.82, "w4": 4.37,
-                                 "combined": 4.98},
+    "radial_distance_error_mm": {"w1": 5.68, "w2": 2.78, "w3": 1.82, "w4": 4.37, "combined": 4.98},
 }

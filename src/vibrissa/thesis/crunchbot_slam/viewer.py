@@ -30,8 +30,14 @@ from vibrissa.robots.crunchbot.record import WHISKER_NAMES, RunRecord
 from vibrissa.slam import Frames, FrameStack, Progress, SensorLog, SlamSettings, run_slam
 from vibrissa.thesis.crunchbot_slam.protocol import default_robot, robot_kind
 
-__all__ = ["SlamFrames", "check_watch", "slam_frames", "watch_run", "write_animation",
-           "write_viewer_html"]
+__all__ = [
+    "SlamFrames",
+    "check_watch",
+    "slam_frames",
+    "watch_run",
+    "write_animation",
+    "write_viewer_html",
+]
 
 
 @dataclass(frozen=True)
@@ -54,8 +60,12 @@ class SlamFrames:
     best_map: np.ndarray
 
 
-def slam_frames(log: SensorLog, settings: SlamSettings, seed: int = 0,
-                progress: Callable[[int, int], None] | None = None) -> SlamFrames:
+def slam_frames(
+    log: SensorLog,
+    settings: SlamSettings,
+    seed: int = 0,
+    progress: Callable[[int, int], None] | None = None,
+) -> SlamFrames:
     """Run the filter over ``log`` keeping each frame: :func:`vibrissa.slam.run_slam` with a
     :class:`~vibrissa.slam.Frames` collector, so the final map is the one it scores.
 
@@ -86,9 +96,14 @@ def _whisker_lines(pose: np.ndarray, layout: Any) -> np.ndarray:
     return np.stack([base, tip], axis=1)
 
 
-def write_animation(path: str | os.PathLike[str], log: SensorLog, frames: SlamFrames,
-                    boxes: Sequence[Sequence[float]], max_frames: int = 120,
-                    fps: int = 8) -> Path:
+def write_animation(
+    path: str | os.PathLike[str],
+    log: SensorLog,
+    frames: SlamFrames,
+    boxes: Sequence[Sequence[float]],
+    max_frames: int = 120,
+    fps: int = 8,
+) -> Path:
     """An animated GIF of the run (at most ``max_frames`` frames), written atomically.
 
     ``boxes`` are the walls and obstacles as map-frame ``(x0, y0, x1, y1)``, the first the
@@ -106,11 +121,20 @@ def write_animation(path: str | os.PathLike[str], log: SensorLog, frames: SlamFr
     size = frames.maps.shape[1] * frames.cell_m
     fig = Figure(figsize=(5, 5), dpi=80, layout="constrained")
     ax = fig.add_subplot()
-    im = ax.imshow(frames.maps[0].T, origin="lower", cmap="gray_r", vmin=0, vmax=255,
-                   extent=(0, size, 0, size))
+    im = ax.imshow(
+        frames.maps[0].T, origin="lower", cmap="gray_r", vmin=0, vmax=255, extent=(0, size, 0, size)
+    )
     for i, b in enumerate(boxes):
-        ax.add_patch(Rectangle((b[0], b[1]), b[2] - b[0], b[3] - b[1], fill=False,
-                               ec="tab:blue", lw=1.5 if i == 0 else 1))
+        ax.add_patch(
+            Rectangle(
+                (b[0], b[1]),
+                b[2] - b[0],
+                b[3] - b[1],
+                fill=False,
+                ec="tab:blue",
+                lw=1.5 if i == 0 else 1,
+            )
+        )
     (pts,) = ax.plot([], [], ".", ms=2, color="tab:orange")
     (path_line,) = ax.plot([], [], ":", lw=0.8, color="k", label="true path")
     (est_line,) = ax.plot([], [], "-", lw=0.8, color="tab:green", label="filter estimate")
@@ -133,20 +157,31 @@ def write_animation(path: str | os.PathLike[str], log: SensorLog, frames: SlamFr
         p = true[t]
         r = log.layout.body_radius_m
         body.set_data(p[0] + r * np.cos(ring), p[1] + r * np.sin(ring))
-        touch = (np.asarray(log.contact[t], bool) if t < log.n_steps
-                 else np.zeros(log.layout.n_whiskers, bool))
-        for w, (ln, seg) in enumerate(zip(whiskers, _whisker_lines(p, log.layout),
-                                          strict=True)):
+        touch = (
+            np.asarray(log.contact[t], bool)
+            if t < log.n_steps
+            else np.zeros(log.layout.n_whiskers, bool)
+        )
+        for w, (ln, seg) in enumerate(zip(whiskers, _whisker_lines(p, log.layout), strict=True)):
             ln.set_data(seg[:, 0], seg[:, 1])
             ln.set_color("tab:red" if touch[w] else "0.4")
         state = str(log.state[t]) if t < log.n_steps else "end"
         title.set_text(f"step {t} / {n - 1}  {state}")
         canvas.draw()
-        images.append(Image.fromarray(np.asarray(canvas.buffer_rgba())[..., :3])
-                      .convert("P", palette=Image.Palette.ADAPTIVE))
+        images.append(
+            Image.fromarray(np.asarray(canvas.buffer_rgba())[..., :3]).convert(
+                "P", palette=Image.Palette.ADAPTIVE
+            )
+        )
     with atomic_path(Path(path)) as tmp:
-        images[0].save(tmp, format="GIF", save_all=True, append_images=images[1:],
-                       duration=int(1000 / fps), loop=0)
+        images[0].save(
+            tmp,
+            format="GIF",
+            save_all=True,
+            append_images=images[1:],
+            duration=int(1000 / fps),
+            loop=0,
+        )
     return Path(path)
 
 
@@ -282,11 +317,19 @@ def _finite_or_null(a: np.ndarray) -> list:
     return np.where(np.isfinite(arr), arr, None).tolist()
 
 
-def write_viewer_html(path: str | os.PathLike[str], log: SensorLog, frames: SlamFrames,
-                      boxes: Sequence[Sequence[float]], *, step_time_s: np.ndarray,
-                      traces: Mapping[str, np.ndarray], trace_time_s: np.ndarray,
-                      tiles: Sequence[tuple[float, float, float, float, str]] = (),
-                      title: str = "CrunchBot run", summary: str = "") -> Path:
+def write_viewer_html(
+    path: str | os.PathLike[str],
+    log: SensorLog,
+    frames: SlamFrames,
+    boxes: Sequence[Sequence[float]],
+    *,
+    step_time_s: np.ndarray,
+    traces: Mapping[str, np.ndarray],
+    trace_time_s: np.ndarray,
+    tiles: Sequence[tuple[float, float, float, float, str]] = (),
+    title: str = "CrunchBot run",
+    summary: str = "",
+) -> Path:
     """Write the interactive page, atomically; one self-contained file.
 
     Parameters
@@ -307,20 +350,34 @@ def write_viewer_html(path: str | os.PathLike[str], log: SensorLog, frames: Slam
     base = np.asarray(lay.base_m)
     tip = np.asarray(lay.points(np.asarray(lay.length_m)))
     r4 = lambda a: np.round(np.asarray(a, float), 4).tolist()  # noqa: E731
-    vmax = max((float(np.max(np.asarray(v)[np.isfinite(v)])) for v in traces.values()
-                if np.isfinite(v).any()), default=1.0)
+    vmax = max(
+        (
+            float(np.max(np.asarray(v)[np.isfinite(v)]))
+            for v in traces.values()
+            if np.isfinite(v).any()
+        ),
+        default=1.0,
+    )
     data = {
-        "map_size_m": frames.maps.shape[1] * frames.cell_m, "n_cells": frames.maps.shape[1],
-        "poses": r4(log.true_pose), "estimate": r4(frames.estimate),
+        "map_size_m": frames.maps.shape[1] * frames.cell_m,
+        "n_cells": frames.maps.shape[1],
+        "poses": r4(log.true_pose),
+        "estimate": r4(frames.estimate),
         "particles": np.round(frames.particles, 3).tolist(),
         "maps": base64.b64encode(np.ascontiguousarray(frames.maps).tobytes()).decode(),
-        "contact": np.asarray(log.contact, int).tolist(), "states": [str(s) for s in log.state],
-        "times": r4(step_time_s), "whiskers": r4(np.c_[base, tip]),
-        "body_radius_m": lay.body_radius_m, "boxes": r4(boxes),
+        "contact": np.asarray(log.contact, int).tolist(),
+        "states": [str(s) for s in log.state],
+        "times": r4(step_time_s),
+        "whiskers": r4(np.c_[base, tip]),
+        "body_radius_m": lay.body_radius_m,
+        "boxes": r4(boxes),
         "tiles": [[*r4(t[:4]), _TILE_COLOURS.get(t[4], "#eee")] for t in tiles],
         "traces": [_finite_or_null(np.round(np.asarray(v, float), 3)) for v in traces.values()],
-        "trace_names": list(traces), "trace_time": r4(trace_time_s), "trace_max": vmax,
-        "trace_colours": list(_TRACE_COLOURS[: len(traces)]), "summary": summary,
+        "trace_names": list(traces),
+        "trace_time": r4(trace_time_s),
+        "trace_max": vmax,
+        "trace_colours": list(_TRACE_COLOURS[: len(traces)]),
+        "summary": summary,
     }
     text = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
     page = _PAGE.replace("__TITLE__", html.escape(title)).replace("__DATA__", text)
@@ -340,27 +397,36 @@ def check_watch(arena: str, seconds: float, seed: int, particles: int, mode: str
     """
     from vibrissa.slam import MODES
 
-    if not (isinstance(seconds, int | float) and not isinstance(seconds, bool)
-            and np.isfinite(seconds) and seconds > 0):
+    if not (
+        isinstance(seconds, int | float)
+        and not isinstance(seconds, bool)
+        and np.isfinite(seconds)
+        and seconds > 0
+    ):
         raise ValueError(f"--seconds must be a positive number, got {seconds!r}")
     if isinstance(particles, bool) or not isinstance(particles, int) or particles <= 0:
         raise ValueError(f"--particles must be a positive integer, got {particles!r}")
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise ValueError(f"--seed must be a non-negative integer, got {seed!r}")
     if mode not in MODES:
-        raise ValueError(f"--mode: unknown mapping mode {mode!r}; choose one of "
-                         f"{', '.join(MODES)}")
+        raise ValueError(f"--mode: unknown mapping mode {mode!r}; choose one of {', '.join(MODES)}")
     try:
         return get_arena(arena)
     except ValueError as exc:
         raise ValueError(f"--arena: {exc}") from None
 
 
-def watch_run(out_dir: Path, arena: Arena, seconds: float = 360.0, seed: int = 0,
-              particles: int = 100, mode: str = "blob",
-              simulate_run: Callable[..., RunRecord] | None = None,
-              train: Callable[..., Any] | None = None,
-              progress: Callable[[str, float], None] | None = None) -> dict[str, Any]:
+def watch_run(
+    out_dir: Path,
+    arena: Arena,
+    seconds: float = 360.0,
+    seed: int = 0,
+    particles: int = 100,
+    mode: str = "blob",
+    simulate_run: Callable[..., RunRecord] | None = None,
+    train: Callable[..., Any] | None = None,
+    progress: Callable[[str, float], None] | None = None,
+) -> dict[str, Any]:
     """One run, then SLAM step by step, then ``crunchbot.gif`` and ``crunchbot.html`` in
     ``out_dir`` (both written atomically); returns a summary.
 
@@ -382,15 +448,25 @@ def watch_run(out_dir: Path, arena: Arena, seconds: float = 360.0, seed: int = 0
         progress("robot", 1.0)
     log = rec.log
     settings = SlamSettings(n_particles=particles, mode=mode)
-    frames = slam_frames(log, settings, seed, progress=(
-        (lambda d, n: progress("slam", d / n)) if progress else None))
+    frames = slam_frames(
+        log, settings, seed, progress=((lambda d, n: progress("slam", d / n)) if progress else None)
+    )
     offset = arena.map_offset_m(settings.map_size_m, settings.cell_m)
-    boxes = [[b[0] + offset, b[1] + offset, b[2] + offset, b[3] + offset]
-             for b in [(0.0, 0.0, arena.size_m, arena.size_m)]
-             + [o.bounds() for o in arena.obstacles]]
-    tiles = [(c * arena.tile_m + offset, r * arena.tile_m + offset,
-              (c + 1) * arena.tile_m + offset, (r + 1) * arena.tile_m + offset, name)
-             for r, row in enumerate(arena.tiles) for c, name in enumerate(row)]
+    boxes = [
+        [b[0] + offset, b[1] + offset, b[2] + offset, b[3] + offset]
+        for b in [(0.0, 0.0, arena.size_m, arena.size_m)] + [o.bounds() for o in arena.obstacles]
+    ]
+    tiles = [
+        (
+            c * arena.tile_m + offset,
+            r * arena.tile_m + offset,
+            (c + 1) * arena.tile_m + offset,
+            (r + 1) * arena.tile_m + offset,
+            name,
+        )
+        for r, row in enumerate(arena.tiles)
+        for c, name in enumerate(row)
+    ]
     starts = np.asarray(rec.step_start)
     step_time = np.asarray(rec.time_s)[np.minimum(starts, len(rec.time_s) - 1)]
     every = max(1, int(round(rec.sample_rate_hz / 50)))  # 50 Hz traces in the page
@@ -401,23 +477,39 @@ def watch_run(out_dir: Path, arena: Arena, seconds: float = 360.0, seed: int = 0
     grid = arena.occupancy_grid(settings.cell_m, settings.map_size_m)
     err = map_error(frames.best_map, smooth_ground_truth(grid))
     traj = trajectory_error_mm(frames.estimate, log.true_pose)
-    summary = {"arena": arena.name, "seconds": rec.seconds, "seed": seed, "mode": mode,
-               "particles": particles, "n_steps": log.n_steps,
-               "robot": robot_kind(simulate_run), "map_error": err,
-               "trajectory_error_mm": traj,
-               "dead_reckoning_error_mm": trajectory_error_mm(dead_reckoning(log),
-                                                              log.true_pose),
-               "real_time_factor": rec.real_time_factor}
+    summary = {
+        "arena": arena.name,
+        "seconds": rec.seconds,
+        "seed": seed,
+        "mode": mode,
+        "particles": particles,
+        "n_steps": log.n_steps,
+        "robot": robot_kind(simulate_run),
+        "map_error": err,
+        "trajectory_error_mm": traj,
+        "dead_reckoning_error_mm": trajectory_error_mm(dead_reckoning(log), log.true_pose),
+        "real_time_factor": rec.real_time_factor,
+    }
     if progress:
         progress("draw", 0.0)
     gif = write_animation(out_dir / "crunchbot.gif", log, frames, boxes)
-    text = (f"{summary['robot']} robot, arena {arena.name}, {rec.seconds:.0f} s, seed {seed}, "
-            f"{mode} mode, {particles} particles: map error {err:.3f} (eq. 6.3), trajectory "
-            f"error {traj:.1f} mm. Hall traces: magnitude (V) of each whisker.")
-    html = write_viewer_html(out_dir / "crunchbot.html", log, frames, boxes,
-                             step_time_s=step_time, traces=traces,
-                             trace_time_s=np.asarray(rec.time_s)[::every], tiles=tiles,
-                             title=f"CrunchBot in {arena.name}", summary=text)
+    text = (
+        f"{summary['robot']} robot, arena {arena.name}, {rec.seconds:.0f} s, seed {seed}, "
+        f"{mode} mode, {particles} particles: map error {err:.3f} (eq. 6.3), trajectory "
+        f"error {traj:.1f} mm. Hall traces: magnitude (V) of each whisker."
+    )
+    html = write_viewer_html(
+        out_dir / "crunchbot.html",
+        log,
+        frames,
+        boxes,
+        step_time_s=step_time,
+        traces=traces,
+        trace_time_s=np.asarray(rec.time_s)[::every],
+        tiles=tiles,
+        title=f"CrunchBot in {arena.name}",
+        summary=text,
+    )
     if progress:
         progress("draw", 1.0)
     return {**summary, "animation": str(gif), "html": str(html)}

@@ -37,8 +37,14 @@ from vibrissa.signal import (
 )
 from vibrissa.thesis.floor_texture.values import THESIS
 
-__all__ = ["confusion_matrix", "condition_windows", "floor_classifiers",
-           "mean_correct", "run_floor_texture"]
+__all__ = [
+    "confusion_matrix",
+    "condition_windows",
+    "floor_classifiers",
+    "mean_correct",
+    "run_floor_texture",
+]
+
 
 def confusion_matrix(true: np.ndarray, pred: np.ndarray, n_classes: int) -> np.ndarray:
     """Counts, rows = true class, columns = predicted (integer labels 0..n-1)."""
@@ -106,9 +112,11 @@ def floor_classifiers(sample_rate_hz: float) -> dict[str, Any]:
     fs = float(sample_rate_hz)
     return {
         "spectral_template": FrequencyTemplateClassifier(
-            sample_rate_hz=fs, cutoff_hz=None, templates="mean", zero_dc=True),
+            sample_rate_hz=fs, cutoff_hz=None, templates="mean", zero_dc=True
+        ),
         "spectral_nearest": FrequencyTemplateClassifier(
-            sample_rate_hz=fs, cutoff_hz=None, templates="all", zero_dc=True),
+            sample_rate_hz=fs, cutoff_hz=None, templates="all", zero_dc=True
+        ),
         "naive_bayes": StationaryNaiveBayes(signal="raw", sample_rate_hz=fs),
     }
 
@@ -117,8 +125,9 @@ def _predict(clf: Any, X: np.ndarray) -> np.ndarray:
     return np.asarray(clf.predict(X)).ravel().astype(int)
 
 
-def run_floor_texture(ds: xr.Dataset, *, seed: int = 0,
-                      progress: Callable[[int, int, str], None] | None = None) -> dict[str, Any]:
+def run_floor_texture(
+    ds: xr.Dataset, *, seed: int = 0, progress: Callable[[int, int, str], None] | None = None
+) -> dict[str, Any]:
     """Evaluate every condition of a floor-texture dataset.
 
     Parameters
@@ -167,14 +176,15 @@ def run_floor_texture(ds: xr.Dataset, *, seed: int = 0,
             if progress:
                 progress(done, total, f"{m} {c}")
     cross: dict[str, Any] = {}
-    for key, (src, dst) in {"cw_on_ccw": ("clockwise", "anticlockwise"),
-                            "ccw_on_cw": ("anticlockwise", "clockwise")}.items():
+    for key, (src, dst) in {
+        "cw_on_ccw": ("clockwise", "anticlockwise"),
+        "ccw_on_cw": ("anticlockwise", "clockwise"),
+    }.items():
         clf = fitted["spectral_template"].get(src)
         if clf is None or dst not in data or not len(data[dst]["y_test"]):
             cross[key] = None
             continue
-        cm = confusion_matrix(data[dst]["y_test"], _predict(clf, data[dst]["X_test"]),
-                              len(floors))
+        cm = confusion_matrix(data[dst]["y_test"], _predict(clf, data[dst]["X_test"]), len(floors))
         cross[key] = mean_correct(cm)
         cross[f"{key}_confusion"] = cm.tolist()
     templates = {}
@@ -183,19 +193,24 @@ def run_floor_texture(ds: xr.Dataset, *, seed: int = 0,
         spec = magnitude_spectrum(d["X_train"])
         templates[c] = {
             "frequency_hz": spectrum_frequencies(WINDOW_SAMPLES, fs).tolist(),
-            "spectra": {f: spec[d["y_train"] == k].mean(axis=0).tolist()
-                        for k, f in enumerate(floors) if np.any(d["y_train"] == k)},
+            "spectra": {
+                f: spec[d["y_train"] == k].mean(axis=0).tolist()
+                for k, f in enumerate(floors)
+                if np.any(d["y_train"] == k)
+            },
         }
     saturated: dict[str, dict[str, int]] = {}
     if "saturated" in ds.coords:
         for c in conditions:
             sel = ds["condition"].values == c
-            saturated[c] = {f: int(np.sum(ds["saturated"].values[sel & (ds["floor"].values == f)]))
-                            for f in floors}
+            saturated[c] = {
+                f: int(np.sum(ds["saturated"].values[sel & (ds["floor"].values == f)]))
+                for f in floors
+            }
     return {
         "meta": {
             "evaluation": "6.2: quiet packets dropped, 800-sample windows, odd train / even "
-                          "test, per movement condition",
+            "test, per movement condition",
             "floors": floors,
             "conditions": conditions,
             "packet_samples": PACKET_SAMPLES,

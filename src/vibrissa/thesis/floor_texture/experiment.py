@@ -28,37 +28,60 @@ class FloorTexture(Experiment):
     name = "floor-texture"
     chapter = 6
     title = "Thesis 6.2 reproduction: floor-texture discrimination on a Roomba"
-    description = ("a whisker on a turning Roomba over four floors: spectral-template "
-                   "confusion matrices per movement condition, cross-condition, naive Bayes")
-    options = (Option("floors", ",".join(floor_names()),
-                      "Floor textures to simulate and tell apart, comma-separated (thesis: "
-                      "all four).", minimum=2, choices=tuple(floor_names()),
-                      item="floor texture"),)
+    description = (
+        "a whisker on a turning Roomba over four floors: spectral-template "
+        "confusion matrices per movement condition, cross-condition, naive Bayes"
+    )
+    options = (
+        Option(
+            "floors",
+            ",".join(floor_names()),
+            "Floor textures to simulate and tell apart, comma-separated (thesis: all four).",
+            minimum=2,
+            choices=tuple(floor_names()),
+            item="floor texture",
+        ),
+    )
 
     def protocol(self, quick: bool, seed: int) -> SimulationProtocol:
         from vibrissa.thesis.floor_texture.protocol import floor_protocol
 
         return floor_protocol(quick=quick, seed=seed)
 
-    def protocol_for(self, quick: bool, seed: int,
-                     options: Mapping[str, Any]) -> SimulationProtocol:
+    def protocol_for(
+        self, quick: bool, seed: int, options: Mapping[str, Any]
+    ) -> SimulationProtocol:
         from vibrissa.thesis.floor_texture.protocol import floor_protocol
 
         chosen = set(options.get("floors") or floor_names())
-        return floor_protocol(quick=quick, seed=seed,
-                              floors=tuple(f for f in floor_names() if f in chosen))
+        return floor_protocol(
+            quick=quick, seed=seed, floors=tuple(f for f in floor_names() if f in chosen)
+        )
 
-    def evaluate(self, ds: xr.Dataset, *, seed: int, progress: Callable | None,
-                 options: Mapping[str, Any], workers: int | None = None) -> Evaluation:
+    def evaluate(
+        self,
+        ds: xr.Dataset,
+        *,
+        seed: int,
+        progress: Callable | None,
+        options: Mapping[str, Any],
+        workers: int | None = None,
+    ) -> Evaluation:
         # a few fits on a few hundred windows: this process (``workers`` is not used)
         from vibrissa.thesis.floor_texture.evaluation import run_floor_texture
 
         return Evaluation(run_floor_texture(ds, seed=seed, progress=progress))
 
-    def write_outputs(self, results: Mapping[str, Any], out_dir: Path, *,
-                      dataset: xr.Dataset | None, figures: bool,
-                      workers: int | None = None,
-                      artifacts: Mapping[str, Any] | None = None) -> dict[str, Path]:
+    def write_outputs(
+        self,
+        results: Mapping[str, Any],
+        out_dir: Path,
+        *,
+        dataset: xr.Dataset | None,
+        figures: bool,
+        workers: int | None = None,
+        artifacts: Mapping[str, Any] | None = None,
+    ) -> dict[str, Path]:
         if not figures:
             return {}
         from vibrissa.thesis.floor_texture.figures import floor_figures
@@ -69,11 +92,16 @@ class FloorTexture(Experiment):
             fs = float(dataset.attrs["sample_rate_hz"])
             signals = _example_signals(dataset)
             paths = tip_paths(dataset)
-        return floor_figures(results, Path(out_dir) / "figures", signals=signals,
-                             sample_rate_hz=fs, paths=paths)
+        return floor_figures(
+            results, Path(out_dir) / "figures", signals=signals, sample_rate_hz=fs, paths=paths
+        )
 
-    def report_sections(self, results: Mapping[str, Any], figures: Mapping[str, Path],
-                        baseline: Mapping[str, Any] | None) -> str:
+    def report_sections(
+        self,
+        results: Mapping[str, Any],
+        figures: Mapping[str, Path],
+        baseline: Mapping[str, Any] | None,
+    ) -> str:
         from vibrissa.thesis.floor_texture.report import markdown_floor_texture
 
         return markdown_floor_texture(results, figures, baseline)
@@ -83,8 +111,10 @@ class FloorTexture(Experiment):
         return {
             "confusion": results["confusion"],
             "mean_correct": results["mean_correct"],
-            "cross_condition": {"cw_on_ccw": cross.get("cw_on_ccw"),
-                                "ccw_on_cw": cross.get("ccw_on_cw")},
+            "cross_condition": {
+                "cw_on_ccw": cross.get("cw_on_ccw"),
+                "ccw_on_cw": cross.get("ccw_on_cw"),
+            },
             "naive_bayes": {"mean_correct": results["naive_bayes"]["mean_correct"]},
         }
 
@@ -98,12 +128,19 @@ class FloorTexture(Experiment):
         for col in ("condition", "spectral templates", "thesis", "naive Bayes"):
             table.add_column(col, justify="left" if col == "condition" else "right")
         for c, v in summary["mean_correct"].items():
-            table.add_row(c, percent(v), percent(THESIS["mean_correct"].get(c)),
-                          percent(summary["naive_bayes"]["mean_correct"].get(c)))
+            table.add_row(
+                c,
+                percent(v),
+                percent(THESIS["mean_correct"].get(c)),
+                percent(summary["naive_bayes"]["mean_correct"].get(c)),
+            )
         cross = summary["cross_condition"]
-        table.add_row("cw on ccw / ccw on cw",
-                      f"{percent(cross['cw_on_ccw'])} / {percent(cross['ccw_on_cw'])}",
-                      percent(THESIS["cross_condition"]), "")
+        table.add_row(
+            "cw on ccw / ccw on cw",
+            f"{percent(cross['cw_on_ccw'])} / {percent(cross['ccw_on_cw'])}",
+            percent(THESIS["cross_condition"]),
+            "",
+        )
         return table
 
 

@@ -19,8 +19,13 @@ from vibrissa.evaluate.figures.common import save_figure
 from vibrissa.signal import PACKET_SAMPLES, active_packets
 from vibrissa.thesis.floor_texture.values import THESIS
 
-__all__ = ["confusion_figure", "floor_figures", "signals_figure", "templates_figure",
-           "trajectories_figure"]
+__all__ = [
+    "confusion_figure",
+    "floor_figures",
+    "signals_figure",
+    "templates_figure",
+    "trajectories_figure",
+]
 
 
 def _axes(axes: Any, rows: int, cols: int, figsize: tuple[float, float]) -> np.ndarray:
@@ -45,9 +50,12 @@ def confusion_figure(results: Mapping[str, Any], axes: Any = None) -> np.ndarray
     floors = list(results["meta"]["floors"])
     axs = _axes(axes, 2, len(conds), (3.1 * len(conds), 6.0))
     for j, c in enumerate(conds):
-        for i, (cm, who, mc) in enumerate((
+        for i, (cm, who, mc) in enumerate(
+            (
                 (results["confusion"].get(c), "this run", results["mean_correct"].get(c)),
-                (THESIS["confusion"].get(c), "thesis", THESIS["mean_correct"].get(c)))):
+                (THESIS["confusion"].get(c), "thesis", THESIS["mean_correct"].get(c)),
+            )
+        ):
             ax = axs[i, j]
             if cm is None:
                 ax.set_axis_off()
@@ -57,13 +65,21 @@ def confusion_figure(results: Mapping[str, Any], axes: Any = None) -> np.ndarray
             p = np.divide(m, n, out=np.zeros_like(m), where=n > 0)
             ax.imshow(p, cmap="gray_r", vmin=0, vmax=1)
             for (a, b), v in np.ndenumerate(p):
-                ax.text(b, a, f"{100 * v:.0f}", ha="center", va="center", fontsize=7,
-                        color="white" if v > 0.5 else "black")
+                ax.text(
+                    b,
+                    a,
+                    f"{100 * v:.0f}",
+                    ha="center",
+                    va="center",
+                    fontsize=7,
+                    color="white" if v > 0.5 else "black",
+                )
             ticks = np.arange(len(floors))
             ax.set_xticks(ticks, [_short(f) for f in floors], fontsize=7, rotation=45)
             ax.set_yticks(ticks, [_short(f) for f in floors], fontsize=7)
-            ax.set_title(f"{c}, {who}: {100 * mc:.0f} %" if mc is not None else f"{c}, {who}",
-                         fontsize=9)
+            ax.set_title(
+                f"{c}, {who}: {100 * mc:.0f} %" if mc is not None else f"{c}, {who}", fontsize=9
+            )
             if j == 0:
                 ax.set_ylabel("true floor")
             if i == 1:
@@ -71,8 +87,9 @@ def confusion_figure(results: Mapping[str, Any], axes: Any = None) -> np.ndarray
     return axs
 
 
-def templates_figure(results: Mapping[str, Any], condition: str = "clockwise",
-                     axes: Any = None) -> np.ndarray:
+def templates_figure(
+    results: Mapping[str, Any], condition: str = "clockwise", axes: Any = None
+) -> np.ndarray:
     """The spectral templates of one condition (figure 6.3), per channel."""
     tpl = results["templates"][condition]
     f = np.asarray(tpl["frequency_hz"])
@@ -87,8 +104,9 @@ def templates_figure(results: Mapping[str, Any], condition: str = "clockwise",
     return axs
 
 
-def signals_figure(signals: Mapping[str, np.ndarray], sample_rate_hz: float,
-                   axes: Any = None) -> np.ndarray:
+def signals_figure(
+    signals: Mapping[str, np.ndarray], sample_rate_hz: float, axes: Any = None
+) -> np.ndarray:
     """One recording per floor (``signals[floor]``: (2, n) volts), dropped packets grey."""
     axs = _axes(axes, len(signals), 1, (8.0, 1.7 * len(signals) + 0.5)).ravel()
     for ax, (floor, x) in zip(axs, signals.items(), strict=True):
@@ -97,16 +115,21 @@ def signals_figure(signals: Mapping[str, np.ndarray], sample_rate_hz: float,
             ax.plot(t, x[ch], lw=0.4, color=colour, label="xy"[ch])
         keep = active_packets(x)
         for k in np.flatnonzero(~keep):
-            ax.axvspan(k * PACKET_SAMPLES / sample_rate_hz,
-                       (k + 1) * PACKET_SAMPLES / sample_rate_hz, color="0.85", lw=0)
+            ax.axvspan(
+                k * PACKET_SAMPLES / sample_rate_hz,
+                (k + 1) * PACKET_SAMPLES / sample_rate_hz,
+                color="0.85",
+                lw=0,
+            )
         ax.set_ylabel(f"{_short(floor)} (V)", fontsize=8)
     axs[0].legend(fontsize=7, loc="upper right")
     axs[-1].set_xlabel("time (s)")
     return axs
 
 
-def trajectories_figure(paths: Mapping[str, Mapping[str, np.ndarray]],
-                        axes: Any = None) -> np.ndarray:
+def trajectories_figure(
+    paths: Mapping[str, Mapping[str, np.ndarray]], axes: Any = None
+) -> np.ndarray:
     """The tip's path over the floor, per condition: ``paths[c]`` holds ``x_mm``,
     ``y_mm`` (floor frame) and ``kept`` (bool per point: its packet was kept)."""
     axs = _axes(axes, 1, len(paths), (3.2 * len(paths), 3.4)).ravel()
@@ -122,23 +145,31 @@ def trajectories_figure(paths: Mapping[str, Mapping[str, np.ndarray]],
     return axs
 
 
-def floor_figures(results: Mapping[str, Any], out_dir: str | os.PathLike[str], *,
-                  signals: Mapping[str, np.ndarray] | None = None,
-                  sample_rate_hz: float | None = None,
-                  paths: Mapping[str, Mapping[str, np.ndarray]] | None = None,
-                  dpi: int = 150) -> dict[str, Path]:
+def floor_figures(
+    results: Mapping[str, Any],
+    out_dir: str | os.PathLike[str],
+    *,
+    signals: Mapping[str, np.ndarray] | None = None,
+    sample_rate_hz: float | None = None,
+    paths: Mapping[str, Mapping[str, np.ndarray]] | None = None,
+    dpi: int = 150,
+) -> dict[str, Path]:
     """Draw every figure into ``out_dir`` (PNG, atomically); return key -> path."""
     out = Path(out_dir)
     figs: dict[str, Path] = {}
-    figs["confusion"] = save_figure(confusion_figure(results)[0, 0].figure,
-                                    out / "confusion.png", dpi)
+    figs["confusion"] = save_figure(
+        confusion_figure(results)[0, 0].figure, out / "confusion.png", dpi
+    )
     if "clockwise" in results.get("templates", {}):
-        figs["templates"] = save_figure(templates_figure(results)[0].figure,
-                                        out / "templates.png", dpi)
+        figs["templates"] = save_figure(
+            templates_figure(results)[0].figure, out / "templates.png", dpi
+        )
     if signals and sample_rate_hz:
-        figs["signals"] = save_figure(signals_figure(signals, sample_rate_hz)[0].figure,
-                                      out / "signals.png", dpi)
+        figs["signals"] = save_figure(
+            signals_figure(signals, sample_rate_hz)[0].figure, out / "signals.png", dpi
+        )
     if paths:
-        figs["trajectories"] = save_figure(trajectories_figure(paths)[0].figure,
-                                           out / "trajectories.png", dpi)
+        figs["trajectories"] = save_figure(
+            trajectories_figure(paths)[0].figure, out / "trajectories.png", dpi
+        )
     return figs

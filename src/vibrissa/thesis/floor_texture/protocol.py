@@ -106,14 +106,20 @@ class FloorProtocol(ChunkedTrials):
         if len(set(self.floors)) != len(self.floors):
             raise ValueError(f"floors: each floor texture once, got {list(self.floors)}")
         if not self.conditions or any(c not in CONDITIONS for c in self.conditions):
-            raise ValueError(f"conditions must be a non-empty subset of {CONDITIONS}, "
-                             f"got {self.conditions!r}")
+            raise ValueError(
+                f"conditions must be a non-empty subset of {CONDITIONS}, got {self.conditions!r}"
+            )
         if len(set(self.conditions)) != len(self.conditions):
             raise ValueError(f"conditions: each condition once, got {list(self.conditions)}")
-        if isinstance(self.trials_per_condition, bool) or not isinstance(
-                self.trials_per_condition, int) or self.trials_per_condition < 1:
-            raise ValueError("trials_per_condition must be a positive integer, got "
-                             f"{self.trials_per_condition!r}")
+        if (
+            isinstance(self.trials_per_condition, bool)
+            or not isinstance(self.trials_per_condition, int)
+            or self.trials_per_condition < 1
+        ):
+            raise ValueError(
+                "trials_per_condition must be a positive integer, got "
+                f"{self.trials_per_condition!r}"
+            )
         positive("duration_s", self.duration_s)
         if self.whisker not in PRESETS:
             raise ValueError(f"unknown whisker preset {self.whisker!r}")
@@ -121,8 +127,11 @@ class FloorProtocol(ChunkedTrials):
             raise TypeError(f"sensor must be a HallSettings, got {type(self.sensor).__name__}")
         steps_per_sample(self.dt_s, self.sensor.sample_rate_hz)
         self.sensor.calibration_point(preset(self.whisker))
-        if isinstance(self.seed, bool) or not isinstance(self.seed, int | np.integer) \
-                or self.seed < 0:
+        if (
+            isinstance(self.seed, bool)
+            or not isinstance(self.seed, int | np.integer)
+            or self.seed < 0
+        ):
             raise ValueError(f"seed must be a non-negative integer, got {self.seed!r}")
 
     # ------------------------------------------------------------------ trials
@@ -192,8 +201,15 @@ class FloorProtocol(ChunkedTrials):
             spec = specs[int(i)]
             rng = np.random.default_rng(stream(self.seed, TRIALS, int(i)))
             res = run_floor_trial(
-                self.roomba, model, sensor, _sheet(spec.floor, self.seed),
-                floor_spec(spec.floor), spec.condition, self.duration_s, rng, dt_s=self.dt_s,
+                self.roomba,
+                model,
+                sensor,
+                _sheet(spec.floor, self.seed),
+                floor_spec(spec.floor),
+                spec.condition,
+                self.duration_s,
+                rng,
+                dt_s=self.dt_s,
             )
             out["signal"][k] = res.signal_v
             out["contact_fraction"][k] = res.contact_fraction
@@ -209,8 +225,9 @@ class FloorProtocol(ChunkedTrials):
 
         from vibrissa.robots.roomba import SETTLE_S
 
-        short = dataclasses.replace(self, duration_s=1.0, roomba=dataclasses.replace(
-            self.roomba, start_delay_s=(0.0, 0.0)))
+        short = dataclasses.replace(
+            self, duration_s=1.0, roomba=dataclasses.replace(self.roomba, start_delay_s=(0.0, 0.0))
+        )
         mid = [self.n_trials // 2]
         short.simulate_trials(mid)
         t0 = time.perf_counter()
@@ -230,12 +247,23 @@ class FloorProtocol(ChunkedTrials):
             "run": np.array([s.trial for s in specs], dtype=np.int64),
             **{name: results[name] for name in FLOOR_DIAGNOSTICS},
         }
-        coords = signal_coords(len(specs), ["x", "y"], self.n_samples, fs,
-                               "time from the start of the recording", per_trial)
+        coords = signal_coords(
+            len(specs),
+            ["x", "y"],
+            self.n_samples,
+            fs,
+            "time from the start of the recording",
+            per_trial,
+        )
         g = preset(self.whisker)
         s = _hall(self.sensor, self.whisker, self.n_elements)
-        whisker = {**g.to_dict(), "n_elements": self.n_elements, "hall_gain_v": s.gain_v,
-                   "hall_offset_v": s.offset_v, "hall_sensor": s.to_dict()}
+        whisker = {
+            **g.to_dict(),
+            "n_elements": self.n_elements,
+            "hall_gain_v": s.gain_v,
+            "hall_offset_v": s.offset_v,
+            "hall_sensor": s.to_dict(),
+        }
         return xr.Dataset(
             {"signal": (("trial", "channel", "time"), results["signal"], {"units": "V"})},
             coords=coords,
@@ -245,12 +273,11 @@ class FloorProtocol(ChunkedTrials):
                 "robot": json.dumps(self.roomba.to_dict(), sort_keys=True),
                 "protocol": self.name,
                 "protocol_params": json.dumps(self.to_dict(), sort_keys=True, default=str),
-                "floors": json.dumps({f: dataclasses.asdict(floor_spec(f))
-                                      for f in self.floors}),
+                "floors": json.dumps({f: dataclasses.asdict(floor_spec(f)) for f in self.floors}),
                 "seed": int(self.seed),
                 "vibrissa_version": __version__,
                 "source": "simulated: a SCRATCHbot whisker on a Roomba over four floors "
-                          "(thesis 6.2)",
+                "(thesis 6.2)",
             },
         )
 
@@ -288,8 +315,9 @@ def tip_paths(ds: xr.Dataset) -> dict[str, dict[str, np.ndarray]]:
     from vibrissa.signal import PACKET_SAMPLES, active_packets
 
     params = json.loads(ds.attrs["protocol_params"])
-    roomba = Roomba(**{k: tuple(v) if isinstance(v, list) else v
-                       for k, v in params["roomba"].items()})
+    roomba = Roomba(
+        **{k: tuple(v) if isinstance(v, list) else v for k, v in params["roomba"].items()}
+    )
     length = float(json.loads(ds.attrs["whisker"])["length_mm"])
     fs = float(ds.attrs["sample_rate_hz"])
     paths: dict[str, dict[str, np.ndarray]] = {}

@@ -106,7 +106,8 @@ def check_dataset(ds: xr.Dataset, *, require_complete: bool = True) -> dict[Any,
     missing = [c for c in _REQUIRED_COORDS if c not in ds.coords and c not in ds.data_vars]
     if missing:
         raise ValueError(
-            "dataset lacks the per-trial coordinate(s) " + ", ".join(repr(m) for m in missing)
+            "dataset lacks the per-trial coordinate(s) "
+            + ", ".join(repr(m) for m in missing)
             + " needed by the chapter-4 protocol"
         )
     for c in _REQUIRED_COORDS:
@@ -204,13 +205,10 @@ def split_sets(
         for label, vals in (("train_set", pooled), ("test_set", [test_set])):
             for s in vals:
                 if s not in groups:
-                    raise ValueError(
-                        f"{label}={s!r} is not a set of the dataset (sets: {names})"
-                    )
+                    raise ValueError(f"{label}={s!r} is not a set of the dataset (sets: {names})")
         if test_set in pooled:
             raise ValueError(
-                f"train_set and test_set must differ: test_set {test_set!r} is also a "
-                "training set"
+                f"train_set and test_set must differ: test_set {test_set!r} is also a training set"
             )
         if len(set(pooled)) != len(pooled):
             raise ValueError(f"train_set repeats a set: {pooled}")
@@ -290,8 +288,7 @@ def subsample_combinations(
     numpy.ndarray
         Sorted trial positions.
     """
-    _, inverse = np.unique(np.round(np.asarray(y, dtype=float), 6), axis=0,
-                           return_inverse=True)
+    _, inverse = np.unique(np.round(np.asarray(y, dtype=float), 6), axis=0, return_inverse=True)
     inverse = np.asarray(inverse).ravel()
     keep = subsample_indices(int(inverse.max()) + 1, fraction, seed)
     return np.flatnonzero(np.isin(inverse, keep))
@@ -372,8 +369,12 @@ def fitted_parameters(est: Any) -> dict[str, float]:
     if hasattr(est, "steps"):  # a Pipeline: the final estimator holds them
         est = est.steps[-1][1]
     names = (
-        "youngs_modulus_gpa_", "base_radius_mm_", "length_mm_", "moment_scale_",
-        "protraction_mm_", "training_error_mm_",
+        "youngs_modulus_gpa_",
+        "base_radius_mm_",
+        "length_mm_",
+        "moment_scale_",
+        "protraction_mm_",
+        "training_error_mm_",
     )
     out = {}
     for n in names:
@@ -422,6 +423,7 @@ def fit_and_score(
         (wall time to classify the whole test set), ``n_train``, ``n_test``,
         ``n_classes_train``, ``radius_only`` and ``fitted_parameters``.
     """
+
     def score(t: np.ndarray, p: np.ndarray, rec: FitRecord) -> dict[str, Any]:
         ro = is_radius_only(estimator, p) if radius_only is None else bool(radius_only)
         out = score_predictions(t, p, radius_only=ro)
@@ -432,16 +434,26 @@ def fit_and_score(
         )
         return out
 
-    out, rec = loop_fit_and_score(name, estimator, X_train, y_train, X_test, y_test, score,
-                                  sample_rate_hz=sample_rate_hz)
+    out, rec = loop_fit_and_score(
+        name, estimator, X_train, y_train, X_test, y_test, score, sample_rate_hz=sample_rate_hz
+    )
     if keep_predictions:
         out["y_pred"] = rec.y_pred
     return out
 
 
 # --------------------------------------------------------------------------- averaging
-_PARAM_KEYS = ("mean", "std", "sem", "mean_abs", "rmse", "exact_hit", "kappa",
-               "kappa_linear", "kappa_quadratic")
+_PARAM_KEYS = (
+    "mean",
+    "std",
+    "sem",
+    "mean_abs",
+    "rmse",
+    "exact_hit",
+    "kappa",
+    "kappa_linear",
+    "kappa_quadratic",
+)
 
 
 def _avg(values: list[Any]) -> float | None:
@@ -468,7 +480,8 @@ def _average_runs(runs: list[dict[str, Any]]) -> dict[str, Any]:
         out[par] = d
     joints = [r["joint"] for r in runs]
     out["joint"] = (
-        None if any(j is None for j in joints)
+        None
+        if any(j is None for j in joints)
         else {k: _avg([j[k] for j in joints]) for k in ("exact_hit", "kappa")}
     )
     for k in ("fit_seconds", "classify_seconds"):
@@ -513,13 +526,24 @@ def _job(arrays: Mapping[str, np.ndarray], kind: str, **job: Any) -> Any:
     X = arrays["X"]
     if kind == "window":  # every trial's window, a block of trials at a time
         window = clone(job["window"]).fit(X[:1], sample_rate_hz=job["sample_rate_hz"])
-        return np.concatenate([window.transform(X[s : s + _WINDOW_BLOCK])
-                               for s in range(0, X.shape[0], _WINDOW_BLOCK)])
+        return np.concatenate(
+            [
+                window.transform(X[s : s + _WINDOW_BLOCK])
+                for s in range(0, X.shape[0], _WINDOW_BLOCK)
+            ]
+        )
     data, y, train, test = arrays[job["data"]], arrays["y"], job["train"], job["test"]
-    return fit_and_score(job["name"], job["estimator"], data[train], y[train], data[test],
-                         y[test], radius_only=job["radius_only"],
-                         keep_predictions=job["keep_predictions"],
-                         sample_rate_hz=job["sample_rate_hz"])
+    return fit_and_score(
+        job["name"],
+        job["estimator"],
+        data[train],
+        y[train],
+        data[test],
+        y[test],
+        radius_only=job["radius_only"],
+        keep_predictions=job["keep_predictions"],
+        sample_rate_hz=job["sample_rate_hz"],
+    )
 
 
 def _longest_first(jobs: Sequence[Mapping[str, Any]]) -> list[int]:
@@ -686,8 +710,12 @@ def run_chapter4(
     # fraction (the 5 % subset is the head of the 10 % subset, as in the thesis)
     subsets = {
         name: [
-            [subsample_combinations(y[train_index[name]], f,
-                                    np.random.default_rng([int(seed), k])) for f in fr]
+            [
+                subsample_combinations(
+                    y[train_index[name]], f, np.random.default_rng([int(seed), k])
+                )
+                for f in fr
+            ]
             for k in range(int(n_seeds))
         ]
         for name in classifiers
@@ -718,29 +746,43 @@ def run_chapter4(
     for i, name, k in fit_keys:
         key, _, rest = heads[name]
         full = i == "full"
-        jobs.append({"kind": "fit", "name": name,
-                     "estimator": classifiers[name] if full or key is None else rest,
-                     "data": "X" if full or key is None else key,
-                     "train": train_index[name] if full else reduced[i, name, k],
-                     "test": test_index, "radius_only": ro(name), "keep_predictions": full,
-                     "sample_rate_hz": fs})
+        jobs.append(
+            {
+                "kind": "fit",
+                "name": name,
+                "estimator": classifiers[name] if full or key is None else rest,
+                "data": "X" if full or key is None else key,
+                "train": train_index[name] if full else reduced[i, name, k],
+                "test": test_index,
+                "radius_only": ro(name),
+                "keep_predictions": full,
+                "sample_rate_hz": fs,
+            }
+        )
 
     def step(i: Any, name: str, k: int) -> None:
-        prog.step(f"{name}: full training set" if i == "full"
-                  else f"{name}: {fr[i]:g} of training set, seed {k}")
+        prog.step(
+            f"{name}: full training set"
+            if i == "full"
+            else f"{name}: {fr[i]:g} of training set, seed {k}"
+        )
 
     for i, name, k in (k for k, v in reduced.items() if v is None):
         step(i, name, k)
     with SharedArrays(n_workers) as arrays:
         arrays.add("X", X)
         arrays.add("y", y)
-        cut = run_jobs(_job, [{"kind": "window", "window": head, "sample_rate_hz": fs}
-                              for head in windows.values()], arrays)
+        cut = run_jobs(
+            _job,
+            [{"kind": "window", "window": head, "sample_rate_hz": fs} for head in windows.values()],
+            arrays,
+        )
         for key, w in zip(windows, cut, strict=True):
             arrays.add(key, w)
         del cut
-        done = run_jobs(_job, jobs, arrays, order=_longest_first(jobs),
-                        on_done=lambda j: step(*fit_keys[j]))
+        done = run_jobs(
+            _job, jobs, arrays, order=_longest_first(jobs), on_done=lambda j: step(*fit_keys[j])
+        )
     fits = dict(zip(fit_keys, done, strict=True))
 
     results: dict[str, Any] = {}
@@ -786,7 +828,8 @@ def run_chapter4(
         "parameters": {
             key: {"coordinate": coord, "unit": unit, "values": np.unique(y[:, i]).tolist()}
             for i, (coord, key, unit) in enumerate(
-                zip(PARAMETERS, PARAMETERS.values(), ("mm", "mm/s"), strict=True))
+                zip(PARAMETERS, PARAMETERS.values(), ("mm", "mm/s"), strict=True)
+            )
         },
         "classifiers": results,
         "training_fractions": fractions_out,

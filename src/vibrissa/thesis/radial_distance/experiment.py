@@ -43,15 +43,24 @@ class RadialDistance(Experiment):
     name = "radial-distance"
     chapter = 4
     title = "Chapter 4 reproduction: radial distance and speed from whisker deflections"
-    description = ("XY robot, pole contacts: radial distance and speed by five classifiers, "
-                   "full and reduced training sets (tables 4.1-4.7)")
+    description = (
+        "XY robot, pole contacts: radial distance and speed by five classifiers, "
+        "full and reduced training sets (tables 4.1-4.7)"
+    )
     options = (Option("n_seeds", 5, "Repeats of each reduced training set (thesis: 5)."),)
 
     def protocol(self, quick: bool, seed: int) -> SimulationProtocol:
         return get_protocol("radial-distance", quick=quick, seed=seed)
 
-    def evaluate(self, ds: xr.Dataset, *, seed: int, progress: Callable | None,
-                 options: Mapping[str, int], workers: int | None = None) -> Evaluation:
+    def evaluate(
+        self,
+        ds: xr.Dataset,
+        *,
+        seed: int,
+        progress: Callable | None,
+        options: Mapping[str, int],
+        workers: int | None = None,
+    ) -> Evaluation:
         from vibrissa.classify import CHAPTER4_ONE_SET, chapter4_classifiers, dataset_sample_rate
         from vibrissa.data import whisker_params
         from vibrissa.thesis.radial_distance.evaluation import run_chapter4
@@ -61,21 +70,32 @@ class RadialDistance(Experiment):
         # Bayes (and the fitted static beam) train on sets 2-4 pooled, the template,
         # frequency and feature code on set 3 alone (docs/methods.md).
         results = run_chapter4(
-            ds, clfs, n_seeds=options["n_seeds"], seed=seed, progress=progress,
-            train_set=list(THESIS_TRAIN_SETS), test_set=THESIS_TEST_SET,
+            ds,
+            clfs,
+            n_seeds=options["n_seeds"],
+            seed=seed,
+            progress=progress,
+            train_set=list(THESIS_TRAIN_SETS),
+            test_set=THESIS_TEST_SET,
             classifier_train_sets={k: [THESIS_ONE_TRAIN_SET] for k in CHAPTER4_ONE_SET},
             workers=workers,
         )
         # The text's reading (4.3: training and test sets "each complete data sets"):
         # every classifier on one complete set, full training set only.
         other = run_chapter4(
-            ds, clfs, fractions=(), n_seeds=1, seed=seed,
-            train_set=THESIS_ONE_TRAIN_SET, test_set=THESIS_TEST_SET, keep_predictions=False,
+            ds,
+            clfs,
+            fractions=(),
+            n_seeds=1,
+            seed=seed,
+            train_set=THESIS_ONE_TRAIN_SET,
+            test_set=THESIS_TEST_SET,
+            keep_predictions=False,
             workers=workers,
         )
         results["other_split"] = {
             "description": "every classifier trained on one complete set (set "
-                           f"{THESIS_ONE_TRAIN_SET}), tested on set {THESIS_TEST_SET}",
+            f"{THESIS_ONE_TRAIN_SET}), tested on set {THESIS_TEST_SET}",
             "split": other["meta"]["split"],
             "classifiers": {
                 k: {p: v[p] for p in ("radius_mm", "speed_mm_s", "joint", "train_sets")}
@@ -83,20 +103,30 @@ class RadialDistance(Experiment):
             },
         }
         results["meta"]["saturated_fraction"] = (
-            float(ds["saturated"].mean()) if "saturated" in ds.coords else None)
+            float(ds["saturated"].mean()) if "saturated" in ds.coords else None
+        )
         return Evaluation(results)
 
-    def write_outputs(self, results: Mapping[str, Any], out_dir: Path, *,
-                      dataset: xr.Dataset | None, figures: bool,
-                      workers: int | None = None,
-                      artifacts: Mapping[str, Any] | None = None) -> dict[str, Path]:
+    def write_outputs(
+        self,
+        results: Mapping[str, Any],
+        out_dir: Path,
+        *,
+        dataset: xr.Dataset | None,
+        figures: bool,
+        workers: int | None = None,
+        artifacts: Mapping[str, Any] | None = None,
+    ) -> dict[str, Path]:
         from vibrissa.thesis.radial_distance.report import write_outputs
 
-        return write_outputs(results, out_dir, figures=figures, dataset=dataset,
-                             workers=workers)
+        return write_outputs(results, out_dir, figures=figures, dataset=dataset, workers=workers)
 
-    def report_sections(self, results: Mapping[str, Any], figures: Mapping[str, Path],
-                        baseline: Mapping[str, Any] | None) -> str:
+    def report_sections(
+        self,
+        results: Mapping[str, Any],
+        figures: Mapping[str, Path],
+        baseline: Mapping[str, Any] | None,
+    ) -> str:
         from vibrissa.thesis.radial_distance.report import markdown_report
 
         return markdown_report(results, figures=figures, baseline=baseline)
@@ -117,9 +147,16 @@ class RadialDistance(Experiment):
 
         thesis = THESIS_CHAPTER4["table_4_7"]
         table = Table(title="Table 4.7: signed error, full training set (ours | thesis)")
-        for col in ("classifier", "radius mean (mm)", "radius std (mm)", "speed mean (mm/s)",
-                    "speed std (mm/s)", "classify (s)", "thesis radius std",
-                    "thesis speed std"):
+        for col in (
+            "classifier",
+            "radius mean (mm)",
+            "radius std (mm)",
+            "speed mean (mm/s)",
+            "speed std (mm/s)",
+            "classify (s)",
+            "thesis radius std",
+            "thesis speed std",
+        ):
             table.add_column(col, justify="left" if col == "classifier" else "right")
 
         def f(x: object) -> str:
@@ -130,8 +167,11 @@ class RadialDistance(Experiment):
             th = thesis.get(col) or {} if col else {}
             sp = e["speed_mm_s"]
             table.add_row(
-                name, f(e["radius_mm"]["mean"]), f(e["radius_mm"]["std"]),
-                f(sp["mean"] if sp else None), f(sp["std"] if sp else None),
+                name,
+                f(e["radius_mm"]["mean"]),
+                f(e["radius_mm"]["std"]),
+                f(sp["mean"] if sp else None),
+                f(sp["std"] if sp else None),
                 f(e["classify_seconds"]),
                 f((th.get("radius_mm") or {}).get("std")),
                 f((th.get("speed_mm_s") or {}).get("std")),

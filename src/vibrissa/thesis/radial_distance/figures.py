@@ -44,8 +44,10 @@ def _predictions(results: Mapping[str, Any], name: str) -> tuple[dict, dict]:
             f"results hold no predictions for classifier {name!r} "
             "(run_chapter4(..., keep_predictions=True))"
         )
-    true = {"radius_mm": np.asarray(pr["radius_mm_true"], float),
-            "speed_mm_s": np.asarray(pr["speed_mm_s_true"], float)}
+    true = {
+        "radius_mm": np.asarray(pr["radius_mm_true"], float),
+        "speed_mm_s": np.asarray(pr["speed_mm_s_true"], float),
+    }
     c = pr["classifiers"][name]
     pred = {k: (None if c.get(k) is None else np.asarray(c[k], float)) for k in true}
     return true, pred
@@ -165,8 +167,14 @@ def prediction_scatter(
         raise ValueError(f"y_true and y_pred differ in length: {t.size} vs {p.size}")
     ax = new_axes(ax)
     pairs, counts = np.unique(np.column_stack([t, p]), axis=0, return_counts=True)
-    ax.scatter(pairs[:, 0], pairs[:, 1], s=4 + 6 * np.sqrt(counts), alpha=0.5, color="C0",
-               edgecolors="none")
+    ax.scatter(
+        pairs[:, 0],
+        pairs[:, 1],
+        s=4 + 6 * np.sqrt(counts),
+        alpha=0.5,
+        color="C0",
+        edgecolors="none",
+    )
     if t.size:
         lo, hi = float(min(t.min(), np.nanmin(p))), float(max(t.max(), np.nanmax(p)))
         ax.plot([lo, hi], [lo, hi], color="C3", lw=0.8)
@@ -320,8 +328,16 @@ def comparison_plot(
     ax = new_axes(ax, figsize=(6.5, 4.0))
     width = 0.4 if thesis else 0.8
     shift = width / 2 if thesis else 0.0
-    ax.bar(np.asarray(xs) - shift, ms, width, yerr=ss, capsize=3, color="0.6",
-           edgecolor="0.2", label="this run")
+    ax.bar(
+        np.asarray(xs) - shift,
+        ms,
+        width,
+        yerr=ss,
+        capsize=3,
+        color="0.6",
+        edgecolor="0.2",
+        label="this run",
+    )
     if thesis:
         tx, tm, ts = [], [], []
         for i, n in zip(xs, (names[i] for i in xs), strict=True):
@@ -331,8 +347,17 @@ def comparison_plot(
                 tm.append(t["mean"])
                 ts.append(t.get("std") or 0.0)
         if tx:
-            ax.bar(tx, tm, width, yerr=ts, capsize=3, color="white", edgecolor="0.2",
-                   hatch="///", label="thesis (table 4.7)")
+            ax.bar(
+                tx,
+                tm,
+                width,
+                yerr=ts,
+                capsize=3,
+                color="white",
+                edgecolor="0.2",
+                hatch="///",
+                label="thesis (table 4.7)",
+            )
         ax.legend(fontsize=8)
     ax.axhline(0.0, color="0.3", lw=0.6)
     ax.set_xticks(xs)
@@ -370,8 +395,13 @@ def classifier_figure(results: Mapping[str, Any], name: str) -> Figure:
         error_histogram(r_err, parameter="radius_mm", ax=a, title=f"(a) {label}")
         static_beam_speed_plot(results, name, ax=b)
         b.set_title("(b) error per speed")
-        prediction_scatter(true["radius_mm"], pred["radius_mm"], parameter="radius_mm", ax=c,
-                           title="(c) predicted vs true")
+        prediction_scatter(
+            true["radius_mm"],
+            pred["radius_mm"],
+            parameter="radius_mm",
+            ax=c,
+            title="(c) predicted vs true",
+        )
         return fig
     s_err = pred["speed_mm_s"] - true["speed_mm_s"]
     fig = Figure(figsize=(15.0, 6.5), layout="constrained")
@@ -379,10 +409,20 @@ def classifier_figure(results: Mapping[str, Any], name: str) -> Figure:
     error_histogram(r_err, parameter="radius_mm", ax=axs[0, 0], title=f"(a) {label}: radius")
     error_histogram(s_err, parameter="speed_mm_s", ax=axs[0, 1], title="(b) speed")
     error_scatter(r_err, s_err, ax=axs[0, 2], title="(c) errors per trial")
-    prediction_scatter(true["radius_mm"], pred["radius_mm"], parameter="radius_mm",
-                       ax=axs[1, 0], title="(d) radius: predicted vs true")
-    prediction_scatter(true["speed_mm_s"], pred["speed_mm_s"], parameter="speed_mm_s",
-                       ax=axs[1, 1], title="(e) speed: predicted vs true")
+    prediction_scatter(
+        true["radius_mm"],
+        pred["radius_mm"],
+        parameter="radius_mm",
+        ax=axs[1, 0],
+        title="(d) radius: predicted vs true",
+    )
+    prediction_scatter(
+        true["speed_mm_s"],
+        pred["speed_mm_s"],
+        parameter="speed_mm_s",
+        ax=axs[1, 1],
+        title="(e) speed: predicted vs true",
+    )
     axs[1, 2].set_axis_off()
     return fig
 
@@ -395,8 +435,9 @@ def _figure(results: Mapping[str, Any], kind: str, name: str | None) -> Figure:
     """One figure of :func:`chapter4_figures`: ``errors``, ``training_size`` or ``comparison``."""
     if kind == "errors":
         return classifier_figure(results, name)
-    fig = Figure(figsize=(10.0, 3.8) if kind == "training_size" else (11.0, 4.0),
-                 layout="constrained")
+    fig = Figure(
+        figsize=(10.0, 3.8) if kind == "training_size" else (11.0, 4.0), layout="constrained"
+    )
     a, b = fig.subplots(1, 2)
     if kind == "training_size":
         training_size_plot(results, name, "radius_mm", ax=a)
@@ -415,14 +456,17 @@ def _figure(results: Mapping[str, Any], kind: str, name: str | None) -> Figure:
     return fig
 
 
-def _draw(arrays: Any, *, results: Mapping[str, Any], kind: str, name: str | None,
-          path: Path, dpi: int) -> Path:
+def _draw(
+    arrays: Any, *, results: Mapping[str, Any], kind: str, name: str | None, path: Path, dpi: int
+) -> Path:
     """Draw one figure and write it (a job of :func:`vibrissa.evaluate.jobs.run_jobs`)."""
     return save_figure(_figure(results, kind, name), path, dpi)
 
 
 def chapter4_figures(
-    results: Mapping[str, Any], out_dir: str | os.PathLike[str], dpi: int = 200,
+    results: Mapping[str, Any],
+    out_dir: str | os.PathLike[str],
+    dpi: int = 200,
     workers: int | None = 1,
 ) -> dict[str, Path]:
     """Write every results figure of chapter 4 as PNG into ``out_dir``.
@@ -453,10 +497,18 @@ def chapter4_figures(
             jobs[f"errors/{name}"] = ("errors", name, out / f"errors_{_slug(name)}.png")
         if results.get("training_fractions"):
             jobs[f"training_size/{name}"] = (
-                "training_size", name, out / f"training_size_{_slug(name)}.png")
+                "training_size",
+                name,
+                out / f"training_size_{_slug(name)}.png",
+            )
     jobs["comparison"] = ("comparison", None, out / "comparison.png")
     with SharedArrays(workers) as none:
-        paths = run_jobs(_draw, [{"results": results, "kind": kind, "name": name,
-                                  "path": path, "dpi": dpi}
-                                 for kind, name, path in jobs.values()], none)
+        paths = run_jobs(
+            _draw,
+            [
+                {"results": results, "kind": kind, "name": name, "path": path, "dpi": dpi}
+                for kind, name, path in jobs.values()
+            ],
+            none,
+        )
     return dict(zip(jobs, paths, strict=True))

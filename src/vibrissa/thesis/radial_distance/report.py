@@ -41,8 +41,22 @@ __all__ = [
 
 #: Columns of :func:`results_csv`.
 CSV_COLUMNS = (
-    "fraction", "seed", "classifier", "parameter", "mean", "std", "sem", "mean_abs", "rmse",
-    "exact_hit", "kappa", "kappa_linear", "kappa_quadratic", "n", "n_train", "fit_seconds",
+    "fraction",
+    "seed",
+    "classifier",
+    "parameter",
+    "mean",
+    "std",
+    "sem",
+    "mean_abs",
+    "rmse",
+    "exact_hit",
+    "kappa",
+    "kappa_linear",
+    "kappa_quadratic",
+    "n",
+    "n_train",
+    "fit_seconds",
     "classify_seconds",
 )
 
@@ -54,9 +68,15 @@ def _rows(frac: str, seed: Any, name: str, entry: Mapping[str, Any]) -> list[dic
         e = entry.get(par)
         if e is None:
             continue
-        row = {"fraction": frac, "seed": seed, "classifier": name, "parameter": par,
-               "n_train": entry.get("n_train"), "fit_seconds": entry.get("fit_seconds"),
-               "classify_seconds": entry.get("classify_seconds")}
+        row = {
+            "fraction": frac,
+            "seed": seed,
+            "classifier": name,
+            "parameter": par,
+            "n_train": entry.get("n_train"),
+            "fit_seconds": entry.get("fit_seconds"),
+            "classify_seconds": entry.get("classify_seconds"),
+        }
         for k in CSV_COLUMNS:
             if k not in row:
                 row[k] = e.get(k)
@@ -111,8 +131,12 @@ def _by_speed_csv(results: Mapping[str, Any]) -> str:
     w.writeheader()
     for name, entry in results.get("classifiers", {}).items():
         for row in entry.get("radius_error_by_speed", []):
-            w.writerow({"classifier": name,
-                        **{k: ("" if row.get(k) is None else row[k]) for k in cols[1:]}})
+            w.writerow(
+                {
+                    "classifier": name,
+                    **{k: ("" if row.get(k) is None else row[k]) for k in cols[1:]},
+                }
+            )
     return buf.getvalue()
 
 
@@ -144,18 +168,37 @@ def _fraction_table(results: Mapping[str, Any], name: str, table: str | None) ->
     thesis = THESIS_CHAPTER4.get(table) if table else None
     rows = []
     for par, plabel in (("speed_mm_s", "speed (mm/s)"), ("radius_mm", "radius (mm)")):
-        if thesis is None and all(_get(_ours(results, name, f), par, "mean") is None
-                                  for f in fracs):
+        if thesis is None and all(
+            _get(_ours(results, name, f), par, "mean") is None for f in fracs
+        ):
             continue  # e.g. the speed of a radius-only classifier
         for stat in ("mean", "std"):
-            rows.append([plabel, stat, "ours",
-                         *[fmt(_get(_ours(results, name, f), par, stat)) for f in fracs]])
+            rows.append(
+                [
+                    plabel,
+                    stat,
+                    "ours",
+                    *[fmt(_get(_ours(results, name, f), par, stat)) for f in fracs],
+                ]
+            )
             if thesis is not None:
-                rows.append([plabel, stat, f"thesis {table[6:].replace('_', '.')}",
-                             *[fmt(thesis[par][stat].get(f)) for f in fracs]])
+                rows.append(
+                    [
+                        plabel,
+                        stat,
+                        f"thesis {table[6:].replace('_', '.')}",
+                        *[fmt(thesis[par][stat].get(f)) for f in fracs],
+                    ]
+                )
         for stat in ("exact_hit", "kappa"):
-            rows.append([plabel, stat, "ours",
-                         *[fmt(_get(_ours(results, name, f), par, stat)) for f in fracs]])
+            rows.append(
+                [
+                    plabel,
+                    stat,
+                    "ours",
+                    *[fmt(_get(_ours(results, name, f), par, stat)) for f in fracs],
+                ]
+            )
     return md_table(header, rows)
 
 
@@ -172,20 +215,39 @@ def _static_beam_section(results: Mapping[str, Any]) -> list[str]:
     for label, name in keys:
         fp = cl.get(name, {}).get("fitted_parameters", {}) if name in cl else {}
         th = t41[label]
-        rows.append([label, "thesis 4.1", fmt(th["youngs_modulus_gpa"], 1),
-                     fmt(th["base_radius_mm"], 1), fmt(th["length_mm"], 0),
-                     f"S_f = {th['scale_factor']:g}"])
+        rows.append(
+            [
+                label,
+                "thesis 4.1",
+                fmt(th["youngs_modulus_gpa"], 1),
+                fmt(th["base_radius_mm"], 1),
+                fmt(th["length_mm"], 0),
+                f"S_f = {th['scale_factor']:g}",
+            ]
+        )
         if name in cl:
-            rows.append([label, "ours", fmt(fp.get("youngs_modulus_gpa"), 2),
-                         fmt(fp.get("base_radius_mm"), 2), fmt(fp.get("length_mm"), 1),
-                         f"x {fmt(fp.get('moment_scale'), 3)}"])
-    out += [md_table(["parameters", "source", "E (GPa)", "r_base (mm)", "L (mm)",
-                       "moment scale"], rows), "",
-            "Our moment scale multiplies the modelled base moment (1 = measured sensor "
-            "calibration); the thesis' S_f converts volts to moment, so only its ratio "
-            "between the fitted and measured rows "
-            f"({fmt(t41['fitted']['scale_factor'] / t41['measured']['scale_factor'])}) "
-            "compares.", ""]
+            rows.append(
+                [
+                    label,
+                    "ours",
+                    fmt(fp.get("youngs_modulus_gpa"), 2),
+                    fmt(fp.get("base_radius_mm"), 2),
+                    fmt(fp.get("length_mm"), 1),
+                    f"x {fmt(fp.get('moment_scale'), 3)}",
+                ]
+            )
+    out += [
+        md_table(
+            ["parameters", "source", "E (GPa)", "r_base (mm)", "L (mm)", "moment scale"], rows
+        ),
+        "",
+        "Our moment scale multiplies the modelled base moment (1 = measured sensor "
+        "calibration); the thesis' S_f converts volts to moment, so only its ratio "
+        "between the fitted and measured rows "
+        f"({fmt(t41['fitted']['scale_factor'] / t41['measured']['scale_factor'])}) "
+        "compares.",
+        "",
+    ]
     out += ["## Static beam radial-distance error (text of 4.4.1)", ""]
     rows = []
     for label, name in keys:
@@ -196,19 +258,55 @@ def _static_beam_section(results: Mapping[str, Any]) -> list[str]:
         med = by[len(by) // 2] if by else None
         ext = max(by, key=lambda r: abs(r["mean"])) if by else None
         th = sbt[label]
-        rows.append([label, "ours", fmt(_get(e, "radius_mm", "mean")),
-                     fmt(_get(e, "radius_mm", "std")),
-                     fmt(med and med["mean"]), fmt(med and med["std"]),
-                     fmt(ext and ext["mean"]), fmt(ext and ext["std"]),
-                     fmt(_get(e, "radius_mm", "exact_hit")), fmt(_get(e, "radius_mm", "kappa"))])
-        rows.append([label, "thesis 4.4.1", fmt(th["mean"], 3), fmt(th["std"]),
-                     fmt(th["median_speed"]["mean"], 3), fmt(th["median_speed"]["std"]),
-                     fmt(th["extreme_speed"]["mean"]), fmt(th["extreme_speed"]["std"]), "—", "—"])
-    out += [md_table(["parameters", "source", "mean (mm)", "std (mm)", "median-speed mean",
-                       "median-speed std", "worst-speed mean", "worst-speed std", "exact hit",
-                       "kappa"], rows), "",
-            "Ours: worst speed = the speed with the largest |mean error|; the thesis "
-            "quotes the most extreme speed.", ""]
+        rows.append(
+            [
+                label,
+                "ours",
+                fmt(_get(e, "radius_mm", "mean")),
+                fmt(_get(e, "radius_mm", "std")),
+                fmt(med and med["mean"]),
+                fmt(med and med["std"]),
+                fmt(ext and ext["mean"]),
+                fmt(ext and ext["std"]),
+                fmt(_get(e, "radius_mm", "exact_hit")),
+                fmt(_get(e, "radius_mm", "kappa")),
+            ]
+        )
+        rows.append(
+            [
+                label,
+                "thesis 4.4.1",
+                fmt(th["mean"], 3),
+                fmt(th["std"]),
+                fmt(th["median_speed"]["mean"], 3),
+                fmt(th["median_speed"]["std"]),
+                fmt(th["extreme_speed"]["mean"]),
+                fmt(th["extreme_speed"]["std"]),
+                "—",
+                "—",
+            ]
+        )
+    out += [
+        md_table(
+            [
+                "parameters",
+                "source",
+                "mean (mm)",
+                "std (mm)",
+                "median-speed mean",
+                "median-speed std",
+                "worst-speed mean",
+                "worst-speed std",
+                "exact hit",
+                "kappa",
+            ],
+            rows,
+        ),
+        "",
+        "Ours: worst speed = the speed with the largest |mean error|; the thesis "
+        "quotes the most extreme speed.",
+        "",
+    ]
     return out
 
 
@@ -244,7 +342,7 @@ def markdown_report(
     out = [
         "Thesis: M. H. Evans, *Tactile Discrimination with Whiskers* (Sheffield 2011), "
         "chapter 4. Errors are signed (predicted − true); *std* is the standard deviation "
-        "of the per-trial errors (the thesis' \"Std Err\"); reduced training sets average "
+        'of the per-trial errors (the thesis\' "Std Err"); reduced training sets average '
         f"over {meta.get('n_seeds', '?')} random subsets.",
         "",
         f"- trials: {meta.get('n_trials', '?')}, sets {meta.get('sets', '?')}; training "
@@ -258,8 +356,10 @@ def markdown_report(
     ]
     if "dataset/traces" in figures or "dataset/contours" in figures:
         out += ["## The data (figures 3.7 and 4.1)", ""]
-        for key, cap in (("dataset/traces", "Typical deflections (cf. figure 3.7)"),
-                         ("dataset/contours", "Peak deflection and duration (cf. figure 4.1)")):
+        for key, cap in (
+            ("dataset/traces", "Typical deflections (cf. figure 3.7)"),
+            ("dataset/contours", "Peak deflection and duration (cf. figure 4.1)"),
+        ):
             if key in figures:
                 out += [f"![{cap}]({figures[key]})", ""]
 
@@ -271,8 +371,11 @@ def markdown_report(
             out += [f"![{name}: errors (cf. figures 4.2/4.3)]({figures[f'errors/{name}']})", ""]
     radius_only = [n for n, e in cl.items() if e.get("radius_only")]
     if radius_only and results.get("training_fractions"):
-        out += ["## Radius-only classifiers vs training-set size (not tabled in the thesis: "
-                "\"the size of the training set is irrelevant\", 4.3)", ""]
+        out += [
+            "## Radius-only classifiers vs training-set size (not tabled in the thesis: "
+            '"the size of the training set is irrelevant", 4.3)',
+            "",
+        ]
         for name in radius_only:
             out += [f"**{name}**", "", _fraction_table(results, name, None), ""]
             key = f"training_size/{name}"
@@ -289,8 +392,10 @@ def markdown_report(
         if not table:
             out += ["No thesis counterpart for this variant.", ""]
         out += [_fraction_table(results, name, table), ""]
-        for key, cap in ((f"training_size/{name}", "mean error vs training-set size"),
-                         (f"errors/{name}", "error histograms and scatter")):
+        for key, cap in (
+            (f"training_size/{name}", "mean error vs training-set size"),
+            (f"errors/{name}", "error histograms and scatter"),
+        ):
             if key in figures:
                 out += [f"![{name}: {cap}]({figures[key]})", ""]
 
@@ -300,11 +405,23 @@ def markdown_report(
     for name, entry in cl.items():
         col, _ = THESIS_COLUMNS.get(name, (None, None))
         th = THESIS_CHAPTER4["table_4_6"].get(col) if col else None
-        rows.append([name, fmt_seconds(entry.get("fit_seconds")),
-                     fmt_seconds(entry.get("classify_seconds")), fmt_seconds(th)])
-    out += [md_table(["classifier", "fit (ours)", "classify (ours)",
-                       "train + classify 2626 (thesis 4.6)"], rows), "",
-            "Thesis times: MATLAB on a 2.5 GHz Core 2 Duo; ours: this machine, wall time.", ""]
+        rows.append(
+            [
+                name,
+                fmt_seconds(entry.get("fit_seconds")),
+                fmt_seconds(entry.get("classify_seconds")),
+                fmt_seconds(th),
+            ]
+        )
+    out += [
+        md_table(
+            ["classifier", "fit (ours)", "classify (ours)", "train + classify 2626 (thesis 4.6)"],
+            rows,
+        ),
+        "",
+        "Thesis times: MATLAB on a 2.5 GHz Core 2 Duo; ours: this machine, wall time.",
+        "",
+    ]
 
     # table 4.7
     out += ["## Table 4.7: performance under ideal conditions (full training set)", ""]
@@ -312,59 +429,119 @@ def markdown_report(
     for name, entry in cl.items():
         col, _ = THESIS_COLUMNS.get(name, (None, None))
         th = THESIS_CHAPTER4["table_4_7"].get(col) if col else None
-        rows.append([name, "ours",
-                     fmt(_get(entry, "speed_mm_s", "mean")), fmt(_get(entry, "speed_mm_s", "std")),
-                     fmt(_get(entry, "radius_mm", "mean")), fmt(_get(entry, "radius_mm", "std"))])
+        rows.append(
+            [
+                name,
+                "ours",
+                fmt(_get(entry, "speed_mm_s", "mean")),
+                fmt(_get(entry, "speed_mm_s", "std")),
+                fmt(_get(entry, "radius_mm", "mean")),
+                fmt(_get(entry, "radius_mm", "std")),
+            ]
+        )
         before = (baseline or {}).get("classifiers", {}).get(name)
         if before is not None:
-            rows.append([name, "before",
-                         fmt(_get(before, "speed_mm_s", "mean")),
-                         fmt(_get(before, "speed_mm_s", "std")),
-                         fmt(_get(before, "radius_mm", "mean")),
-                         fmt(_get(before, "radius_mm", "std"))])
+            rows.append(
+                [
+                    name,
+                    "before",
+                    fmt(_get(before, "speed_mm_s", "mean")),
+                    fmt(_get(before, "speed_mm_s", "std")),
+                    fmt(_get(before, "radius_mm", "mean")),
+                    fmt(_get(before, "radius_mm", "std")),
+                ]
+            )
         if th is not None:
-            rows.append([name, "thesis 4.7", fmt(_get(th, "speed_mm_s", "mean")),
-                         fmt(_get(th, "speed_mm_s", "std")), fmt(_get(th, "radius_mm", "mean")),
-                         fmt(_get(th, "radius_mm", "std"))])
+            rows.append(
+                [
+                    name,
+                    "thesis 4.7",
+                    fmt(_get(th, "speed_mm_s", "mean")),
+                    fmt(_get(th, "speed_mm_s", "std")),
+                    fmt(_get(th, "radius_mm", "mean")),
+                    fmt(_get(th, "radius_mm", "std")),
+                ]
+            )
     if baseline is not None:
         out += [f"*before*: {baseline.get('meta', {}).get('label', 'an earlier run')}.", ""]
-    out += [md_table(["classifier", "source", "speed mean", "speed std", "radius mean",
-                       "radius std"], rows), ""]
+    out += [
+        md_table(
+            ["classifier", "source", "speed mean", "speed std", "radius mean", "radius std"], rows
+        ),
+        "",
+    ]
     if "comparison" in figures:
         out += [f"![Mean error per classifier (cf. figure 4.12)]({figures['comparison']})", ""]
     own = {n: e.get("train_sets") for n, e in cl.items() if e.get("train_sets") is not None}
     if own:
-        out += ["Training sets per classifier (the split of the thesis author's code; "
-                "see docs/methods.md): "
-                + "; ".join(f"{n}: {v}" for n, v in own.items()) + ".", ""]
+        out += [
+            "Training sets per classifier (the split of the thesis author's code; "
+            "see docs/methods.md): " + "; ".join(f"{n}: {v}" for n, v in own.items()) + ".",
+            "",
+        ]
     other = results.get("other_split")
     if other:
         out += [f"### The other split: {other.get('description', '')}", ""]
         rows = []
         for name, entry in other.get("classifiers", {}).items():
             main = cl.get(name, {})
-            rows.append([name,
-                         fmt(_get(entry, "speed_mm_s", "std")),
-                         fmt(_get(main, "speed_mm_s", "std")),
-                         fmt(_get(entry, "radius_mm", "std")), fmt(_get(main, "radius_mm", "std"))])
-        out += [md_table(["classifier", "speed std (one set)", "speed std (main)",
-                           "radius std (one set)", "radius std (main)"], rows), ""]
+            rows.append(
+                [
+                    name,
+                    fmt(_get(entry, "speed_mm_s", "std")),
+                    fmt(_get(main, "speed_mm_s", "std")),
+                    fmt(_get(entry, "radius_mm", "std")),
+                    fmt(_get(main, "radius_mm", "std")),
+                ]
+            )
+        out += [
+            md_table(
+                [
+                    "classifier",
+                    "speed std (one set)",
+                    "speed std (main)",
+                    "radius std (one set)",
+                    "radius std (main)",
+                ],
+                rows,
+            ),
+            "",
+        ]
 
     # kappa and exact hits (not in the thesis)
-    out += ["## Exact hits and Cohen's kappa (full training set; not reported in the thesis)",
-            ""]
+    out += ["## Exact hits and Cohen's kappa (full training set; not reported in the thesis)", ""]
     rows = []
     for name, entry in cl.items():
-        rows.append([name,
-                     fmt(_get(entry, "radius_mm", "exact_hit")),
-                     fmt(_get(entry, "radius_mm", "kappa")),
-                     fmt(_get(entry, "radius_mm", "kappa_linear")),
-                     fmt(_get(entry, "speed_mm_s", "exact_hit")),
-                     fmt(_get(entry, "speed_mm_s", "kappa")),
-                     fmt(_get(entry, "speed_mm_s", "kappa_linear")),
-                     fmt(_get(entry, "joint", "exact_hit")), fmt(_get(entry, "joint", "kappa"))])
-    out += [md_table(["classifier", "radius hit", "radius κ", "radius κ (linear)", "speed hit",
-                       "speed κ", "speed κ (linear)", "joint hit", "joint κ"], rows), ""]
+        rows.append(
+            [
+                name,
+                fmt(_get(entry, "radius_mm", "exact_hit")),
+                fmt(_get(entry, "radius_mm", "kappa")),
+                fmt(_get(entry, "radius_mm", "kappa_linear")),
+                fmt(_get(entry, "speed_mm_s", "exact_hit")),
+                fmt(_get(entry, "speed_mm_s", "kappa")),
+                fmt(_get(entry, "speed_mm_s", "kappa_linear")),
+                fmt(_get(entry, "joint", "exact_hit")),
+                fmt(_get(entry, "joint", "kappa")),
+            ]
+        )
+    out += [
+        md_table(
+            [
+                "classifier",
+                "radius hit",
+                "radius κ",
+                "radius κ (linear)",
+                "speed hit",
+                "speed κ",
+                "speed κ (linear)",
+                "joint hit",
+                "joint κ",
+            ],
+            rows,
+        ),
+        "",
+    ]
 
     out += ["## Discussion", "", discussion(results), ""]
     return "\n".join(out)
@@ -404,24 +581,40 @@ def discussion(results: Mapping[str, Any]) -> str:
         )
 
     def rank(par: str) -> list[tuple[str, float]]:
-        vals = [(n, e[par]["std"]) for n, e in cl.items()
-                if isinstance(e.get(par), Mapping) and e[par].get("std") is not None]
+        vals = [
+            (n, e[par]["std"])
+            for n, e in cl.items()
+            if isinstance(e.get(par), Mapping) and e[par].get("std") is not None
+        ]
         return sorted(vals, key=lambda kv: kv[1])
 
-    for par, unit, label in (("radius_mm", "mm", "radial distance"),
-                             ("speed_mm_s", "mm/s", "speed")):
+    for par, unit, label in (
+        ("radius_mm", "mm", "radial distance"),
+        ("speed_mm_s", "mm/s", "speed"),
+    ):
         r = rank(par)
         if not r:
             continue
-        th = sorted(((n, e[par]["std"]) for n, e in t47.items()
-                     if e.get(par) and e[par].get("std") is not None), key=lambda kv: kv[1])
+        th = sorted(
+            (
+                (n, e[par]["std"])
+                for n, e in t47.items()
+                if e.get(par) and e[par].get("std") is not None
+            ),
+            key=lambda kv: kv[1],
+        )
         ours_txt = ", ".join(f"{n} {fmt(v)}" for n, v in r[:3])
         th_txt = ", ".join(f"{n} {fmt(v)}" for n, v in th[:3])
-        lines.append(f"- **Smallest {label} spread (std, {unit})**: this run {ours_txt}; "
-                     f"thesis table 4.7 {th_txt}.")
+        lines.append(
+            f"- **Smallest {label} spread (std, {unit})**: this run {ours_txt}; "
+            f"thesis table 4.7 {th_txt}."
+        )
     for name in ("static_beam_measured", "static_beam_fitted"):
-        by = [b for b in (cl.get(name) or {}).get("radius_error_by_speed", [])
-              if b.get("mean") is not None]
+        by = [
+            b
+            for b in (cl.get(name) or {}).get("radius_error_by_speed", [])
+            if b.get("mean") is not None
+        ]
         if len(by) >= 2:
             lo, hi = by[0], by[-1]
             lines.append(
@@ -433,8 +626,10 @@ def discussion(results: Mapping[str, Any]) -> str:
             )
     meta = results.get("meta") or {}
     if meta.get("saturated_fraction") is not None:
-        lines.append(f"- {fmt(100 * meta['saturated_fraction'], 1)} % of this run's trials "
-                     "reach the Hall sensor's output limits.")
+        lines.append(
+            f"- {fmt(100 * meta['saturated_fraction'], 1)} % of this run's trials "
+            "reach the Hall sensor's output limits."
+        )
     if not lines:
         return "Nothing to compare: the run has no classifier with a thesis counterpart."
     return "\n".join(lines)
@@ -485,8 +680,10 @@ def write_outputs(
         figs.update(chapter4_figures(results, out / "figures", dpi=dpi, workers=workers))
         if dataset is not None:
             figs["dataset/traces"] = vfig.save_figure(
-                vfig.typical_traces_figure(dataset), out / "figures" / "traces.png", dpi)
+                vfig.typical_traces_figure(dataset), out / "figures" / "traces.png", dpi
+            )
             ax = vfig.feature_contours(dataset)
             figs["dataset/contours"] = vfig.save_figure(
-                ax[0].figure, out / "figures" / "contours.png", dpi)
+                ax[0].figure, out / "figures" / "contours.png", dpi
+            )
     return figs

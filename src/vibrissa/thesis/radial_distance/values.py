@@ -20,10 +20,14 @@ TABLE_FRACTIONS = ("0.05", "0.1", "0.2", "0.4", "0.6", "0.8", "1.0")
 def _table(speed_mean, speed_std, radius_mean, radius_std) -> dict[str, Any]:
     """One of tables 4.2-4.5: rows x training fractions 5 %..100 %."""
     return {
-        "speed_mm_s": {"mean": dict(zip(TABLE_FRACTIONS, speed_mean, strict=True)),
-                       "std": dict(zip(TABLE_FRACTIONS, speed_std, strict=True))},
-        "radius_mm": {"mean": dict(zip(TABLE_FRACTIONS, radius_mean, strict=True)),
-                      "std": dict(zip(TABLE_FRACTIONS, radius_std, strict=True))},
+        "speed_mm_s": {
+            "mean": dict(zip(TABLE_FRACTIONS, speed_mean, strict=True)),
+            "std": dict(zip(TABLE_FRACTIONS, speed_std, strict=True)),
+        },
+        "radius_mm": {
+            "mean": dict(zip(TABLE_FRACTIONS, radius_mean, strict=True)),
+            "std": dict(zip(TABLE_FRACTIONS, radius_std, strict=True)),
+        },
     }
 
 
@@ -41,21 +45,41 @@ THESIS_CHAPTER4: dict[str, Any] = {
     # S_f scales Hall output (V) to bending moment; the fitted set is the brute-force
     # optimum over the grid in "search_grid" (4.3.1).
     "table_4_1": {
-        "measured": {"youngs_modulus_gpa": 2.4, "base_radius_mm": 1.0, "length_mm": 180.0,
-                     "scale_factor": 0.0031},
-        "fitted": {"youngs_modulus_gpa": 1.5, "base_radius_mm": 1.2, "length_mm": 230.0,
-                   "scale_factor": 0.002},
-        "search_grid": {"youngs_modulus_gpa": (0.5, 3.0, 0.1), "base_radius_mm": (0.5, 1.5, 0.1),
-                        "length_mm": (170.0, 240.0, 5.0), "scale_factor": (0.0005, 0.005, 0.0005)},
+        "measured": {
+            "youngs_modulus_gpa": 2.4,
+            "base_radius_mm": 1.0,
+            "length_mm": 180.0,
+            "scale_factor": 0.0031,
+        },
+        "fitted": {
+            "youngs_modulus_gpa": 1.5,
+            "base_radius_mm": 1.2,
+            "length_mm": 230.0,
+            "scale_factor": 0.002,
+        },
+        "search_grid": {
+            "youngs_modulus_gpa": (0.5, 3.0, 0.1),
+            "base_radius_mm": (0.5, 1.5, 0.1),
+            "length_mm": (170.0, 240.0, 5.0),
+            "scale_factor": (0.0005, 0.005, 0.0005),
+        },
     },
     # Text of 4.4.1 (no table number): static beam radial-distance error overall and
     # per speed, mm; "median" = at the median speed, "extreme" = at the most extreme
     # speed (figures 4.2b, 4.3b).
     "static_beam_text": {
-        "measured": {"mean": 0.25, "std": 8.8, "median_speed": {"mean": 0.44, "std": 4.23},
-                     "extreme_speed": {"mean": -10.22, "std": 10.86}},
-        "fitted": {"mean": 0.015, "std": 10.4, "median_speed": {"mean": 0.015, "std": 3.87},
-                   "extreme_speed": {"mean": 9.97, "std": 12.67}},
+        "measured": {
+            "mean": 0.25,
+            "std": 8.8,
+            "median_speed": {"mean": 0.44, "std": 4.23},
+            "extreme_speed": {"mean": -10.22, "std": 10.86},
+        },
+        "fitted": {
+            "mean": 0.015,
+            "std": 10.4,
+            "median_speed": {"mean": 0.015, "std": 3.87},
+            "extreme_speed": {"mean": 9.97, "std": 12.67},
+        },
     },
     # Table 4.2: frequency (|FFT|) template classifier vs training-set size (4.4.2).
     "table_4_2": _table(
@@ -87,20 +111,33 @@ THESIS_CHAPTER4: dict[str, Any] = {
     ),
     # Table 4.6: time to train on the full set and classify 2626 test trials, seconds,
     # MATLAB on a 2.5 GHz Core 2 Duo (1.2 s, 2 min, 4 min 15 s, 14.1 s, 22 min 24 s).
-    "table_4_6": {"static_beam": 1.2, "frequency": 120.0, "template": 255.0, "feature": 14.1,
-                  "naive_bayes": 1344.0},
+    "table_4_6": {
+        "static_beam": 1.2,
+        "frequency": 120.0,
+        "template": 255.0,
+        "feature": 14.1,
+        "naive_bayes": 1344.0,
+    },
     # Table 4.7: best case (full training set) per classifier; the static beam column
     # is the measured-parameter result and has no speed (NA).
     "table_4_7": {
         "static_beam": {"speed_mm_s": None, "radius_mm": {"mean": 0.25, "std": 8.8}},
-        "frequency": {"speed_mm_s": {"mean": -89.98, "std": 53.99},
-                      "radius_mm": {"mean": -1.78, "std": 34.33}},
-        "template": {"speed_mm_s": {"mean": -1.22, "std": 15.70},
-                     "radius_mm": {"mean": 0.4, "std": 4.92}},
-        "feature": {"speed_mm_s": {"mean": 0.09, "std": 25.80},
-                    "radius_mm": {"mean": 1.65, "std": 7.84}},
-        "naive_bayes": {"speed_mm_s": {"mean": -3.38, "std": 12.79},
-                        "radius_mm": {"mean": 0.47, "std": 4.85}},
+        "frequency": {
+            "speed_mm_s": {"mean": -89.98, "std": 53.99},
+            "radius_mm": {"mean": -1.78, "std": 34.33},
+        },
+        "template": {
+            "speed_mm_s": {"mean": -1.22, "std": 15.70},
+            "radius_mm": {"mean": 0.4, "std": 4.92},
+        },
+        "feature": {
+            "speed_mm_s": {"mean": 0.09, "std": 25.80},
+            "radius_mm": {"mean": 1.65, "std": 7.84},
+        },
+        "naive_bayes": {
+            "speed_mm_s": {"mean": -3.38, "std": 12.79},
+            "radius_mm": {"mean": 0.47, "std": 4.85},
+        },
     },
 }
 

@@ -47,23 +47,32 @@ def closed_loop_summary(ds: xr.Dataset, half_range_fraction: float) -> dict[str,
     out = []
     for i in range(ds.sizes["rcp_setting"]):
         force = ds["rcp_force_n"].values[i]
-        out.append({
-            "sigma_z": float(ds["rcp_sigma_z"].values[i]),
-            "tau_z_periods": float(ds["rcp_tau_z_periods"].values[i]),
-            "peak_deflection_v": float(np.abs(ds["rcp_deflection"].values[i]).max() * half_v),
-            "max_contact_force_n": float(force.max()),
-            "contacts_per_whisk": _episodes(force, dt) / n_whisks,
-            "contact_time_per_whisk_s": float(np.count_nonzero(force > 0) * dt / n_whisks),
-            "max_z": float(ds["rcp_gating"].values[i].max()),
-        })
-    return {"radial_distance_mm": float(p["rcp_radial_distance_mm"]),
-            "whisk_frequency_hz": float(p["rcp_whisk_frequency_hz"]), "whisks": n_whisks,
-            "settings": out}
+        out.append(
+            {
+                "sigma_z": float(ds["rcp_sigma_z"].values[i]),
+                "tau_z_periods": float(ds["rcp_tau_z_periods"].values[i]),
+                "peak_deflection_v": float(np.abs(ds["rcp_deflection"].values[i]).max() * half_v),
+                "max_contact_force_n": float(force.max()),
+                "contacts_per_whisk": _episodes(force, dt) / n_whisks,
+                "contact_time_per_whisk_s": float(np.count_nonzero(force > 0) * dt / n_whisks),
+                "max_z": float(ds["rcp_gating"].values[i].max()),
+            }
+        )
+    return {
+        "radial_distance_mm": float(p["rcp_radial_distance_mm"]),
+        "whisk_frequency_hz": float(p["rcp_whisk_frequency_hz"]),
+        "whisks": n_whisks,
+        "settings": out,
+    }
 
 
-def evaluate_scratchbot(ds: xr.Dataset, *, figure_3_9: Mapping[str, Mapping[str, Any]],
-                        half_range_fraction: float,
-                        progress: Callable | None = None) -> dict[str, Any]:
+def evaluate_scratchbot(
+    ds: xr.Dataset,
+    *,
+    figure_3_9: Mapping[str, Mapping[str, Any]],
+    half_range_fraction: float,
+    progress: Callable | None = None,
+) -> dict[str, Any]:
     """Evaluate a SCRATCHbot dataset.
 
     Parameters
@@ -91,17 +100,21 @@ def evaluate_scratchbot(ds: xr.Dataset, *, figure_3_9: Mapping[str, Mapping[str,
     conditions = []
     for r, f in sorted({(float(a), float(b)) for a, b in y}, key=lambda t: (t[1], t[0])):
         m = (y[:, 0] == r) & (y[:, 1] == f)
-        conditions.append({
-            "radial_distance_mm": r, "whisk_frequency_hz": f,
-            "peak_deflection_v": _stats(feats[m, 0]),
-            "contact_duration_s": _stats(feats[m, 1]),
-            "n_whisks": int(m.sum()),
-        })
+        conditions.append(
+            {
+                "radial_distance_mm": r,
+                "whisk_frequency_hz": f,
+                "peak_deflection_v": _stats(feats[m, 0]),
+                "contact_duration_s": _stats(feats[m, 1]),
+                "n_whisks": int(m.sum()),
+            }
+        )
     train = ds["set"].values == 1
     test = ~train
     clfs = {
-        "feature": FeatureRegressionClassifier(sample_rate_hz=fs, threshold_v=THRESHOLD_V,
-                                               degree=2, duration_mode="peak"),
+        "feature": FeatureRegressionClassifier(
+            sample_rate_hz=fs, threshold_v=THRESHOLD_V, degree=2, duration_mode="peak"
+        ),
         "template": TimeTemplateClassifier(sample_rate_hz=fs),
     }
     classifiers = {}
@@ -119,34 +132,59 @@ def evaluate_scratchbot(ds: xr.Dataset, *, figure_3_9: Mapping[str, Mapping[str,
         if progress:
             progress(i + 1, len(clfs), name)
     peak_falls = all(
-        np.all(np.diff([c["peak_deflection_v"]["mean"] for c in conditions
-                        if c["whisk_frequency_hz"] == f]) < 0)
-        for f in {c["whisk_frequency_hz"] for c in conditions})
+        np.all(
+            np.diff(
+                [c["peak_deflection_v"]["mean"] for c in conditions if c["whisk_frequency_hz"] == f]
+            )
+            < 0
+        )
+        for f in {c["whisk_frequency_hz"] for c in conditions}
+    )
     dur_falls = all(
-        np.all(np.diff([c["contact_duration_s"]["mean"] for c in conditions
-                        if c["radial_distance_mm"] == r]) < 0)
-        for r in {c["radial_distance_mm"] for c in conditions})
+        np.all(
+            np.diff(
+                [
+                    c["contact_duration_s"]["mean"]
+                    for c in conditions
+                    if c["radial_distance_mm"] == r
+                ]
+            )
+            < 0
+        )
+        for r in {c["radial_distance_mm"] for c in conditions}
+    )
     closed_loop = closed_loop_summary(ds, half_range_fraction)
     sat = ds["run_saturated"].values if "run_saturated" in ds else np.zeros(1)
     return {
-        "meta": {"n_trials": int(X.shape[0]), "sample_rate_hz": fs,
-                 "feature_threshold_v": THRESHOLD_V,
-                 "protocol": json.loads(ds.attrs.get("protocol_params", "{}")),
-                 "split": {"train": "odd whisks (set 1)", "test": "even whisks (set 2)",
-                           "n_train": int(train.sum()), "n_test": int(test.sum())},
-                 "saturated_fraction": float(np.mean(sat))},
+        "meta": {
+            "n_trials": int(X.shape[0]),
+            "sample_rate_hz": fs,
+            "feature_threshold_v": THRESHOLD_V,
+            "protocol": json.loads(ds.attrs.get("protocol_params", "{}")),
+            "split": {
+                "train": "odd whisks (set 1)",
+                "test": "even whisks (set 2)",
+                "n_train": int(train.sum()),
+                "n_test": int(test.sum()),
+            },
+            "saturated_fraction": float(np.mean(sat)),
+        },
         "parameters": {
-            "radial_distance_mm": {"unit": "mm",
-                                   "values": sorted({c["radial_distance_mm"]
-                                                     for c in conditions})},
-            "whisk_frequency_hz": {"unit": "Hz",
-                                   "values": sorted({c["whisk_frequency_hz"]
-                                                     for c in conditions})},
+            "radial_distance_mm": {
+                "unit": "mm",
+                "values": sorted({c["radial_distance_mm"] for c in conditions}),
+            },
+            "whisk_frequency_hz": {
+                "unit": "Hz",
+                "values": sorted({c["whisk_frequency_hz"] for c in conditions}),
+            },
         },
         "classifiers": classifiers,
         "conditions": conditions,
-        "relations": {"peak_falls_with_distance": bool(peak_falls),
-                      "duration_falls_with_frequency": bool(dur_falls)},
+        "relations": {
+            "peak_falls_with_distance": bool(peak_falls),
+            "duration_falls_with_frequency": bool(dur_falls),
+        },
         "figure_3_9": {k: dict(v) for k, v in figure_3_9.items()},
         "closed_loop": closed_loop,
     }

@@ -29,27 +29,46 @@ class Scratchbot(Experiment):
     name = "scratchbot"
     chapter = 6
     title = "Chapter 6.3 reproduction: radial distance and whisk speed on SCRATCHbot"
-    description = ("SCRATCHbot whisking into a pole at 3 distances x 3 whisk frequencies: "
-                   "peak deflection, contact duration, feature and template classifiers "
-                   "(figure 6.5); RCP gating (figure 3.9)")
+    description = (
+        "SCRATCHbot whisking into a pole at 3 distances x 3 whisk frequencies: "
+        "peak deflection, contact duration, feature and template classifiers "
+        "(figure 6.5); RCP gating (figure 3.9)"
+    )
 
     def protocol(self, quick: bool, seed: int) -> SimulationProtocol:
         return scratchbot_protocol(quick=quick, seed=seed)
 
-    def evaluate(self, ds: xr.Dataset, *, seed: int, progress: Callable | None,
-                 options: Mapping[str, int], workers: int | None = None) -> Evaluation:
+    def evaluate(
+        self,
+        ds: xr.Dataset,
+        *,
+        seed: int,
+        progress: Callable | None,
+        options: Mapping[str, int],
+        workers: int | None = None,
+    ) -> Evaluation:
         from vibrissa.robots.whisking import HALF_RANGE_FRACTION, figure_3_9
         from vibrissa.thesis.scratchbot.evaluation import evaluate_scratchbot
 
         panels = figure_3_9()
-        results = evaluate_scratchbot(ds, figure_3_9={k: p.summary() for k, p in panels.items()},
-                                      half_range_fraction=HALF_RANGE_FRACTION, progress=progress)
+        results = evaluate_scratchbot(
+            ds,
+            figure_3_9={k: p.summary() for k, p in panels.items()},
+            half_range_fraction=HALF_RANGE_FRACTION,
+            progress=progress,
+        )
         return Evaluation(results, {"figure_3_9": panels})
 
-    def write_outputs(self, results: Mapping[str, Any], out_dir: Path, *,
-                      dataset: xr.Dataset | None, figures: bool,
-                      workers: int | None = None,
-                      artifacts: Mapping[str, Any] | None = None) -> dict[str, Path]:
+    def write_outputs(
+        self,
+        results: Mapping[str, Any],
+        out_dir: Path,
+        *,
+        dataset: xr.Dataset | None,
+        figures: bool,
+        workers: int | None = None,
+        artifacts: Mapping[str, Any] | None = None,
+    ) -> dict[str, Path]:
         from vibrissa.evaluate.figures.common import save_figure
         from vibrissa.evaluate.figures.whisking import whisk_trajectories_figure
         from vibrissa.robots.whisking import figure_3_9
@@ -58,47 +77,78 @@ class Scratchbot(Experiment):
         if not figures:
             return {}
         fig_dir = Path(out_dir) / "figures"
-        out = {"features": save_figure(scratchbot_features_figure(results["conditions"]),
-                                       fig_dir / "scratchbot_features.png")}
+        out = {
+            "features": save_figure(
+                scratchbot_features_figure(results["conditions"]),
+                fig_dir / "scratchbot_features.png",
+            )
+        }
         panels = []
         # figure 3.9's runs from this evaluation, or simulated again for a redrawn report
         for key, v in ((artifacts or {}).get("figure_3_9") or figure_3_9()).items():
             a = v.run
-            panels.append({"title": f"({key}) sigma_z = {v.sigma_z:g}, tau_z = "
-                                    f"T_w x {v.tau_z_periods:g}",
-                           "time_s": a.time_s, "angle_deg": a.angle_deg, "gating": a.gating,
-                           "obstacle_deg": a.obstacle_deg})
+            panels.append(
+                {
+                    "title": f"({key}) sigma_z = {v.sigma_z:g}, tau_z = T_w x {v.tau_z_periods:g}",
+                    "time_s": a.time_s,
+                    "angle_deg": a.angle_deg,
+                    "gating": a.gating,
+                    "obstacle_deg": a.obstacle_deg,
+                }
+            )
         out["figure_3_9"] = save_figure(gating_figure(panels), fig_dir / "figure_3_9.png")
         if dataset is not None and "run_angle_deg" in dataset:
-            p = dict(zip(dataset["condition"].values.tolist(), range(dataset.sizes["condition"]),
-                         strict=True))
+            p = dict(
+                zip(
+                    dataset["condition"].values.tolist(),
+                    range(dataset.sizes["condition"]),
+                    strict=True,
+                )
+            )
             conds = results["conditions"]
-            pick = [i for i, c in enumerate(conds) if c["radial_distance_mm"] == 100.0] \
-                or list(range(min(3, len(conds))))
+            pick = [i for i, c in enumerate(conds) if c["radial_distance_mm"] == 100.0] or list(
+                range(min(3, len(conds)))
+            )
             pick = [p[i] for i in pick][:3]
             t = dataset["run_time"].values
             fig = whisk_trajectories_figure(
-                t, dataset["run_angle_deg"].values[pick], dataset["run_raw_v"].values[pick],
+                t,
+                dataset["run_angle_deg"].values[pick],
+                dataset["run_raw_v"].values[pick],
                 dataset["run_force_n"].values[pick],
-                [f"R = {conds[i]['radial_distance_mm']:g} mm, S = "
-                 f"{conds[i]['whisk_frequency_hz']:g} Hz" for i in pick])
+                [
+                    f"R = {conds[i]['radial_distance_mm']:g} mm, S = "
+                    f"{conds[i]['whisk_frequency_hz']:g} Hz"
+                    for i in pick
+                ],
+            )
             out["trajectories"] = save_figure(fig, fig_dir / "whisk_trajectories.png")
         if dataset is not None and "rcp_gating" in dataset:
             from vibrissa.robots.whisking import HALF_RANGE_FRACTION
 
             n = dataset.sizes["rcp_setting"]
             fig = whisk_trajectories_figure(
-                dataset["rcp_time"].values, dataset["rcp_angle_deg"].values,
+                dataset["rcp_time"].values,
+                dataset["rcp_angle_deg"].values,
                 dataset["rcp_deflection"].values * HALF_RANGE_FRACTION * 5.0,
                 dataset["rcp_force_n"].values,
-                [f"sigma_z = {dataset['rcp_sigma_z'].values[i]:g}, tau_z = T_w x "
-                 f"{dataset['rcp_tau_z_periods'].values[i]:g}" for i in range(n)],
-                gating=dataset["rcp_gating"].values, signal_label="Hall x from rest (V)")
+                [
+                    f"sigma_z = {dataset['rcp_sigma_z'].values[i]:g}, tau_z = T_w x "
+                    f"{dataset['rcp_tau_z_periods'].values[i]:g}"
+                    for i in range(n)
+                ],
+                gating=dataset["rcp_gating"].values,
+                signal_label="Hall x from rest (V)",
+            )
             out["closed_loop"] = save_figure(fig, fig_dir / "closed_loop.png")
         return out
 
-    def report_sections(self, results: Mapping[str, Any], figures: Mapping[str, Path],
-                        baseline: Mapping[str, Any] | None) -> str:
+    def report_sections(
+        self,
+        results: Mapping[str, Any],
+        figures: Mapping[str, Path],
+        baseline: Mapping[str, Any] | None,
+    ) -> str:
 
         from vibrissa.thesis.scratchbot.report import markdown_scratchbot
 
@@ -107,8 +157,15 @@ class Scratchbot(Experiment):
     def summary(self, results: Mapping[str, Any]) -> dict[str, Any]:
         return {
             "conditions": [
-                {k: c[k] for k in ("radial_distance_mm", "whisk_frequency_hz",
-                                   "peak_deflection_v", "contact_duration_s")}
+                {
+                    k: c[k]
+                    for k in (
+                        "radial_distance_mm",
+                        "whisk_frequency_hz",
+                        "peak_deflection_v",
+                        "contact_duration_s",
+                    )
+                }
                 for c in results["conditions"]
             ],
             "classifiers": results["classifiers"],

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 from matplotlib.figure import Figure
 
-__all__ = ['gating_figure', 'scratchbot_features_figure']
+__all__ = ["gating_figure", "scratchbot_features_figure"]
 
 
 def scratchbot_features_figure(conditions: Sequence[Mapping[str, Any]]) -> Figure:
@@ -16,20 +16,31 @@ def scratchbot_features_figure(conditions: Sequence[Mapping[str, Any]]) -> Figur
     contact duration against whisk frequency (b), mean +/- std per condition."""
     fig = Figure(figsize=(9.0, 3.6), layout="constrained")
     ax_a, ax_b = fig.subplots(1, 2)
-    panels = ((ax_a, "whisk_frequency_hz", "radial_distance_mm", "peak_deflection_v",
-               "S = {:g} Hz"),
-              (ax_b, "radial_distance_mm", "whisk_frequency_hz", "contact_duration_s",
-               "R = {:g} mm"))
+    panels = (
+        (ax_a, "whisk_frequency_hz", "radial_distance_mm", "peak_deflection_v", "S = {:g} Hz"),
+        (ax_b, "radial_distance_mm", "whisk_frequency_hz", "contact_duration_s", "R = {:g} mm"),
+    )
     for ax, series, x_key, y_key, label in panels:
         for v in sorted({c[series] for c in conditions}):
             rows = sorted((c for c in conditions if c[series] == v), key=lambda c: c[x_key])
-            ax.errorbar([c[x_key] for c in rows], [c[y_key]["mean"] for c in rows],
-                        [c[y_key]["std"] for c in rows], marker="o", capsize=3,
-                        label=label.format(v))
-    ax_a.set(xlabel="radial distance (mm)", ylabel="peak deflection (V)",
-             title="(a) peak deflection vs radial distance")
-    ax_b.set(xlabel="whisk frequency (Hz)", ylabel="contact duration (s)",
-             title="(b) contact duration vs whisk speed")
+            ax.errorbar(
+                [c[x_key] for c in rows],
+                [c[y_key]["mean"] for c in rows],
+                [c[y_key]["std"] for c in rows],
+                marker="o",
+                capsize=3,
+                label=label.format(v),
+            )
+    ax_a.set(
+        xlabel="radial distance (mm)",
+        ylabel="peak deflection (V)",
+        title="(a) peak deflection vs radial distance",
+    )
+    ax_b.set(
+        xlabel="whisk frequency (Hz)",
+        ylabel="contact duration (s)",
+        title="(b) contact duration vs whisk speed",
+    )
     ax_a.legend(fontsize=8)
     ax_b.legend(fontsize=8)
     return fig
@@ -43,8 +54,9 @@ def gating_figure(panels: Sequence[Mapping[str, Any]]) -> Figure:
     and ``obstacle_deg`` (2,).
     """
     fig = Figure(figsize=(5.0 * len(panels), 4.5), layout="constrained")
-    axes = fig.subplots(2, len(panels), squeeze=False, sharex="col",
-                        gridspec_kw={"height_ratios": [3, 1]})
+    axes = fig.subplots(
+        2, len(panels), squeeze=False, sharex="col", gridspec_kw={"height_ratios": [3, 1]}
+    )
     for i, p in enumerate(panels):
         t = np.asarray(p["time_s"])
         ax = axes[0, i]

@@ -127,28 +127,42 @@ class ScratchbotProtocol(SelfGenerating):
             if not (isinstance(f, int | float) and math.isfinite(f) and f > 0):
                 raise ValueError(f"whisk frequency must be > 0 Hz, got {f!r}")
             in_range("whisk frequency", f, 0.0, 20.0, "Hz")
-        if isinstance(self.n_whisks, bool) or not isinstance(self.n_whisks, int) \
-                or self.n_whisks < 2:
+        if (
+            isinstance(self.n_whisks, bool)
+            or not isinstance(self.n_whisks, int)
+            or self.n_whisks < 2
+        ):
             raise ValueError(f"n_whisks must be an integer >= 2, got {self.n_whisks!r}")
         non_negative("sigma_z", self.sigma_z)
         positive("tau_z_periods", self.tau_z_periods)
         positive("pole_radius_mm", self.pole_radius_mm)
         positive("motor_bandwidth_hz", self.motor_bandwidth_hz)
-        pattern = WhiskPattern(min(self.whisk_frequencies_hz), self.amplitude_deg,
-                               self.retracted_deg)
+        pattern = WhiskPattern(
+            min(self.whisk_frequencies_hz), self.amplitude_deg, self.retracted_deg
+        )
         for r in self.radial_distances_mm:
-            check_pole_placement(r, self.contact_angle_deg, pattern, self.pole_radius_mm,
-                                 g.length_mm)
+            check_pole_placement(
+                r, self.contact_angle_deg, pattern, self.pole_radius_mm, g.length_mm
+            )
         if not self.rcp_settings:
             raise ValueError("rcp_settings: at least one (sigma_z, tau_z_periods) is needed")
         for sz, tz in self.rcp_settings:
             RCPControl(sz, tz)
-        rcp_pattern = WhiskPattern(self.rcp_whisk_frequency_hz, self.amplitude_deg,
-                                   self.retracted_deg)
-        check_pole_placement(self.rcp_radial_distance_mm, self.contact_angle_deg, rcp_pattern,
-                             self.pole_radius_mm, g.length_mm)
-        if isinstance(self.rcp_whisks, bool) or not isinstance(self.rcp_whisks, int) \
-                or self.rcp_whisks < 1:
+        rcp_pattern = WhiskPattern(
+            self.rcp_whisk_frequency_hz, self.amplitude_deg, self.retracted_deg
+        )
+        check_pole_placement(
+            self.rcp_radial_distance_mm,
+            self.contact_angle_deg,
+            rcp_pattern,
+            self.pole_radius_mm,
+            g.length_mm,
+        )
+        if (
+            isinstance(self.rcp_whisks, bool)
+            or not isinstance(self.rcp_whisks, int)
+            or self.rcp_whisks < 1
+        ):
             raise ValueError(f"rcp_whisks must be a positive integer, got {self.rcp_whisks!r}")
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise ValueError(f"seed must be a non-negative integer, got {self.seed!r}")
@@ -163,8 +177,11 @@ class ScratchbotProtocol(SelfGenerating):
 
     def conditions(self) -> list[dict[str, float]]:
         """Grid points in canonical order (frequency, then distance)."""
-        return [{"radial_distance_mm": float(r), "whisk_frequency_hz": float(f)}
-                for f in self.whisk_frequencies_hz for r in self.radial_distances_mm]
+        return [
+            {"radial_distance_mm": float(r), "whisk_frequency_hz": float(f)}
+            for f in self.whisk_frequencies_hz
+            for r in self.radial_distances_mm
+        ]
 
     @property
     def n_trials(self) -> int:
@@ -191,13 +208,25 @@ class ScratchbotProtocol(SelfGenerating):
         pattern = WhiskPattern(f, self.amplitude_deg, self.retracted_deg)
         ctrl = RCPControl(self.sigma_z, self.tau_z_periods)
         duration = (self.n_whisks + 1) / f
-        common = dict(control_rate_hz=self.sensor.sample_rate_hz, dt_s=self.dt_s,
-                      motor_bandwidth_hz=self.motor_bandwidth_hz)
-        touch = run_whisking([pole_whisker(model, r, self.contact_angle_deg, self.pole_radius_mm,
-                                           hall_gain_v=sensor.gain_v)],
-                             pattern, ctrl, duration, **common)
-        air = run_whisking([WhiskerSetup(model, hall_gain_v=sensor.gain_v)], pattern, None,
-                           duration, **common)
+        common = dict(
+            control_rate_hz=self.sensor.sample_rate_hz,
+            dt_s=self.dt_s,
+            motor_bandwidth_hz=self.motor_bandwidth_hz,
+        )
+        touch = run_whisking(
+            [
+                pole_whisker(
+                    model, r, self.contact_angle_deg, self.pole_radius_mm, hall_gain_v=sensor.gain_v
+                )
+            ],
+            pattern,
+            ctrl,
+            duration,
+            **common,
+        )
+        air = run_whisking(
+            [WhiskerSetup(model, hall_gain_v=sensor.gain_v)], pattern, None, duration, **common
+        )
         rng = np.random.default_rng(stream(self.seed, 1000 + index))
         rate = 1.0 / self.dt_s
         tan = np.column_stack([touch.tan_x[0], np.zeros_like(touch.tan_x[0])])
@@ -210,7 +239,7 @@ class ScratchbotProtocol(SelfGenerating):
         sig = np.full((self.n_whisks, 2, nwin), sensor.offset_v)
         for k in range(self.n_whisks):
             a = (k + 1) * per
-            seg = resid[a:a + per]
+            seg = resid[a : a + per]
             sig[k, :, : seg.shape[0]] = seg.T
         step = int(round(rate / fs))
         return {
@@ -219,8 +248,16 @@ class ScratchbotProtocol(SelfGenerating):
             "air_v": ref[:, 0],
             "angle_deg": touch.angle_deg[0, ::step][: volts.shape[0]],
             "force_n": touch.contact_force_n[0, ::step][: volts.shape[0]],
-            "saturated": np.array([float(np.mean((volts[:, 0] <= sensor.v_min + 1e-9)
-                                                 | (volts[:, 0] >= sensor.v_max - 1e-9)))]),
+            "saturated": np.array(
+                [
+                    float(
+                        np.mean(
+                            (volts[:, 0] <= sensor.v_min + 1e-9)
+                            | (volts[:, 0] >= sensor.v_max - 1e-9)
+                        )
+                    )
+                ]
+            ),
         }
 
     def simulate_rcp(self, index: int) -> dict[str, np.ndarray]:
@@ -233,29 +270,49 @@ class ScratchbotProtocol(SelfGenerating):
         sensor = self.sensor.calibrate(g, self.n_elements)
         f = self.rcp_whisk_frequency_hz
         res = run_whisking(
-            [pole_whisker(model, self.rcp_radial_distance_mm, self.contact_angle_deg,
-                          self.pole_radius_mm, hall_gain_v=sensor.gain_v)],
-            WhiskPattern(f, self.amplitude_deg, self.retracted_deg), RCPControl(sz, tz),
-            self.rcp_whisks / f, control_rate_hz=self.sensor.sample_rate_hz, dt_s=self.dt_s,
-            motor_bandwidth_hz=self.motor_bandwidth_hz)
+            [
+                pole_whisker(
+                    model,
+                    self.rcp_radial_distance_mm,
+                    self.contact_angle_deg,
+                    self.pole_radius_mm,
+                    hall_gain_v=sensor.gain_v,
+                )
+            ],
+            WhiskPattern(f, self.amplitude_deg, self.retracted_deg),
+            RCPControl(sz, tz),
+            self.rcp_whisks / f,
+            control_rate_hz=self.sensor.sample_rate_hz,
+            dt_s=self.dt_s,
+            motor_bandwidth_hz=self.motor_bandwidth_hz,
+        )
         spp = int(round(1.0 / (self.sensor.sample_rate_hz * self.dt_s)))
         force = res.contact_force_n[0, 1:].reshape(-1, spp).max(axis=1)
-        return {"angle_deg": res.angle_deg[0, ::spp], "deflection": res.deflection[0],
-                "gating": res.gating[0], "force_n": np.concatenate([[0.0], force])}
+        return {
+            "angle_deg": res.angle_deg[0, ::spp],
+            "deflection": res.deflection[0],
+            "gating": res.gating[0],
+            "force_n": np.concatenate([[0.0], force]),
+        }
 
     def _job(self, job: tuple[str, int]) -> dict[str, np.ndarray]:
         kind, i = job
         return self.simulate_condition(i) if kind == "condition" else self.simulate_rcp(i)
 
-    def generate_dataset(self, path: Path, workers: int | None = None,
-                         progress: Callable[[int, int], None] | None = None,
-                         **kwargs: Any) -> xr.Dataset:
+    def generate_dataset(
+        self,
+        path: Path,
+        workers: int | None = None,
+        progress: Callable[[int, int], None] | None = None,
+        **kwargs: Any,
+    ) -> xr.Dataset:
         """Simulate every condition and the closed-loop comparison; save the dataset to
         ``path`` (NetCDF). Local processes only (no ``scheduler``)."""
         from vibrissa.data import save_dataset
 
-        jobs = ([("condition", i) for i in range(len(self.conditions()))]
-                + [("rcp", i) for i in range(len(self.rcp_settings))])
+        jobs = [("condition", i) for i in range(len(self.conditions()))] + [
+            ("rcp", i) for i in range(len(self.rcp_settings))
+        ]
         w = min(workers if workers is not None else (os.cpu_count() or 1), len(jobs))
         done: list[dict[str, np.ndarray]] = []
 
@@ -282,8 +339,9 @@ class ScratchbotProtocol(SelfGenerating):
         save_dataset(ds, path)
         return ds
 
-    def build_dataset(self, results: list[dict[str, np.ndarray]],
-                      rcp: list[dict[str, np.ndarray]] | None = None) -> xr.Dataset:
+    def build_dataset(
+        self, results: list[dict[str, np.ndarray]], rcp: list[dict[str, np.ndarray]] | None = None
+    ) -> xr.Dataset:
         """Assemble the conditions' results into the dataset schema.
 
         Per trial: ``signal`` (V, in-air whisk subtracted, rest 2.5 V), labels,
@@ -302,8 +360,11 @@ class ScratchbotProtocol(SelfGenerating):
         coords: dict[str, Any] = {
             "trial": np.arange(sig.shape[0]),
             "channel": np.array(["x", "y"]),
-            "time": ("time", np.arange(sig.shape[2]) / fs,
-                     {"units": "s", "long_name": "time from the whisk's start"}),
+            "time": (
+                "time",
+                np.arange(sig.shape[2]) / fs,
+                {"units": "s", "long_name": "time from the whisk's start"},
+            ),
         }
         per_trial = {**labels, "whisk": whisk, "set": np.where(whisk % 2 == 1, 1, 2)}
         for name, vals in per_trial.items():
@@ -317,29 +378,35 @@ class ScratchbotProtocol(SelfGenerating):
             return out
 
         data = {"signal": (("trial", "channel", "time"), sig, {"units": "V"})}
-        for key, units in (("raw_v", "V"), ("air_v", "V"), ("angle_deg", "deg"),
-                           ("force_n", "N")):
+        for key, units in (("raw_v", "V"), ("air_v", "V"), ("angle_deg", "deg"), ("force_n", "N")):
             data[f"run_{key}"] = (("condition", "run_time"), padded(key), {"units": units})
         data["run_saturated"] = (("condition",), np.array([r["saturated"][0] for r in results]))
         coords["condition"] = np.arange(len(conds))
         coords["run_time"] = ("run_time", np.arange(n_run) / fs, {"units": "s"})
         if rcp:
-            for key, units in (("angle_deg", "deg"), ("deflection", "1"), ("gating", "1"),
-                               ("force_n", "N")):
-                data[f"rcp_{key}"] = (("rcp_setting", "rcp_time"),
-                                      np.vstack([r[key] for r in rcp]), {"units": units})
+            for key, units in (
+                ("angle_deg", "deg"),
+                ("deflection", "1"),
+                ("gating", "1"),
+                ("force_n", "N"),
+            ):
+                data[f"rcp_{key}"] = (
+                    ("rcp_setting", "rcp_time"),
+                    np.vstack([r[key] for r in rcp]),
+                    {"units": units},
+                )
             coords["rcp_setting"] = np.arange(len(rcp))
             coords["rcp_sigma_z"] = ("rcp_setting", [float(a) for a, _ in self.rcp_settings])
-            coords["rcp_tau_z_periods"] = ("rcp_setting",
-                                           [float(b) for _, b in self.rcp_settings])
-            coords["rcp_time"] = ("rcp_time", np.arange(rcp[0]["gating"].size) / fs,
-                                  {"units": "s"})
+            coords["rcp_tau_z_periods"] = ("rcp_setting", [float(b) for _, b in self.rcp_settings])
+            coords["rcp_time"] = ("rcp_time", np.arange(rcp[0]["gating"].size) / fs, {"units": "s"})
         return xr.Dataset(
-            data, coords=coords,
+            data,
+            coords=coords,
             attrs={
                 "sample_rate_hz": float(fs),
-                "whisker": json.dumps(dataclasses.asdict(preset(self.whisker)), sort_keys=True,
-                                      default=str),
+                "whisker": json.dumps(
+                    dataclasses.asdict(preset(self.whisker)), sort_keys=True, default=str
+                ),
                 "protocol": self.name,
                 "protocol_params": json.dumps(self.to_dict(), sort_keys=True, default=str),
                 "seed": int(self.seed),
@@ -349,8 +416,7 @@ class ScratchbotProtocol(SelfGenerating):
         )
 
 
-def scratchbot_protocol(quick: bool = False, seed: int = 0, **overrides: Any
-                        ) -> ScratchbotProtocol:
+def scratchbot_protocol(quick: bool = False, seed: int = 0, **overrides: Any) -> ScratchbotProtocol:
     """The thesis' grid with 12 whisks per condition (``quick``: 4)."""
     changes = {k: v for k, v in overrides.items() if v is not None}
     return ScratchbotProtocol(n_whisks=4 if quick else 12, seed=seed, **changes)

@@ -19,12 +19,17 @@ def markdown_scratchbot(results: Mapping[str, Any], figures: Mapping[str, Path])
     (:func:`~vibrissa.thesis.scratchbot.evaluation.evaluate_scratchbot`) and the figures
     written."""
     rel = results["relations"]
-    rows = [[fmt(c["radial_distance_mm"], 0), fmt(c["whisk_frequency_hz"], 0),
-             f"{fmt(c['peak_deflection_v']['mean'], 3)} +/- "
-             f"{fmt(c['peak_deflection_v']['std'], 3)}",
-             f"{fmt(c['contact_duration_s']['mean'], 3)} +/- "
-             f"{fmt(c['contact_duration_s']['std'], 3)}", c["n_whisks"]]
-            for c in results["conditions"]]
+    rows = [
+        [
+            fmt(c["radial_distance_mm"], 0),
+            fmt(c["whisk_frequency_hz"], 0),
+            f"{fmt(c['peak_deflection_v']['mean'], 3)} +/- {fmt(c['peak_deflection_v']['std'], 3)}",
+            f"{fmt(c['contact_duration_s']['mean'], 3)} +/- "
+            f"{fmt(c['contact_duration_s']['std'], 3)}",
+            c["n_whisks"],
+        ]
+        for c in results["conditions"]
+    ]
     proto = results["meta"].get("protocol") or {}
     setup = (
         f" The simulated head: the `{proto.get('whisker', 'scratchbot')}` whisker (3.2.3) "
@@ -33,61 +38,108 @@ def markdown_scratchbot(results: Mapping[str, Any], figures: Mapping[str, Path])
         f"whisker {proto.get('contact_angle_deg', '?')} deg into the whisk, unmodulated "
         "(RCP off); each whisk's deflection is the Hall x minus the same whisk in air "
         "(self-motion cancelled), its features those of chapter 4 (peak magnitude; time "
-        f"above {THRESHOLD_V:g} V about the peak)." if proto else "")
+        f"above {THRESHOLD_V:g} V about the peak)."
+        if proto
+        else ""
+    )
     out = [
         "SCRATCHbot (thesis 6.3) kept stationary, whisking one whisker into a vertical "
         "pole." + setup + " The thesis gives no numbers for this experiment, only "
         "figure 6.5 and two relations; ours beside them:",
         "",
-        md_table(["relation", "thesis (6.3, fig 6.5)", "this run"], [
-            ["peak deflection vs radial distance",
-             THESIS["peak_vs_distance"],
-             "falls at every frequency" if rel["peak_falls_with_distance"]
-             else "does NOT fall monotonically at every frequency"],
-            ["contact duration vs whisk speed",
-             THESIS["duration_vs_speed"],
-             "falls at every distance" if rel["duration_falls_with_frequency"]
-             else "does NOT fall monotonically at every distance"],
-        ]),
+        md_table(
+            ["relation", "thesis (6.3, fig 6.5)", "this run"],
+            [
+                [
+                    "peak deflection vs radial distance",
+                    THESIS["peak_vs_distance"],
+                    "falls at every frequency"
+                    if rel["peak_falls_with_distance"]
+                    else "does NOT fall monotonically at every frequency",
+                ],
+                [
+                    "contact duration vs whisk speed",
+                    THESIS["duration_vs_speed"],
+                    "falls at every distance"
+                    if rel["duration_falls_with_frequency"]
+                    else "does NOT fall monotonically at every distance",
+                ],
+            ],
+        ),
         "",
         "## Per condition (mean +/- std over whisks)",
         "",
-        md_table(["R (mm)", "S (Hz)", "peak deflection (V)", "contact duration (s)",
-                  "whisks"], rows),
+        md_table(
+            ["R (mm)", "S (Hz)", "peak deflection (V)", "contact duration (s)", "whisks"], rows
+        ),
         "",
     ]
     if "features" in figures:
         out += [f"![figure 6.5: features]({figures['features']})", ""]
     if "trajectories" in figures:
-        out += ["Whisk trajectories (housing angle, raw Hall x; contacts shaded):", "",
-                f"![whisk trajectories]({figures['trajectories']})", ""]
-    crow = [[k, f"{fmt(v['radius_mm']['mean'])} / {fmt(v['radius_mm']['std'])}",
-             f"{fmt(v['whisk_frequency_hz']['mean'])} / "
-             f"{fmt(v['whisk_frequency_hz']['std'])}",
-             fmt(v["radius_mae_mm"]), fmt(v["whisk_frequency_mae_hz"]),
-             fmt(v["joint_correct"])] for k, v in results["classifiers"].items()]
+        out += [
+            "Whisk trajectories (housing angle, raw Hall x; contacts shaded):",
+            "",
+            f"![whisk trajectories]({figures['trajectories']})",
+            "",
+        ]
+    crow = [
+        [
+            k,
+            f"{fmt(v['radius_mm']['mean'])} / {fmt(v['radius_mm']['std'])}",
+            f"{fmt(v['whisk_frequency_hz']['mean'])} / {fmt(v['whisk_frequency_hz']['std'])}",
+            fmt(v["radius_mae_mm"]),
+            fmt(v["whisk_frequency_mae_hz"]),
+            fmt(v["joint_correct"]),
+        ]
+        for k, v in results["classifiers"].items()
+    ]
     sp = results["meta"]["split"]
     out += [
         "## Chapter-4 classifiers",
         "",
         f"Trained on the {sp['train']} ({sp['n_train']}), tested on the {sp['test']} "
-        f"({sp['n_test']}); the thesis ran none on this small set (\"{THESIS['classifiers']}\").",
+        f'({sp["n_test"]}); the thesis ran none on this small set ("{THESIS["classifiers"]}").',
         "",
-        md_table(["classifier", "radius error mean / std (mm)",
-                  "frequency error mean / std (Hz)", "radius MAE (mm)",
-                  "frequency MAE (Hz)", "joint correct"], crow),
+        md_table(
+            [
+                "classifier",
+                "radius error mean / std (mm)",
+                "frequency error mean / std (Hz)",
+                "radius MAE (mm)",
+                "frequency MAE (Hz)",
+                "joint correct",
+            ],
+            crow,
+        ),
         "",
         "## Figure 3.9: rapid cessation of protraction",
         "",
     ]
     f39 = results["figure_3_9"]
-    out.append(md_table(
-        ["setting", "thesis", "contacts (left, 3 whisks)", "right", "max z",
-         "z at the next whisk's first contact"],
-        [[f"({k}) sigma_z = {v['sigma_z']:g}, tau_z = T_w x {v['tau_z_periods']:g}",
-          THESIS.get(f"figure_3_9_{k}", ""),
-          v["contacts_left"], v["contacts_right"], fmt(v["z_max"]),
-          fmt(v["z_at_next_whisk"], 3)] for k, v in f39.items()]))
+    out.append(
+        md_table(
+            [
+                "setting",
+                "thesis",
+                "contacts (left, 3 whisks)",
+                "right",
+                "max z",
+                "z at the next whisk's first contact",
+            ],
+            [
+                [
+                    f"({k}) sigma_z = {v['sigma_z']:g}, tau_z = T_w x {v['tau_z_periods']:g}",
+                    THESIS.get(f"figure_3_9_{k}", ""),
+                    v["contacts_left"],
+                    v["contacts_right"],
+                    fmt(v["z_max"]),
+                    fmt(v["z_at_next_whisk"], 3),
+                ]
+                for k, v in f39.items()
+            ],
+        )
+    )
     out.append("")
     if "figure_3_9" in figures:
         out += [f"![figure 3.9]({figures['figure_3_9']})", ""]
@@ -102,12 +154,27 @@ def markdown_scratchbot(results: Mapping[str, Any], figures: Mapping[str, Path])
             "x deflection (no self-motion cancellation), one control period (1 ms) at a "
             "time. Minimal impingement (3.2.4): RCP keeps the deflection smaller.",
             "",
-            md_table(["setting", "peak deflection (V)", "max contact force (N)",
-                      "contacts per whisk", "contact time per whisk (s)", "max z"],
-                     [[f"sigma_z = {v['sigma_z']:g}, tau_z = T_w x {v['tau_z_periods']:g}",
-                       fmt(v["peak_deflection_v"], 3), fmt(v["max_contact_force_n"], 3),
-                       fmt(v["contacts_per_whisk"]), fmt(v["contact_time_per_whisk_s"], 3),
-                       fmt(v["max_z"])] for v in cl["settings"]]),
+            md_table(
+                [
+                    "setting",
+                    "peak deflection (V)",
+                    "max contact force (N)",
+                    "contacts per whisk",
+                    "contact time per whisk (s)",
+                    "max z",
+                ],
+                [
+                    [
+                        f"sigma_z = {v['sigma_z']:g}, tau_z = T_w x {v['tau_z_periods']:g}",
+                        fmt(v["peak_deflection_v"], 3),
+                        fmt(v["max_contact_force_n"], 3),
+                        fmt(v["contacts_per_whisk"]),
+                        fmt(v["contact_time_per_whisk_s"], 3),
+                        fmt(v["max_z"]),
+                    ]
+                    for v in cl["settings"]
+                ],
+            ),
             "",
         ]
         if "closed_loop" in figures:

@@ -10,5 +10,5 @@ THESIS: dict[str, str] = {
     "figure_3_9_a": "one contact per whisk, no inter-whisk modulation",
     "figure_3_9_b": "biphasic whisk, two contacts",
     "classifiers": "too small to do an analysis similar to that conducted on the XY "
-                   "positioning robot data",
+    "positioning robot data",
 }
