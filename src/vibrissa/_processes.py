@@ -149,7 +149,8 @@ def _hand_out(
     conn: Connection, proc: multiprocessing.process.BaseProcess, msg: Any, job: int | None
 ) -> None:
     """Send ``msg`` (job ``job``, or None: stop) to a worker; one that has died meanwhile
-    is reported as such if it was to take a job."""
+    is reported as such if it was to take a job.
+    """
     try:
         conn.send(msg)
     except (BrokenPipeError, ConnectionResetError):

@@ -377,7 +377,8 @@ class SurfaceAngleTemplates:
 
     def scores(self, recording: np.ndarray, sample_rate_hz: float | None = None) -> np.ndarray:
         """Mean squared error (V^2) of each template against ``recording`` over
-        ``min(m, template length)`` samples, in the order of :attr:`angles_rad_`."""
+        ``min(m, template length)`` samples, in the order of :attr:`angles_rad_`.
+        """
         _fitted(self, "templates_")
         _check_rate(self, sample_rate_hz)
         x = _array("recording", recording, 2)
@@ -398,7 +399,8 @@ class SurfaceAngleTemplates:
 
     def _template_energy(self) -> np.ndarray:
         """``(n_angles, n_samples + 1)``: each template's sum of squares over its first
-        ``k`` samples, at column ``k``."""
+        ``k`` samples, at column ``k``.
+        """
         cached = getattr(self, "_energy", None)
         if cached is None or cached.shape != (
             self.templates_.shape[0],

@@ -53,7 +53,8 @@ def error_message(exc: BaseException) -> str:
 
 def user_errors(func: F) -> F:
     """Turn a user's bad input (``ValueError``, ``TypeError``, ``OSError``, ``KeyError``)
-    into one clear line on standard error and exit status 2, instead of a traceback."""
+    into one clear line on standard error and exit status 2, instead of a traceback.
+    """
 
     @wraps(func)
     def wrapper(*args: Any, **kwargs: Any) -> Any:
@@ -68,7 +69,8 @@ def user_errors(func: F) -> F:
 
 def physics_errors(func: F) -> F:
     """Report a solver failure (``SimulationError``) on inputs the command fixes itself
-    as one line on standard error and exit status 1 (a bug), instead of a traceback."""
+    as one line on standard error and exit status 1 (a bug), instead of a traceback.
+    """
 
     @wraps(func)
     def wrapper(*args: Any, **kwargs: Any) -> Any:

@@ -22,7 +22,8 @@ __all__ = ["interruptible"]
 
 class _Terminated(BaseException):
     """SIGTERM as an exception (a ``BaseException``, like ``KeyboardInterrupt``, so that
-    no ``except Exception`` on the way swallows it)."""
+    no ``except Exception`` on the way swallows it).
+    """
 
 
 def _raise_terminated(signum: int, frame: FrameType | None) -> None:

@@ -82,7 +82,8 @@ def work_statement(
 
 class _ProgressBar:
     """A progress bar on standard error, shown only on a terminal and only once the work
-    has started (the first report), so that a refused run prints no bar."""
+    has started (the first report), so that a refused run prints no bar.
+    """
 
     def __init__(self, description: str, enabled: bool = True) -> None:
         self.description = description

@@ -36,7 +36,8 @@ def crunchbot_cmd(
 ) -> None:
     """One CrunchBot run (thesis 6.5), then tactile SLAM over it, then DIR/crunchbot.gif
     (the animation) and DIR/crunchbot.html (one self-contained page: time slider, play
-    button, arena, robot, whiskers, particles, map and whisker traces)."""
+    button, arena, robot, whiskers, particles, map and whisker traces).
+    """
     from rich.console import Console
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 

@@ -124,7 +124,8 @@ JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON instead of tex
 # --------------------------------------------------------------------------- helpers
 def _renamer(extra: dict[str, str] | None = None) -> Any:
     """Rewrites the model's parameter names in a message as option names: always the
-    geometry's (``length_mm`` -> ``--length-mm`` ...), plus ``extra``."""
+    geometry's (``length_mm`` -> ``--length-mm`` ...), plus ``extra``.
+    """
     return option_renamer({**GEOMETRY_OPTIONS, **(extra or {})})
 
 

@@ -71,7 +71,8 @@ class ChunkedTrials(SimulationProtocol):
     @abstractmethod
     def simulate_trials(self, indices: Sequence[int] | np.ndarray) -> dict[str, np.ndarray]:
         """Simulate the trials ``indices``; arrays that ``np.concatenate`` joins in chunk
-        order (among them ``index``, the trials' indices)."""
+        order (among them ``index``, the trials' indices).
+        """
 
     @abstractmethod
     def build_dataset(self, results: dict[str, np.ndarray]) -> xr.Dataset:
@@ -109,5 +110,6 @@ class SelfGenerating(SimulationProtocol):
 
 def chunk_size_of(protocol: SimulationProtocol) -> int:
     """Trials per chunk of work of ``protocol``: its own for :class:`ChunkedTrials`, else
-    :data:`DEFAULT_CHUNK_SIZE`."""
+    :data:`DEFAULT_CHUNK_SIZE`.
+    """
     return int(protocol.chunk_size) if isinstance(protocol, ChunkedTrials) else DEFAULT_CHUNK_SIZE

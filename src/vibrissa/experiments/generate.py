@@ -71,7 +71,8 @@ WORKERS_PER_CORE = 4
 
 class GenerationError(ValueError):
     """A generation cannot proceed as asked (leftover shards of another protocol, another
-    writer of the same output): the user's choice, so a ``ValueError``."""
+    writer of the same output): the user's choice, so a ``ValueError``.
+    """
 
 
 def parts_dir(out: str | os.PathLike[str]) -> Path:

@@ -98,7 +98,8 @@ def check_job_arguments(
 def check_scheduler(protocol: SimulationProtocol, scheduler: str | None) -> None:
     """Refuse ``scheduler`` for a protocol that simulates its dataset on local processes
     only (its own ``generate_dataset`` takes no ``scheduler``), or when Dask is not
-    installed (:func:`~vibrissa.experiments.generate.check_dask`)."""
+    installed (:func:`~vibrissa.experiments.generate.check_dask`).
+    """
     if scheduler is None:
         return
     if isinstance(protocol, SelfGenerating) and not protocol.accepts_scheduler:
@@ -306,7 +307,8 @@ def write_reports(
 ) -> dict[str, Path]:
     """Figures, extra files, ``report.md`` and ``report.html`` of one run (``workers``
     processes may draw the figures; ``None``: every core; ``artifacts``: the run's
-    :attr:`~vibrissa.reproduce.registry.Evaluation.artifacts`)."""
+    :attr:`~vibrissa.reproduce.registry.Evaluation.artifacts`).
+    """
     from vibrissa._atomic import atomic_write_text
     from vibrissa.evaluate.html import write_html_report
     from vibrissa.evaluate.report_common import report_header

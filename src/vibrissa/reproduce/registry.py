@@ -70,7 +70,8 @@ class Option:
 
     def check(self, value: Any) -> int | tuple[str, ...] | tuple[float, ...]:
         """The value as int (or as a tuple of names or numbers), or ValueError naming
-        the flag."""
+        the flag.
+        """
         if self.choices:
             return self._check_names(value)
         if self.numbers:
@@ -164,13 +165,15 @@ class Experiment(ABC):
     @abstractmethod
     def protocol(self, quick: bool, seed: int) -> SimulationProtocol:
         """The protocol that simulates the session's data (see
-        :mod:`vibrissa.experiments.contract` for what one is)."""
+        :mod:`vibrissa.experiments.contract` for what one is).
+        """
 
     def protocol_for(
         self, quick: bool, seed: int, options: Mapping[str, Any]
     ) -> SimulationProtocol:
         """The protocol of a run with the experiment's own (checked) ``options``; the
-        default ignores them (they are evaluation options)."""
+        default ignores them (they are evaluation options).
+        """
         return self.protocol(quick, seed)
 
     def n_trials(self, quick: bool) -> int:
@@ -191,7 +194,8 @@ class Experiment(ABC):
         """Run the classifiers and the evaluation: the results (``meta``, ``parameters``,
         ``classifiers`` and the experiment's own sections) and the figures' in-memory
         artifacts. ``workers``: processes the evaluation may use (``None``: every core);
-        its results do not depend on it."""
+        its results do not depend on it.
+        """
 
     # ------------------------------------------------------------------ outputs
     def write_outputs(
@@ -207,7 +211,8 @@ class Experiment(ABC):
         """Write extra files (CSV) and figures; return figure key -> path. ``workers``:
         processes that may draw the figures (``None``: every core); ``artifacts``: the
         :attr:`Evaluation.artifacts` of the run (empty for a run drawn again from its
-        ``results.json``)."""
+        ``results.json``).
+        """
         return {}
 
     @abstractmethod

@@ -219,7 +219,8 @@ class WhiskPattern:
 
     def command_deg(self, t_s: np.ndarray | float, z: float, gain: float = 1.0) -> np.ndarray:
         """The commanded angle with protraction suppressed by ``z`` (and scaled by
-        ``gain``, contact-induced asymmetry); the phase is untouched."""
+        ``gain``, contact-induced asymmetry); the phase is untouched.
+        """
         osc = self.oscillator_deg(t_s)
         return self.retracted_deg + (1.0 - z) * gain * (osc - self.retracted_deg)
 
@@ -396,7 +397,8 @@ def pole_position_mm(
 ) -> tuple[float, float]:
     """Centre (x, z) of a pole (parallel to ``y``) touching the straight whisker, its
     housing turned by ``contact_angle_deg``, at ``radial_distance_mm`` from the base,
-    on the whisker's protraction (+x) side."""
+    on the whisker's protraction (+x) side.
+    """
     a = math.radians(contact_angle_deg)
     off = pole_radius_mm + shaft_radius_mm
     return (
@@ -746,7 +748,8 @@ def figure_3_9(
 
 def count_contacts(signal: np.ndarray, threshold: float, release: float | None = None) -> int:
     """Contact episodes of ``signal``: each starts when it rises above ``threshold``
-    and ends only once it falls below ``release`` (hysteresis; default ``threshold``)."""
+    and ends only once it falls below ``release`` (hysteresis; default ``threshold``).
+    """
     lo = threshold if release is None else float(release)
     if lo > threshold:
         raise ValueError(f"release ({release}) must not exceed threshold ({threshold})")

@@ -68,7 +68,8 @@ __all__ = [
 @dataclass(frozen=True)
 class LatencyModel:
     """Controller loop latency from the threshold crossing: mean plus a uniform jitter
-    over one duty cycle (s). Defaults: see the module docstring."""
+    over one duty cycle (s). Defaults: see the module docstring.
+    """
 
     latency_s: float = 0.272
     duty_cycle_s: float = 0.015625
@@ -239,7 +240,8 @@ def _motion_profile(
     dt: float,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Sampled x(t), vx(t): advance at v; from t_rev brake, retract at -vr and stop
-    ``clearance_mm`` behind the starting point (clear of the whisker)."""
+    ``clearance_mm`` behind the starting point (clear of the whisker).
+    """
     t = np.arange(0.0, t_end + dt, dt)
     vel = np.full_like(t, v)
     after = t > t_rev

@@ -84,7 +84,8 @@ class FrameStack:
 
 def map_bytes(pf: ParticleFilter) -> np.ndarray:
     """The most probable particle's occupancy as ``(n_cells, n_cells)`` uint8 (0-255), 128
-    where it has seen nothing."""
+    where it has seen nothing.
+    """
     k = int(np.argmax(pf.log_weights))
     occ = np.where(pf.visited[k], grid.occupancy(pf.logodds[k]), 0.5)
     return np.round(occ * 255).astype(np.uint8)
@@ -92,7 +93,8 @@ def map_bytes(pf: ParticleFilter) -> np.ndarray:
 
 class Frames(Collector):
     """Every frame of the run for a viewer: the particles, the best particle's map and the
-    pose estimate; :meth:`result` is a :class:`FrameStack`."""
+    pose estimate; :meth:`result` is a :class:`FrameStack`.
+    """
 
     name = "frames"
 

@@ -487,7 +487,8 @@ class ParticleFilter:
 
 def _shaft_points(layout: WhiskerLayout) -> np.ndarray:
     """``(n_whiskers, SHAFT_POINTS, 2)`` robot-frame points spread along each whisker's
-    shaft."""
+    shaft.
+    """
     n = SHAFT_POINTS
     frac = (np.arange(n) + 0.5) / n
     return np.stack([layout.points(np.asarray(layout.length_m) * f) for f in frac], axis=1)

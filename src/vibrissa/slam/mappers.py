@@ -122,7 +122,8 @@ class Mapper:
     @staticmethod
     def blob(pf: ParticleFilter, centres: np.ndarray) -> None:
         """Add a contact blob (``contact_p``, ``blob_sigma_m``) at ``(n_particles, 2)``
-        map-frame ``centres``, one per particle."""
+        map-frame ``centres``, one per particle.
+        """
         s = pf.s
         grid.add_blob(
             pf.logodds,
@@ -137,7 +138,8 @@ class Mapper:
     @staticmethod
     def edge(pf: ParticleFilter, centres: np.ndarray, angles: np.ndarray) -> None:
         """Add an edge (eq. 6.2; ``edge_p``, ``sigma_r_m``, ``sigma_theta_rad``) through
-        ``(n_particles, 2)`` ``centres`` at ``(n_particles,)`` map-frame ``angles``."""
+        ``(n_particles, 2)`` ``centres`` at ``(n_particles,)`` map-frame ``angles``.
+        """
         s = pf.s
         grid.add_edge(
             pf.logodds,
@@ -154,7 +156,8 @@ class Mapper:
     @classmethod
     def edge_between(cls, pf: ParticleFilter, a: np.ndarray, b: np.ndarray) -> None:
         """Add an edge through the midpoints of ``(n_particles, 2)`` points ``a`` and ``b``,
-        along the line from ``a`` to ``b``."""
+        along the line from ``a`` to ``b``.
+        """
         d = b - a
         cls.edge(pf, (a + b) / 2, np.arctan2(d[:, 1], d[:, 0]))
 
@@ -223,12 +226,14 @@ class EpisodeMapper(Mapper):
         self, pf: ParticleFilter, log: SensorLog, t: int, hit_idx: np.ndarray, hit_world: np.ndarray
     ) -> None:
         """One evidence step of an episode whose edge is not laid yet (as
-        :meth:`Mapper.on_evidence`)."""
+        :meth:`Mapper.on_evidence`).
+        """
         raise NotImplementedError
 
     def new_contacts(self, hit_idx: np.ndarray) -> list[int]:
         """Positions in ``hit_idx`` of whiskers not in contact when :attr:`pending` was
-        taken."""
+        taken.
+        """
         return [k for k, w in enumerate(hit_idx) if int(w) not in self.pending_whiskers]
 
     def remember_first(self, hit_idx: np.ndarray, hit_world: np.ndarray, new: list[int]) -> None:
@@ -250,7 +255,8 @@ class EpisodeMapper(Mapper):
 @register_mapper
 class GeometricMapper(EpisodeMapper):
     """``geometric``: an edge through the first two whiskers' contacts of an episode (two
-    new contacts in one step, or the pending first contact and the next new one)."""
+    new contacts in one step, or the pending first contact and the next new one).
+    """
 
     name = "geometric"
 
@@ -271,7 +277,8 @@ class GeometricMapper(EpisodeMapper):
 @register_mapper
 class TemplateMapper(EpisodeMapper):
     """``template``: an edge at the surface angle the log reports (on ``HIT_2``) through
-    the mean of the step's contacts and the pending first contact."""
+    the mean of the step's contacts and the pending first contact.
+    """
 
     name = "template"
 

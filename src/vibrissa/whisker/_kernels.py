@@ -392,7 +392,7 @@ def _matvec(P, v, out, scale):
 
 @njit(cache=True)
 def _pvec(t, v, out, scale):
-    """out = scale * (I - t t^T) v, without forming the projector."""
+    """Out = scale * (I - t t^T) v, without forming the projector."""
     tv = t[0] * v[0] + t[1] * v[1] + t[2] * v[2]
     for i in range(3):
         out[i] = scale * (v[i] - t[i] * tv)
@@ -2224,7 +2224,8 @@ def first_possible_contact(
 def dilate_axis(h, dx, R, k):
     """Grey dilation of a periodic height field ``h`` along axis 0 by a sphere of radius
     ``R`` (sample spacing ``dx``, ``k`` samples each way): what a probe tip of radius ``R``
-    can reach (:meth:`vibrissa.whisker.surfaces.Surface.for_tip`)."""
+    can reach (:meth:`vibrissa.whisker.surfaces.Surface.for_tip`).
+    """
     n, m = h.shape
     out = h.copy()
     for off in range(1, k + 1):
@@ -2246,7 +2247,8 @@ def dilate_axis(h, dx, R, k):
 def stamp_grains(H, dx, cu, cw, rad, top):
     """Raise the periodic height field ``H`` (spacing ``dx``) in place to the spherical caps
     of grains centred at ``(cu, cw)`` with radii ``rad`` and tops ``top``
-    (:func:`vibrissa.whisker.surfaces.make_surface`)."""
+    (:func:`vibrissa.whisker.surfaces.make_surface`).
+    """
     n, m = H.shape
     for g in range(cu.shape[0]):
         r = rad[g]

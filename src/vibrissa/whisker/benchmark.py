@@ -160,7 +160,8 @@ def _phase_rates(
     options: dict[str, Any],
 ) -> dict[str, float]:
     """Real-time factors (best of ``repeats``) of the free-flight, whisking-in-air and
-    contact figures."""
+    contact figures.
+    """
     from vibrissa.whisker.simulate import free_vibration, simulate
 
     free_s = STANDARD["duration_s"]

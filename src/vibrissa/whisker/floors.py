@@ -183,7 +183,8 @@ def _caps(
     H: np.ndarray, dx: float, cu: np.ndarray, cw: np.ndarray, rad: np.ndarray, top: np.ndarray
 ) -> None:
     """Stamp spherical caps (centre ``cu, cw``, radius ``rad``, summit ``top``; m) into
-    ``H`` as an upper envelope, periodically."""
+    ``H`` as an upper envelope, periodically.
+    """
     n, m = H.shape
     for u0, w0, r, t in zip(cu, cw, rad, top, strict=True):
         k = int(r / dx) + 1
@@ -199,7 +200,8 @@ def _caps(
 
 def _texture_depth(H: np.ndarray) -> float:
     """Mean depth below the plane of the highest summits (the 99.5th percentile), m:
-    what a volumetric patch (EN 13036-1) fills."""
+    what a volumetric patch (EN 13036-1) fills.
+    """
     return float(np.percentile(H, 99.5) - H.mean())
 
 

@@ -81,7 +81,8 @@ ENERGY_TOL = 1e-4
 
 def _mv(A: np.ndarray, b: np.ndarray) -> np.ndarray:
     """``A @ b`` without BLAS: for these small sizes a threaded BLAS is slower (and on
-    a busy machine much slower) than einsum's own single-threaded loop."""
+    a busy machine much slower) than einsum's own single-threaded loop.
+    """
     return np.einsum("ij,j->i", A, b)
 
 
@@ -221,7 +222,8 @@ class LinearModes:
 
     def reduced(self, z: np.ndarray) -> np.ndarray:
         """The amplitudes that are advanced: one of each conjugate pair, then the
-        real ones."""
+        real ones.
+        """
         p = self.n_pairs
         return np.ascontiguousarray(np.concatenate([z[:p], z[2 * p :]]))
 
@@ -273,7 +275,8 @@ class LinearModes:
 
     def _nodes(self, name: str, a: np.ndarray) -> np.ndarray:
         """``a`` as a contiguous float array of one row per node, or ValueError (the
-        compiled kernels do not check shapes)."""
+        compiled kernels do not check shapes).
+        """
         out = np.ascontiguousarray(a, dtype=float)
         if out.shape != self.x_rest.shape:
             raise ValueError(f"{name} must have shape {self.x_rest.shape}, got {out.shape}")

@@ -268,7 +268,8 @@ class Trajectory:
 
     def sample_lateral(self, times_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Lateral position and velocity (mm, mm/s) along ``y`` at ``times_s`` (zeros
-        without lateral motion)."""
+        without lateral motion).
+        """
         if self.lateral_mm is None:
             z = np.zeros(np.shape(times_s))
             return z, z.copy()
@@ -434,7 +435,8 @@ def _initial_acceleration(
     theta_dot: float = 0.0,
 ) -> np.ndarray:
     """Node accelerations (m/s^2) at positions ``x`` (m) and velocities ``v`` (m/s),
-    the follicle housing at angle ``theta`` (rad) turning at ``theta_dot`` (rad/s)."""
+    the follicle housing at angle ``theta`` (rad) turning at ``theta_dot`` (rad/s).
+    """
     n = x.shape[0]
     F = np.zeros((n, 3))
     S = np.zeros((3 * n, 2 * BW + 1))
@@ -708,7 +710,8 @@ def _to_housing(
     x: np.ndarray, v: np.ndarray, theta: float, rate: float, pivot: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
     """Positions and velocities (n, 3) as seen from a follicle housing turned by
-    ``theta`` (rad) about ``y`` through ``pivot`` and turning at ``rate`` (rad/s)."""
+    ``theta`` (rad) about ``y`` through ``pivot`` and turning at ``rate`` (rad/s).
+    """
     c, s = math.cos(theta), math.sin(theta)
     r = x - pivot
     w = v - rate * np.column_stack([r[:, 2], np.zeros(len(r)), -r[:, 0]])

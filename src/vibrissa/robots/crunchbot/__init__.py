@@ -1,5 +1,6 @@
 """CrunchBot (thesis 3.5, 6.5): its arenas, the finite state machine of 6.5.3 and a
-synthetic run with exact whisker contacts that feeds :mod:`vibrissa.slam`."""
+synthetic run with exact whisker contacts that feeds :mod:`vibrissa.slam`.
+"""
 
 from vibrissa.robots.crunchbot.arena import (
     PRESETS,

@@ -47,7 +47,8 @@ def _pool(workers: int) -> ThreadPoolExecutor:
 
 def map_threads(fn: Callable[[T], R], items: Iterable[T], workers: int) -> list[R]:
     """``[fn(i) for i in items]``, on up to ``workers`` threads (in order; the first
-    exception is raised)."""
+    exception is raised).
+    """
     items = list(items)
     if workers <= 1 or len(items) < 2:
         return [fn(i) for i in items]

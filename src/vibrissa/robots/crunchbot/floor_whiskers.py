@@ -109,7 +109,8 @@ def _slides(pose: np.ndarray) -> np.ndarray:
 
 def _spline_height(H: np.ndarray, spacing_m: float, U: float, W: float) -> float:
     """Height (m) of a periodic height field at surface coordinates (m), as the contact
-    kernel reads it: a uniform quadratic B-spline through the grid values."""
+    kernel reads it: a uniform quadratic B-spline through the grid values.
+    """
     fu, fw = U / spacing_m, W / spacing_m
     iu, iw = math.floor(fu + 0.5), math.floor(fw + 0.5)
     tu, tw = fu - iu, fw - iw
@@ -256,7 +257,8 @@ class FloorWhiskers:
         """The whisker settled on ``texture``: pressed on from a 2 mm gap over the Roomba's
         settling time, then (``sliding_s`` > 0) dragged along ``u`` at FWD speed for
         ``sliding_s``, ending with the sheet at ``slide_mm`` (along u, across y) under the
-        tip. Cached per argument; a copy is returned."""
+        tip. Cached per argument; a copy is returned.
+        """
         texture = floor_spec(texture).name
         key = (texture, float(slide_mm[0]), float(slide_mm[1]), float(sliding_s))
         if key not in self._settled:
@@ -396,7 +398,8 @@ class FloorWhiskers:
 
     def _height_change(self, texture: str, state: DynamicState, slide_mm: np.ndarray) -> float:
         """How much lower (mm) the tip-envelope is under the settled tip (sheet at slide
-        0) than it is with the sheet at ``slide_mm``."""
+        0) than it is with the sheet at ``slide_mm``.
+        """
         contact = self._sheet(texture)
         H = contact.surface_for(self.model)
         dx = contact.surface.spacing_m
@@ -414,7 +417,8 @@ class FloorWhiskers:
         self, contact: SurfaceContact, traj: Trajectory, state: DynamicState
     ) -> SimulationResult:
         """:func:`simulate` over ``traj`` from ``state``; a step that diverges (a tip caught
-        hard on a carpet loop) is retried with the time step halved, twice."""
+        hard on a carpet loop) is retried with the time step halved, twice.
+        """
         duration = float(traj.time_s[-1] - traj.time_s[0])
         for halving in range(RETRY_HALVINGS + 1):
             try:
@@ -437,7 +441,8 @@ class FloorWhiskers:
     ) -> tuple[np.ndarray, DynamicState]:
         """Simulate whisker ``w`` over ``times`` (``times[0]`` = the state's time), split at
         texture changes, the floor shifted along its normal by ``lift_mm``; Hall volts at
-        ``times[1:]``."""
+        ``times[1:]``.
+        """
         base, u = self._plane()
         normal = self._sheet(tex[-1]).frame()[0][[0, 2]]
         lift = np.zeros(times.size) if lift_mm is None else lift_mm

@@ -108,7 +108,8 @@ _FLAT = Surface(np.zeros((4, 4)), 1e-3, WALL_FRICTION, "wall")
 @dataclass(frozen=True)
 class Feature:
     """Something a whisker can touch: a vertical face (``"plane"``, from ``a`` to ``b``,
-    ``normal`` pointing out of the solid) or a vertical corner edge (``"pole"`` at ``a``)."""
+    ``normal`` pointing out of the solid) or a vertical corner edge (``"pole"`` at ``a``).
+    """
 
     kind: str
     a: np.ndarray
@@ -167,7 +168,8 @@ def feature_distances(
     """Distance of each feature from each straight whisker ``base``-``tip`` (..., 2):
     ``(..., F)``. A corner (``is_pole``) is a point ``a``; a face is the segment
     ``a``-``b``, and where it is nearest the whisker at one of its ends it counts 1 mm
-    further: there its end (a corner, or the next wall) is what the whisker meets."""
+    further: there its end (a corner, or the next wall) is what the whisker meets.
+    """
     p0, p1 = base[..., None, :], tip[..., None, :]
     to_a = _point_segment_distance(a, p0, p1)
     to_b = _point_segment_distance(b, p0, p1)
@@ -312,7 +314,8 @@ class ObstacleWhiskers:
 
     def _first_met(self, dist: np.ndarray) -> np.ndarray:
         """Per whisker the feature the straight swept whisker meets first (within
-        :data:`CONTACT_TOL_M`), else the nearest within reach (-1: none)."""
+        :data:`CONTACT_TOL_M`), else the nearest within reach (-1: none).
+        """
         out = np.full(dist.shape[1], -1)
         for w in range(dist.shape[1]):
             d = dist[:, w]
@@ -331,7 +334,8 @@ class ObstacleWhiskers:
         """The simulator's contact for ``feat`` in a frame with rest direction ``phi0``
         and base ``base0`` (arena m), and the point fixed on the object (arena m) whose
         motion the trajectory follows: the corner, or where the whisker's rest line
-        meets the face (the foot of the perpendicular from the base if it runs along)."""
+        meets the face (the foot of the perpendicular from the base if it runs along).
+        """
         if feat.kind == "pole":
             return PoleContact(radius_mm=CORNER_RADIUS_MM, friction=WALL_FRICTION), feat.a
         d = np.array([math.cos(phi0), math.sin(phi0)])
@@ -366,7 +370,8 @@ class ObstacleWhiskers:
 
         Returns tan ``(m, 2)``, contact ``(m,)``, first-contact arc (m, NaN per sample
         with no pole contact) ``(m,)``, the final state and the first-touch distance
-        for planes (m, NaN: none)."""
+        for planes (m, NaN: none).
+        """
         m = len(poses) - 1
         base, ang = self.bases(poses)
         base, ang = base[:, w], ang[:, w]

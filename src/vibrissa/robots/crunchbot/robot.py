@@ -124,7 +124,8 @@ class _Loop:
 
     def recent(self, n: int, cols: slice, chunks: int | None = None) -> np.ndarray:
         """The latest ``n`` samples of the given whisker columns (fewer at the start),
-        of the first ``chunks`` steps' samples (default all)."""
+        of the first ``chunks`` steps' samples (default all).
+        """
         out, need = [], n
         for chunk in reversed(self.hall[:chunks]):
             if need <= 0:
@@ -205,7 +206,8 @@ class _FloorInBackground:
 
     def finish(self, loglik0: np.ndarray, pred0: tuple[str, str]) -> None:
         """Wait for the last step and give every row the latest report at its step
-        (``loglik0``, ``pred0`` before the first)."""
+        (``loglik0``, ``pred0`` before the first).
+        """
         try:
             self.wait()
         finally:
@@ -222,7 +224,8 @@ class _FloorInBackground:
 def _one_blas_thread(fn: Callable[..., RunRecord]) -> Callable[..., RunRecord]:
     """Run ``fn`` with BLAS on one thread: the loop's own threads use the cores, and
     BLAS's workers, woken for a few small products and left spinning, took the cores
-    from the timed classifier calls (a 1 ms angle call read 7-15 ms)."""
+    from the timed classifier calls (a 1 ms angle call read 7-15 ms).
+    """
 
     @functools.wraps(fn)
     def wrapper(*args: Any, **kwargs: Any) -> RunRecord:

@@ -84,7 +84,8 @@ def body_whisk(
 
 def _block_at(corner: np.ndarray, pointing_left: bool) -> Obstacle:
     """A block with a corner at ``corner`` lying on the far side of a whisker's line: below
-    it for a whisker pointing left of ahead, above it for one pointing right."""
+    it for a whisker pointing left of ahead, above it for one pointing right.
+    """
     if pointing_left:
         return Obstacle(float(corner[0]), float(corner[1]) - _BLOCK_M, _BLOCK_M)
     return Obstacle(float(corner[0]), float(corner[1]), _BLOCK_M)
@@ -131,7 +132,8 @@ def collect_radial_training(
 
 def _approach(angle_deg: float, rng: np.random.Generator) -> np.ndarray:
     """One drive into the right-hand wall with it at ``angle_deg`` in the robot's frame:
-    the 8-channel recording (volts about rest) from HIT_1, 2 s (held at its end)."""
+    the 8-channel recording (volts about rest) from HIT_1, 2 s (held at its end).
+    """
     s = fsm.FsmSettings()
     heading = math.radians(90.0 - angle_deg)
     reach = 0.15 + 0.14

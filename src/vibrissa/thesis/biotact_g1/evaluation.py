@@ -153,7 +153,8 @@ def hit_rate_curves(
 def whisk_statistics(ds: xr.Dataset) -> dict[str, dict[str, float]]:
     """Per strategy: contact time per whisk and whisker (s), peak ``x`` deflection from
     rest (V), the within-class spread of that peak (mean over classes and whiskers of
-    std / mean over whisks), the largest gating variable, and the saturated whisks."""
+    std / mean over whisks), the largest gating variable, and the saturated whisks.
+    """
     fs = float(ds.attrs["sample_rate_hz"])
     strat = np.asarray(ds["strategy"].values).astype(str)
     chans = [str(c) for c in ds["channel"].values]

@@ -143,7 +143,8 @@ class BiotactG1(Experiment):
 
 def _trajectory_figures(ds: xr.Dataset, fig_dir: Path) -> dict[str, Path]:
     """Whisk trajectories with contacts: one whisk per strategy (middle class), and
-    the unmodulated whisks at every distance (middle texture)."""
+    the unmodulated whisks at every distance (middle texture).
+    """
     from vibrissa.evaluate.figures.common import save_figure
     from vibrissa.evaluate.figures.whisking import whisk_trajectories_figure
 

@@ -290,7 +290,8 @@ class BiotactProtocol(ChunkedTrials):
         """One continuous run of class ``c`` (strategy, texture, distance in canonical
         order): a lead-in whisk from rest at full retraction, dropped, then
         ``n_whisks`` (default: the protocol's) recorded whisks, each from full
-        retraction to full retraction; arrays with one row per recorded whisk."""
+        retraction to full retraction; arrays with one row per recorded whisk.
+        """
         spec = self.trials()[c * self.n_whisks]
         n_rec = self.n_whisks if n_whisks is None else int(n_whisks)
         rng = np.random.default_rng(stream(self.seed, TRIALS, c))
@@ -374,7 +375,8 @@ class BiotactProtocol(ChunkedTrials):
 
     def seconds_per_trial(self) -> float:
         """Wall-clock seconds of one whisk on one core of this machine, from one
-        modulated whisk after the lead-in (the kernels load from numba's cache)."""
+        modulated whisk after the lead-in (the kernels load from numba's cache).
+        """
         import time
 
         specs = self.trials()
@@ -491,7 +493,8 @@ def biotact_protocol(quick: bool = False, **overrides: Any) -> BiotactProtocol:
     """The G1 session; ``quick``: two textures (plastic, P180) at 5 and 15 mm, two
     whisks per class (24 whisks: one to train, one to validate) instead of 3 x 3
     classes x 12 whisks (324).
-    ``overrides`` replace fields (``None`` ignored)."""
+    ``overrides`` replace fields (``None`` ignored).
+    """
     changes = {k: v for k, v in overrides.items() if v is not None}
     if quick:
         changes = {

@@ -1,5 +1,6 @@
 """The BIOTACT G1's report sections (thesis 6.4): the claims of 6.4.4 tested, hit-rate tables
-and figures, whisk statistics and the discussion; every number from the results."""
+and figures, whisk statistics and the discussion; every number from the results.
+"""
 
 from __future__ import annotations
 
@@ -35,7 +36,8 @@ def _number(n: int) -> str:
 
 def strategies_text(names: list[str] | tuple[str, ...]) -> str:
     """The control strategies of a run in words, e.g. ``unmodulated, RCP7 (sigma_z = 0.7)``
-    (sigma_z from :data:`~vibrissa.thesis.biotact_g1.values.STRATEGIES`)."""
+    (sigma_z from :data:`~vibrissa.thesis.biotact_g1.values.STRATEGIES`).
+    """
     return ", ".join(
         n if STRATEGIES[n] == 0 else f"{n.upper()} (sigma_z = {STRATEGIES[n]:g})" for n in names
     )
@@ -74,7 +76,8 @@ def _discussion(ws: Mapping[str, Any], chk: Mapping[str, Any]) -> list[str]:
 
 def markdown_g1(results: Mapping[str, Any], figures: Mapping[str, Path]) -> str:
     """The report's Markdown body for G1 results
-    (:func:`~vibrissa.thesis.biotact_g1.evaluation.evaluate_g1`) and the figures written."""
+    (:func:`~vibrissa.thesis.biotact_g1.evaluation.evaluate_g1`) and the figures written.
+    """
     hit = results["hit_rate"]
     meta = results["meta"]
     proto = meta.get("protocol") or {}

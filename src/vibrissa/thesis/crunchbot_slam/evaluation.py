@@ -81,7 +81,8 @@ def radial_distance_errors_mm(
     estimated_m: Sequence[np.ndarray], true_m: Sequence[np.ndarray], names: Sequence[str]
 ) -> dict[str, Any]:
     """Std of estimate - truth (mm) per obstacle whisker over every contact of every run,
-    and ``combined`` over all whiskers; NaN where a whisker never touched."""
+    and ``combined`` over all whiskers; NaN where a whisker never touched.
+    """
     est = np.concatenate([np.asarray(a, float) for a in estimated_m])
     tru = np.concatenate([np.asarray(a, float) for a in true_m])
     err = 1000 * (est - tru)
@@ -97,7 +98,8 @@ def radial_distance_errors_mm(
 
 def floor_texture_accuracy(true_codes: np.ndarray, pred_codes: np.ndarray) -> float:
     """Fraction of floor-whisker steps on a known tile whose prediction is right (NaN:
-    none on a tile)."""
+    none on a tile).
+    """
     t, p = np.asarray(true_codes), np.asarray(pred_codes)
     on = t >= 0
     return float(np.mean(p[on] == t[on])) if on.any() else math.nan

@@ -1,5 +1,6 @@
 """Figures of CrunchBot's tactile SLAM (thesis 6.5): average maps (6.14), a floor-texture
-trace across tile boundaries (6.11), radial-distance estimates (6.12) and a trajectory."""
+trace across tile boundaries (6.11), radial-distance estimates (6.12) and a trajectory.
+"""
 
 from __future__ import annotations
 
@@ -128,7 +129,8 @@ def trajectory_figure(
     cell_m: float = 0.05,
 ) -> Figure:
     """One run's true path against the filter's pose estimate per mode (and dead
-    reckoning), over the ground truth."""
+    reckoning), over the ground truth.
+    """
     fig = Figure(figsize=(5.5, 5.0), layout="constrained")
     ax = fig.add_subplot()
     if truth is not None:

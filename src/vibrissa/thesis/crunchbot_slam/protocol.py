@@ -167,7 +167,8 @@ class CrunchbotProtocol(SelfGenerating, ChunkedTrials):
 
     def signal_bytes(self) -> int:
         """Bytes of the finished dataset: about 200 bytes an FSM step, 2 per robot second,
-        plus the kept Hall run (2 kHz, 12 float32 and a pose)."""
+        plus the kept Hall run (2 kHz, 12 float32 and a pose).
+        """
         steps = 3 * (self.n_runs * self.seconds + self.texture_seconds)
         return int(200 * steps + self.seconds * 2000 * (48 + 24 + 8))
 
@@ -184,7 +185,8 @@ class CrunchbotProtocol(SelfGenerating, ChunkedTrials):
         """Per obstacle whisker, the residual standard deviation (mm) of the radial
         distance line on its own training contacts: the quantity of the thesis' table in
         6.5.6.2 ("standard error for the regression", figure 6.12). ``None`` for a robot
-        without trained radial classifiers."""
+        without trained radial classifiers.
+        """
         clf = self.classifiers() if self.train is not None else None
         radial = getattr(clf, "radial", None)
         if not radial or not all(hasattr(r, "residual_std_m_") for r in radial):
@@ -193,7 +195,8 @@ class CrunchbotProtocol(SelfGenerating, ChunkedTrials):
 
     def classifiers(self) -> Any:
         """The trained real-time classifiers (``None`` without training), trained once per
-        process, seed and ``quick_training``."""
+        process, seed and ``quick_training``.
+        """
         if self.train is None:
             return None
         key = (str(_qualname(self.train)), self.seed, self.quick_training)
@@ -218,7 +221,8 @@ class CrunchbotProtocol(SelfGenerating, ChunkedTrials):
 
     def simulate_trials(self, indices: Sequence[int]) -> dict[str, np.ndarray]:
         """Simulate runs ``indices``; their per-step arrays flattened along the first axis
-        (one row per step, counts in ``n_steps``), so chunks concatenate."""
+        (one row per step, counts in ``n_steps``), so chunks concatenate.
+        """
         parts = [
             _flatten(self.simulate(int(i)), int(i) == self.hall_run, self.textures())
             for i in indices
@@ -244,7 +248,8 @@ class CrunchbotProtocol(SelfGenerating, ChunkedTrials):
         **kwargs: Any,
     ) -> xr.Dataset:
         """Train (in this process, so forked workers share it), then run every chunk with
-        :func:`~vibrissa.experiments.generate.generate` into ``path``."""
+        :func:`~vibrissa.experiments.generate.generate` into ``path``.
+        """
         from vibrissa.experiments.generate import generate
 
         self.classifiers()

@@ -312,7 +312,8 @@ _TRACE_COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564
 
 def _finite_or_null(a: np.ndarray) -> list:
     """``a`` as nested lists with ``None`` (JSON ``null``) where it is not finite: JSON
-    has no NaN, and ``JSON.parse`` refuses the page's data otherwise."""
+    has no NaN, and ``JSON.parse`` refuses the page's data otherwise.
+    """
     arr = np.asarray(a, float)
     return np.where(np.isfinite(arr), arr, None).tolist()
 

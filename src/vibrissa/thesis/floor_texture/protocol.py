@@ -220,7 +220,8 @@ class FloorProtocol(ChunkedTrials):
     def seconds_per_trial(self) -> float:
         """Wall-clock seconds of one trial on one core of this machine, estimated from a
         1 s trial of the middle of the session (after one that loads the kernels), the
-        robot moving from the start (a stationary whisker costs next to nothing)."""
+        robot moving from the start (a stationary whisker costs next to nothing).
+        """
         import time
 
         from vibrissa.robots.roomba import SETTLE_S
@@ -301,7 +302,8 @@ def _sheet(floor: str, seed: int):
 
 def floor_protocol(quick: bool = False, **overrides: Any) -> FloorProtocol:
     """The Roomba protocol; ``quick``: 2 trials of 4 s per floor and condition (24
-    trials) instead of 4 of 16 s (48). ``overrides`` replace fields (``None`` ignored)."""
+    trials) instead of 4 of 16 s (48). ``overrides`` replace fields (``None`` ignored).
+    """
     changes = {k: v for k, v in overrides.items() if v is not None}
     if quick:
         changes = {"trials_per_condition": 2, "duration_s": 4.0, **changes}
@@ -311,7 +313,8 @@ def floor_protocol(quick: bool = False, **overrides: Any) -> FloorProtocol:
 def tip_paths(ds: xr.Dataset) -> dict[str, dict[str, np.ndarray]]:
     """The tip's path in the first trial of each condition of a session's dataset (figure
     6.1's paths), from the same random stream the simulation drew the base's motion from,
-    with each point's packet kept or not (:func:`vibrissa.signal.active_packets`)."""
+    with each point's packet kept or not (:func:`vibrissa.signal.active_packets`).
+    """
     from vibrissa.signal import PACKET_SAMPLES, active_packets
 
     params = json.loads(ds.attrs["protocol_params"])

@@ -77,7 +77,8 @@ def markdown_floor_texture(
 ) -> str:
     """The Markdown report body of floor-texture results
     (:func:`~vibrissa.thesis.floor_texture.evaluation.run_floor_texture`); ``baseline`` is
-    not used: the thesis' numbers are the comparison."""
+    not used: the thesis' numbers are the comparison.
+    """
     meta = results["meta"]
     floors = list(meta["floors"])
     conds = list(meta["conditions"])

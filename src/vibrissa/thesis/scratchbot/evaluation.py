@@ -1,6 +1,7 @@
 """SCRATCHbot's evaluation (thesis 6.3): features per condition, the chapter-4 classifiers
 on odd/even whisks, the relations of figure 6.5, the closed-loop RCP runs and figure 3.9's
-numbers."""
+numbers.
+"""
 
 from __future__ import annotations
 

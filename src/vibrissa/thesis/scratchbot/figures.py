@@ -13,7 +13,8 @@ __all__ = ["gating_figure", "scratchbot_features_figure"]
 
 def scratchbot_features_figure(conditions: Sequence[Mapping[str, Any]]) -> Figure:
     """Figure 6.5 in numbers: peak deflection against radial distance (a) and
-    contact duration against whisk frequency (b), mean +/- std per condition."""
+    contact duration against whisk frequency (b), mean +/- std per condition.
+    """
     fig = Figure(figsize=(9.0, 3.6), layout="constrained")
     ax_a, ax_b = fig.subplots(1, 2)
     panels = (

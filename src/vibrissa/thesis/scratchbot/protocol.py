@@ -263,7 +263,8 @@ class ScratchbotProtocol(SelfGenerating):
     def simulate_rcp(self, index: int) -> dict[str, np.ndarray]:
         """The closed loop under ``rcp_settings[index]``, at the control samples: housing
         angle (deg), normalised ``x`` deflection, gating ``z`` and the largest contact
-        force of each control period (N)."""
+        force of each control period (N).
+        """
         sz, tz = self.rcp_settings[index]
         g = preset(self.whisker)
         model = RodModel(g, self.n_elements)
@@ -307,7 +308,8 @@ class ScratchbotProtocol(SelfGenerating):
         **kwargs: Any,
     ) -> xr.Dataset:
         """Simulate every condition and the closed-loop comparison; save the dataset to
-        ``path`` (NetCDF). Local processes only (no ``scheduler``)."""
+        ``path`` (NetCDF). Local processes only (no ``scheduler``).
+        """
         from vibrissa.data import save_dataset
 
         jobs = [("condition", i) for i in range(len(self.conditions()))] + [
