@@ -10,6 +10,9 @@ PACKAGES=(
     -m vibrissa._atomic
     -m vibrissa._validate
     -m vibrissa._processes
+    -p vibrissa.slam
+    -p vibrissa.reproduce
+    -p vibrissa.thesis
 )
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."

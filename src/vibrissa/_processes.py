@@ -148,8 +148,9 @@ def imap_unordered(
 def _hand_out(
     conn: Connection, proc: multiprocessing.process.BaseProcess, msg: Any, job: int | None
 ) -> None:
-    """Send ``msg`` (job ``job``, or None: stop) to a worker; one that has died meanwhile
-    is reported as such if it was to take a job.
+    """Send ``msg`` (job ``job``, or None: stop) to a worker.
+
+    One that has died meanwhile is reported as such if it was to take a job.
     """
     try:
         conn.send(msg)

@@ -1,5 +1,7 @@
-"""Numba kernels of the classifiers: L1 template distances, the static beam's grid search,
-the naive Bayes histograms.
+"""Numba kernels of the classifiers.
+
+They compute the L1 template distances, the static beam's grid search and the naive Bayes
+histograms.
 
 The kernels give the same numbers, bit for bit, as the NumPy/SciPy code they
 replaced, so the classifiers' predictions do not change:

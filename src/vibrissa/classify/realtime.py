@@ -376,8 +376,9 @@ class SurfaceAngleTemplates:
         return self
 
     def scores(self, recording: np.ndarray, sample_rate_hz: float | None = None) -> np.ndarray:
-        """Mean squared error (V^2) of each template against ``recording`` over
-        ``min(m, template length)`` samples, in the order of :attr:`angles_rad_`.
+        """Mean squared error (V^2) of each template against ``recording``.
+
+        Over ``min(m, template length)`` samples, in the order of :attr:`angles_rad_`.
         """
         _fitted(self, "templates_")
         _check_rate(self, sample_rate_hz)
@@ -398,8 +399,9 @@ class SurfaceAngleTemplates:
         return np.maximum(sq, 0.0) / (m * x.shape[1])
 
     def _template_energy(self) -> np.ndarray:
-        """``(n_angles, n_samples + 1)``: each template's sum of squares over its first
-        ``k`` samples, at column ``k``.
+        """``(n_angles, n_samples + 1)``: each template's cumulative sum of squares.
+
+        Column ``k`` holds each template's sum of squares over its first ``k`` samples.
         """
         cached = getattr(self, "_energy", None)
         if cached is None or cached.shape != (

@@ -52,8 +52,10 @@ def error_message(exc: BaseException) -> str:
 
 
 def user_errors(func: F) -> F:
-    """Turn a user's bad input (``ValueError``, ``TypeError``, ``OSError``, ``KeyError``)
-    into one clear line on standard error and exit status 2, instead of a traceback.
+    """Turn a user's bad input into one clear line on standard error and exit status 2.
+
+    Bad input is a ``ValueError``, ``TypeError``, ``OSError`` or ``KeyError``; it is
+    reported so instead of a traceback.
     """
 
     @wraps(func)
@@ -68,8 +70,10 @@ def user_errors(func: F) -> F:
 
 
 def physics_errors(func: F) -> F:
-    """Report a solver failure (``SimulationError``) on inputs the command fixes itself
-    as one line on standard error and exit status 1 (a bug), instead of a traceback.
+    """Report a solver failure as one line on standard error and exit status 1 (a bug).
+
+    The failure (``SimulationError``) is on inputs the command fixes itself; it is
+    reported so instead of a traceback.
     """
 
     @wraps(func)

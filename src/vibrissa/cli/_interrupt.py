@@ -21,8 +21,10 @@ __all__ = ["interruptible"]
 
 
 class _Terminated(BaseException):
-    """SIGTERM as an exception (a ``BaseException``, like ``KeyboardInterrupt``, so that
-    no ``except Exception`` on the way swallows it).
+    """SIGTERM as an exception.
+
+    A ``BaseException``, like ``KeyboardInterrupt``, so that no ``except Exception`` on the
+    way swallows it.
     """
 
 

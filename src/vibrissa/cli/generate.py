@@ -81,8 +81,10 @@ def work_statement(
 
 
 class _ProgressBar:
-    """A progress bar on standard error, shown only on a terminal and only once the work
-    has started (the first report), so that a refused run prints no bar.
+    """A progress bar on standard error, shown only on a terminal.
+
+    It is shown only once the work has started (the first report), so that a refused run
+    prints no bar.
     """
 
     def __init__(self, description: str, enabled: bool = True) -> None:

@@ -34,9 +34,11 @@ def crunchbot_cmd(
     mode: str = typer.Option("blob", "--mode", help="Mapping mode: blob, geometric or template."),
     json_out: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
 ) -> None:
-    """One CrunchBot run (thesis 6.5), then tactile SLAM over it, then DIR/crunchbot.gif
-    (the animation) and DIR/crunchbot.html (one self-contained page: time slider, play
-    button, arena, robot, whiskers, particles, map and whisker traces).
+    """One CrunchBot run (thesis 6.5), then tactile SLAM over it, then its animation and page.
+
+    The animation is DIR/crunchbot.gif; the page, DIR/crunchbot.html, is one self-contained
+    page: time slider, play button, arena, robot, whiskers, particles, map and whisker
+    traces.
     """
     from rich.console import Console
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn

@@ -123,8 +123,9 @@ JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON instead of tex
 
 # --------------------------------------------------------------------------- helpers
 def _renamer(extra: dict[str, str] | None = None) -> Any:
-    """Rewrites the model's parameter names in a message as option names: always the
-    geometry's (``length_mm`` -> ``--length-mm`` ...), plus ``extra``.
+    """Rewrites the model's parameter names in a message as option names.
+
+    Always the geometry's (``length_mm`` -> ``--length-mm`` ...), plus ``extra``.
     """
     return option_renamer({**GEOMETRY_OPTIONS, **(extra or {})})
 

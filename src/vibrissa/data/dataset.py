@@ -98,8 +98,9 @@ def signal_coords(
     time_long_name: str,
     labels: Mapping[str, Any] | None = None,
 ) -> dict[str, Any]:
-    """The ``trial``, ``channel`` and ``time`` coordinates of a simulated dataset, and
-    per-trial ``labels`` (name -> one value per trial) with their attributes.
+    """The ``trial``, ``channel`` and ``time`` coordinates and ``labels`` of a simulated dataset.
+
+    The ``labels`` are per trial (name -> one value per trial), with their attributes.
 
     ``time`` runs from 0 in steps of ``1 / sample_rate_hz`` s; ``time_long_name`` says
     from what.

@@ -162,8 +162,10 @@ def _json(value: Any) -> str:
 
 
 def _utf8(text: str) -> bytes:
-    """``text`` as UTF-8; the lone surrogates by which a corrupt file's undecodable bytes
-    are read are encoded as they are (the digest then differs instead of failing).
+    """``text`` as UTF-8, lone surrogates included.
+
+    The lone surrogates by which a corrupt file's undecodable bytes are read are encoded as
+    they are (the digest then differs instead of failing).
     """
     return text.encode("utf-8", "surrogatepass")
 

@@ -1,4 +1,4 @@
-"""Example files shipped with vibrissa.
+r"""Example files shipped with vibrissa.
 
 ``data_XY_small.mat``
     A *simulated* recording in exactly the layout of the thesis author's
@@ -11,8 +11,8 @@
 ``data_XY_small.mapping.json``
     The import mapping for it (see :mod:`vibrissa.data.importers`)::
 
-        vibrissa import "$(python -c 'from vibrissa.examples import example_path; \\
-            print(example_path("data_XY_small.mat"))')" \\
+        vibrissa import "$(python -c 'from vibrissa.examples import example_path; \
+            print(example_path("data_XY_small.mat"))')" \
             --mapping .../data_XY_small.mapping.json --out xy_small.nc
 
 Examples

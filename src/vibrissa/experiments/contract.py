@@ -65,13 +65,17 @@ class SimulationProtocol(ABC):
 class ChunkedTrials(SimulationProtocol):
     """A protocol that simulates any chunk of its trials itself (generation route 1)."""
 
-    #: Trials per chunk of work (a class property may compute it).
-    chunk_size: ClassVar[int] = DEFAULT_CHUNK_SIZE
+    @property
+    def chunk_size(self) -> int:
+        """Trials per chunk of work (a protocol sets its own, e.g. one class of trials)."""
+        return DEFAULT_CHUNK_SIZE
 
     @abstractmethod
     def simulate_trials(self, indices: Sequence[int] | np.ndarray) -> dict[str, np.ndarray]:
-        """Simulate the trials ``indices``; arrays that ``np.concatenate`` joins in chunk
-        order (among them ``index``, the trials' indices).
+        """Simulate the trials ``indices``.
+
+        Returns arrays that ``np.concatenate`` joins in chunk order (among them ``index``, the
+        trials' indices).
         """
 
     @abstractmethod
@@ -109,7 +113,8 @@ class SelfGenerating(SimulationProtocol):
 
 
 def chunk_size_of(protocol: SimulationProtocol) -> int:
-    """Trials per chunk of work of ``protocol``: its own for :class:`ChunkedTrials`, else
-    :data:`DEFAULT_CHUNK_SIZE`.
+    """Trials per chunk of work of ``protocol``.
+
+    Its own for :class:`ChunkedTrials`, else :data:`DEFAULT_CHUNK_SIZE`.
     """
     return int(protocol.chunk_size) if isinstance(protocol, ChunkedTrials) else DEFAULT_CHUNK_SIZE

@@ -16,14 +16,15 @@ import time
 
 import numpy as np
 
-from vibrissa.experiments.contract import ChunkedTrials
-from vibrissa.experiments.protocols import Protocol
+from vibrissa.experiments.contract import ChunkedTrials, SimulationProtocol
 from vibrissa.experiments.runner import simulate_trials
 
 __all__ = ["format_duration", "generation_seconds", "seconds_per_trial"]
 
 
-def seconds_per_trial(protocol: Protocol, budget_s: float = 0.3, max_trials: int = 8) -> float:
+def seconds_per_trial(
+    protocol: SimulationProtocol, budget_s: float = 0.3, max_trials: int = 8
+) -> float:
     """Mean wall-clock seconds of one trial of ``protocol`` on one core of this machine.
 
     The first trial (at the middle of the grid) loads the compiled kernels and is

@@ -39,7 +39,7 @@ from vibrissa import __version__
 from vibrissa._atomic import atomic_path, atomic_write_text, check_writable
 from vibrissa._processes import imap_unordered
 from vibrissa.data.dataset import coordinate_attrs
-from vibrissa.experiments.contract import ChunkedTrials
+from vibrissa.experiments.contract import ChunkedTrials, SimulationProtocol
 from vibrissa.experiments.protocols import Protocol
 from vibrissa.experiments.runner import (
     TRIAL_DIAGNOSTICS,
@@ -70,8 +70,9 @@ WORKERS_PER_CORE = 4
 
 
 class GenerationError(ValueError):
-    """A generation cannot proceed as asked (leftover shards of another protocol, another
-    writer of the same output): the user's choice, so a ``ValueError``.
+    """A generation cannot proceed as asked: the user's choice, so a ``ValueError``.
+
+    For instance leftover shards of another protocol, or another writer of the same output.
     """
 
 
@@ -81,7 +82,7 @@ def parts_dir(out: str | os.PathLike[str]) -> Path:
     return p.with_name(p.name + ".parts")
 
 
-def dataset_bytes(protocol: Protocol) -> int:
+def dataset_bytes(protocol: SimulationProtocol) -> int:
     """Bytes of the finished dataset's signal (trials x 2 channels x samples, float64)."""
     if isinstance(protocol, ChunkedTrials):
         return int(protocol.signal_bytes())
@@ -95,7 +96,7 @@ def _memory_bytes() -> int | None:
         return None
 
 
-def check_size(protocol: Protocol) -> None:
+def check_size(protocol: SimulationProtocol) -> None:
     """Refuse a protocol whose dataset cannot be assembled on this machine.
 
     The finished signal is assembled in memory (the shards, then one array): it must
@@ -164,7 +165,7 @@ def _read_shard(path: Path, expected: np.ndarray) -> dict[str, np.ndarray] | Non
     return data
 
 
-def _prepare_parts(protocol: Protocol, out: Path, chunk_size: int, restart: bool) -> Path:
+def _prepare_parts(protocol: SimulationProtocol, out: Path, chunk_size: int, restart: bool) -> Path:
     parts = parts_dir(out)
     manifest = {
         "fingerprint": protocol.fingerprint(),
@@ -227,7 +228,7 @@ def _remove_stale_temporaries(out: Path) -> list[Path]:
     return stale
 
 
-def _run_chunk(protocol: Protocol, indices: np.ndarray) -> dict[str, np.ndarray]:
+def _run_chunk(protocol: SimulationProtocol, indices: np.ndarray) -> dict[str, np.ndarray]:
     # a protocol of another robot (ChunkedTrials, e.g. the Roomba's FloorProtocol) simulates
     # its own trials; the XY-robot protocols use the runner's
     if isinstance(protocol, ChunkedTrials):
@@ -303,7 +304,7 @@ class _Assembly:
 
 
 def _local_results(
-    protocol: Protocol, todo: list[tuple[int, np.ndarray]], workers: int
+    protocol: SimulationProtocol, todo: list[tuple[int, np.ndarray]], workers: int
 ) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
     if workers <= 1:
         for k, idx in todo:
@@ -317,7 +318,7 @@ def _local_results(
 
 
 def _dask_results(
-    protocol: Protocol, todo: list[tuple[int, np.ndarray]], scheduler: str
+    protocol: SimulationProtocol, todo: list[tuple[int, np.ndarray]], scheduler: str
 ) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
     from dask.distributed import Client, as_completed
 
@@ -368,7 +369,7 @@ def build_dataset(protocol: Protocol, results: dict[str, np.ndarray]) -> xr.Data
 
 
 def check_generation(
-    protocol: Protocol,
+    protocol: SimulationProtocol,
     out: str | os.PathLike[str],
     workers: int | None = None,
     scheduler: str | None = None,
@@ -438,7 +439,7 @@ def max_workers() -> int:
 
 
 def generate(
-    protocol: Protocol,
+    protocol: SimulationProtocol,
     out: str | os.PathLike[str],
     workers: int | None = None,
     scheduler: str | None = None,
@@ -491,7 +492,7 @@ def generate(
 
 
 def _generate_locked(
-    protocol: Protocol,
+    protocol: SimulationProtocol,
     out: Path,
     workers: int | None,
     scheduler: str | None,

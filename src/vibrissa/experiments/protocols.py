@@ -51,8 +51,10 @@ MAX_GRID_VALUES = 10_000
 
 
 def parse_grid(text: str, name: str = "grid") -> tuple[float, ...]:
-    """Parse ``"start:stop:step"`` (inclusive), ``"start:stop:num"`` with ``#num`` or a
-    comma list ``"a,b,c"`` into a tuple of floats.
+    """Parse a grid specification into a tuple of floats.
+
+    The specification is ``"start:stop:step"`` (inclusive), ``"start:stop:num"`` with
+    ``#num`` or a comma list ``"a,b,c"``.
 
     Raises ValueError (naming ``name``) for anything else: an empty or malformed
     specification, non-finite values, repeated values, or more than

@@ -1,5 +1,6 @@
-"""The ring-down test of a whisker model (an identification measurement): deflect the tip,
-release it, measure the decay.
+"""The ring-down test of a whisker model: deflect the tip, release it, measure the decay.
+
+It is an identification measurement.
 
 :func:`ring_down_test` is what ``vibrissa whisker ring`` runs, as a library function: the
 released whisker's base signal, low-passed to its first mode, measured by

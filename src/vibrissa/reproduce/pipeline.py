@@ -96,9 +96,11 @@ def check_job_arguments(
 
 
 def check_scheduler(protocol: SimulationProtocol, scheduler: str | None) -> None:
-    """Refuse ``scheduler`` for a protocol that simulates its dataset on local processes
-    only (its own ``generate_dataset`` takes no ``scheduler``), or when Dask is not
-    installed (:func:`~vibrissa.experiments.generate.check_dask`).
+    """Refuse ``scheduler`` where it cannot be used.
+
+    That is for a protocol that simulates its dataset on local processes only (its own
+    ``generate_dataset`` takes no ``scheduler``), or when Dask is not installed
+    (:func:`~vibrissa.experiments.generate.check_dask`).
     """
     if scheduler is None:
         return
@@ -151,6 +153,7 @@ def cached_dataset(
     if isinstance(protocol, SelfGenerating):  # simulates its whole dataset itself
         extra = {"scheduler": scheduler} if scheduler is not None else {}
         return protocol.generate_dataset(path, workers=workers, progress=cb, **extra), path, False
+    # the protocols left (an XY-robot Protocol or a ChunkedTrials) are generate's
     ds = generate(
         protocol,
         path,
@@ -305,9 +308,10 @@ def write_reports(
     workers: int | None = None,
     artifacts: Mapping[str, Any] | None = None,
 ) -> dict[str, Path]:
-    """Figures, extra files, ``report.md`` and ``report.html`` of one run (``workers``
-    processes may draw the figures; ``None``: every core; ``artifacts``: the run's
-    :attr:`~vibrissa.reproduce.registry.Evaluation.artifacts`).
+    """Figures, extra files, ``report.md`` and ``report.html`` of one run.
+
+    ``workers`` processes may draw the figures (``None``: every core); ``artifacts``: the
+    run's :attr:`~vibrissa.reproduce.registry.Evaluation.artifacts`.
     """
     from vibrissa._atomic import atomic_write_text
     from vibrissa.evaluate.html import write_html_report

@@ -33,10 +33,12 @@ _REGISTRY: dict[str, Experiment] = {}
 
 @dataclass(frozen=True)
 class Option:
-    """An experiment's own option: an integer (e.g. chapter 4's ``n_seeds``), with
-    ``choices`` a comma-separated selection of names (e.g. 6.2's ``floors``), or with
-    ``numbers`` a comma-separated list of finite numbers (e.g. 6.4's ``distances``;
-    an empty string: none given, the protocol's own).
+    """An experiment's own option: an integer, a selection of names or a list of numbers.
+
+    An integer (e.g. chapter 4's ``n_seeds``), with ``choices`` a comma-separated
+    selection of names (e.g. 6.2's ``floors``), or with ``numbers`` a comma-separated list
+    of finite numbers (e.g. 6.4's ``distances``; an empty string: none given, the
+    protocol's own).
 
     Attributes
     ----------
@@ -69,9 +71,7 @@ class Option:
         return "--" + self.name.replace("_", "-")
 
     def check(self, value: Any) -> int | tuple[str, ...] | tuple[float, ...]:
-        """The value as int (or as a tuple of names or numbers), or ValueError naming
-        the flag.
-        """
+        """The value as int (or as a tuple of names or numbers), or ValueError naming the flag."""
         if self.choices:
             return self._check_names(value)
         if self.numbers:
@@ -164,15 +164,17 @@ class Experiment(ABC):
     # ------------------------------------------------------------------ protocol
     @abstractmethod
     def protocol(self, quick: bool, seed: int) -> SimulationProtocol:
-        """The protocol that simulates the session's data (see
-        :mod:`vibrissa.experiments.contract` for what one is).
+        """The protocol that simulates the session's data.
+
+        See :mod:`vibrissa.experiments.contract` for what one is.
         """
 
     def protocol_for(
         self, quick: bool, seed: int, options: Mapping[str, Any]
     ) -> SimulationProtocol:
-        """The protocol of a run with the experiment's own (checked) ``options``; the
-        default ignores them (they are evaluation options).
+        """The protocol of a run with the experiment's own (checked) ``options``.
+
+        The default ignores them (they are evaluation options).
         """
         return self.protocol(quick, seed)
 
@@ -191,10 +193,11 @@ class Experiment(ABC):
         options: Mapping[str, Any],
         workers: int | None = None,
     ) -> Evaluation:
-        """Run the classifiers and the evaluation: the results (``meta``, ``parameters``,
-        ``classifiers`` and the experiment's own sections) and the figures' in-memory
-        artifacts. ``workers``: processes the evaluation may use (``None``: every core);
-        its results do not depend on it.
+        """Run the classifiers and the evaluation.
+
+        Gives the results (``meta``, ``parameters``, ``classifiers`` and the experiment's
+        own sections) and the figures' in-memory artifacts. ``workers``: processes the
+        evaluation may use (``None``: every core); its results do not depend on it.
         """
 
     # ------------------------------------------------------------------ outputs
@@ -208,10 +211,11 @@ class Experiment(ABC):
         workers: int | None = None,
         artifacts: Mapping[str, Any] | None = None,
     ) -> dict[str, Path]:
-        """Write extra files (CSV) and figures; return figure key -> path. ``workers``:
-        processes that may draw the figures (``None``: every core); ``artifacts``: the
-        :attr:`Evaluation.artifacts` of the run (empty for a run drawn again from its
-        ``results.json``).
+        """Write extra files (CSV) and figures; return figure key -> path.
+
+        ``workers``: processes that may draw the figures (``None``: every core);
+        ``artifacts``: the :attr:`Evaluation.artifacts` of the run (empty for a run drawn
+        again from its ``results.json``).
         """
         return {}
 

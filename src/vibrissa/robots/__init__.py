@@ -1,7 +1,8 @@
-"""Robots that move objects into (or whiskers onto) things: the XY positioning stage and
-whisking robots (:mod:`vibrissa.robots.whisking`: SCRATCHbot and BIOTACT G1's whisking
-pattern generator with rapid cessation of protraction), and CrunchBot's arenas, state
-machine and synthetic runs (:mod:`vibrissa.robots.crunchbot`).
+"""Robots that move objects into (or whiskers onto) things.
+
+The XY positioning stage and whisking robots (:mod:`vibrissa.robots.whisking`: SCRATCHbot
+and BIOTACT G1's whisking pattern generator with rapid cessation of protraction), and
+CrunchBot's arenas, state machine and synthetic runs (:mod:`vibrissa.robots.crunchbot`).
 """
 
 from vibrissa.robots.whisking import (

@@ -114,8 +114,10 @@ class G1Head:
         )
 
     def contact_direction_deg(self, i: int, distance_mm: float) -> float:
-        """Direction (deg from the axis) at which whisker ``i``, straight, first
-        reaches the surface ``distance_mm`` ahead of the front face (NaN if never).
+        """Direction (deg from the axis) at which whisker ``i`` first reaches the surface.
+
+        The whisker is straight, the surface ``distance_mm`` ahead of the front face (NaN if
+        the whisker never reaches it).
         """
         c = (self.setbacks_mm[i] + distance_mm) / self.lengths_mm[i]
         return math.degrees(math.acos(c)) if 0.0 <= c <= 1.0 else math.nan

@@ -314,8 +314,9 @@ def tip_path(
     forward_mm_s: np.ndarray,
     yaw_rad_s: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Where the undeflected tip passes over the floor (mm, floor frame; the robot
-    starts at the origin heading along +x).
+    """Where the undeflected tip passes over the floor (mm, floor frame).
+
+    The robot starts at the origin heading along +x.
 
     Returns
     -------

@@ -218,8 +218,9 @@ class WhiskPattern:
         return self.retracted_deg + self.amplitude_deg * 0.5 * (1.0 - np.cos(ph))
 
     def command_deg(self, t_s: np.ndarray | float, z: float, gain: float = 1.0) -> np.ndarray:
-        """The commanded angle with protraction suppressed by ``z`` (and scaled by
-        ``gain``, contact-induced asymmetry); the phase is untouched.
+        """The commanded angle with protraction suppressed by ``z``; the phase is untouched.
+
+        The angle is also scaled by ``gain`` (contact-induced asymmetry).
         """
         osc = self.oscillator_deg(t_s)
         return self.retracted_deg + (1.0 - z) * gain * (osc - self.retracted_deg)
@@ -395,9 +396,10 @@ def pole_position_mm(
     pole_radius_mm: float,
     shaft_radius_mm: float,
 ) -> tuple[float, float]:
-    """Centre (x, z) of a pole (parallel to ``y``) touching the straight whisker, its
-    housing turned by ``contact_angle_deg``, at ``radial_distance_mm`` from the base,
-    on the whisker's protraction (+x) side.
+    """Centre (x, z) of a pole (parallel to ``y``) touching the straight whisker.
+
+    The whisker's housing is turned by ``contact_angle_deg``; the pole touches it at
+    ``radial_distance_mm`` from the base, on the whisker's protraction (+x) side.
     """
     a = math.radians(contact_angle_deg)
     off = pole_radius_mm + shaft_radius_mm
@@ -718,9 +720,10 @@ def figure_3_9(
     frequency_hz: float = 8.0,
     n_whisks: int = 3,
 ) -> dict[str, Figure39Panel]:
-    """Figure 3.9 (rapid cessation of protraction): :func:`obstacle_whisk` at each panel's
-    ``(sigma_z, tau_z_periods)`` (default :data:`FIGURE_3_9_SETTINGS`), with its contacts
-    counted.
+    """Figure 3.9 (rapid cessation of protraction): :func:`obstacle_whisk` at each panel.
+
+    It runs at each panel's ``(sigma_z, tau_z_periods)`` (default
+    :data:`FIGURE_3_9_SETTINGS`), with its contacts counted.
 
     Returns
     -------
@@ -747,8 +750,10 @@ def figure_3_9(
 
 
 def count_contacts(signal: np.ndarray, threshold: float, release: float | None = None) -> int:
-    """Contact episodes of ``signal``: each starts when it rises above ``threshold``
-    and ends only once it falls below ``release`` (hysteresis; default ``threshold``).
+    """Contact episodes of ``signal``, found with hysteresis.
+
+    Each starts when it rises above ``threshold`` and ends only once it falls below
+    ``release`` (default ``threshold``).
     """
     lo = threshold if release is None else float(release)
     if lo > threshold:

@@ -67,8 +67,9 @@ __all__ = [
 
 @dataclass(frozen=True)
 class LatencyModel:
-    """Controller loop latency from the threshold crossing: mean plus a uniform jitter
-    over one duty cycle (s). Defaults: see the module docstring.
+    """Controller loop latency from the threshold crossing (s).
+
+    Mean plus a uniform jitter over one duty cycle (s). Defaults: see the module docstring.
     """
 
     latency_s: float = 0.272
@@ -239,8 +240,9 @@ def _motion_profile(
     t_end: float,
     dt: float,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Sampled x(t), vx(t): advance at v; from t_rev brake, retract at -vr and stop
-    ``clearance_mm`` behind the starting point (clear of the whisker).
+    """Sampled x(t), vx(t): advance at v; from t_rev brake, retract at -vr and stop.
+
+    The stop is ``clearance_mm`` behind the starting point (clear of the whisker).
     """
     t = np.arange(0.0, t_end + dt, dt)
     vel = np.full_like(t, v)

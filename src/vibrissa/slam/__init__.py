@@ -1,5 +1,7 @@
-"""Tactile SLAM (thesis 6.5.3-6.5.6): a particle filter of poses and occupancy grids fed by
-a robot's per-step sensor log, three mapping modes and the map error of eq. 6.3.
+"""Tactile SLAM (thesis 6.5.3-6.5.6): a particle filter, mapping modes and the map error.
+
+The particle filter is of poses and occupancy grids fed by a robot's per-step sensor log;
+there are three mapping modes, and the map error is that of eq. 6.3.
 
 The filter (:class:`ParticleFilter`) is an iterator over a log, one FSM step per ``next``;
 :mod:`~vibrissa.slam.collectors` record what a caller wants of it as it runs, and

@@ -1,5 +1,6 @@
-"""Collectors: what to record of a particle filter as it runs (the shape of ``particles``'
-``collectors.py``, Chopin & Papaspiliopoulos 2020).
+"""Collectors: what to record of a particle filter as it runs.
+
+They have the shape of ``particles``' ``collectors.py`` (Chopin & Papaspiliopoulos 2020).
 
 A :class:`Collector` is handed to :class:`~vibrissa.slam.filter.ParticleFilter` (or
 :func:`~vibrissa.slam.filter.run_slam`) in ``collect=[...]``. Iterating the filter calls
@@ -47,8 +48,9 @@ class Collector:
             self.name = name
 
     def collect(self, pf: ParticleFilter) -> None:
-        """Record the filter's state: before its first step (``pf.t == 0``) and after each
-        step (``pf.t`` steps done).
+        """Record the filter's state before its first step (``pf.t == 0``) and after each step.
+
+        After a step, ``pf.t`` steps are done.
 
         Parameters
         ----------
@@ -83,8 +85,9 @@ class FrameStack:
 
 
 def map_bytes(pf: ParticleFilter) -> np.ndarray:
-    """The most probable particle's occupancy as ``(n_cells, n_cells)`` uint8 (0-255), 128
-    where it has seen nothing.
+    """The most probable particle's occupancy as ``(n_cells, n_cells)`` uint8 (0-255).
+
+    It is 128 where the particle has seen nothing.
     """
     k = int(np.argmax(pf.log_weights))
     occ = np.where(pf.visited[k], grid.occupancy(pf.logodds[k]), 0.5)
@@ -92,8 +95,9 @@ def map_bytes(pf: ParticleFilter) -> np.ndarray:
 
 
 class Frames(Collector):
-    """Every frame of the run for a viewer: the particles, the best particle's map and the
-    pose estimate; :meth:`result` is a :class:`FrameStack`.
+    """Every frame of the run for a viewer; :meth:`result` is a :class:`FrameStack`.
+
+    A frame is the particles, the best particle's map and the pose estimate.
     """
 
     name = "frames"
@@ -105,11 +109,13 @@ class Frames(Collector):
         self._estimate: list[np.ndarray] = []
 
     def collect(self, pf: ParticleFilter) -> None:
+        """Record the particles (float32), the best particle's map and the pose estimate."""
         self._particles.append(pf.poses.astype(np.float32))
         self._maps.append(map_bytes(pf))
         self._estimate.append(pf.pose_estimate())
 
     def result(self) -> FrameStack:
+        """The recorded frames, stacked."""
         return FrameStack(np.stack(self._particles), np.stack(self._maps), np.stack(self._estimate))
 
 
@@ -123,14 +129,17 @@ class PoseEstimates(Collector):
         self._estimate: list[np.ndarray] = []
 
     def collect(self, pf: ParticleFilter) -> None:
+        """Record the weighted mean pose."""
         self._estimate.append(pf.pose_estimate())
 
     def result(self) -> np.ndarray:
+        """The weighted mean poses, ``(n_frames, 3)``."""
         return np.stack(self._estimate)
 
 
 class Progress(Collector):
-    """Calls ``callback(frames_done, n_frames)`` at every frame (``n_frames = n_steps + 1``);
+    """Calls ``callback(frames_done, n_frames)`` at every frame (``n_frames = n_steps + 1``).
+
     :meth:`result` is the number of frames seen.
 
     Parameters
@@ -149,8 +158,10 @@ class Progress(Collector):
         self.count = 0
 
     def collect(self, pf: ParticleFilter) -> None:
+        """Count the frame and pass the frames done and ``n_frames`` to the callback."""
         self.count += 1
         self.callback(self.count, pf.log.n_steps + 1 if pf.log is not None else self.count)
 
     def result(self) -> int:
+        """The number of frames seen."""
         return self.count

@@ -394,19 +394,23 @@ class ParticleFilter:
             )
         body = to_world(self.poses, _body_points(log.layout.body_radius_m))
         lw += self._point_loglik(body, False).mean(axis=1)
-        if self.floor_map is not None and log.floor_loglik is not None:
-            lw += self._floor_loglik(log, t)
+        floor_map, floor_loglik = self.floor_map, log.floor_loglik
+        if floor_map is not None and floor_loglik is not None:
+            lw += self._floor_loglik(log, floor_map, floor_loglik[t])
         self.log_weights = self.log_weights + lw
         self.log_weights -= logsumexp(self.log_weights)
 
-    def _floor_loglik(self, log: SensorLog, t: int) -> np.ndarray:
+    def _floor_loglik(
+        self, log: SensorLog, floor_map: np.ndarray, floor_loglik_t: np.ndarray
+    ) -> np.ndarray:
+        # floor_map: self.floor_map; floor_loglik_t: the step's row of log.floor_loglik
         pts = to_world(self.poses, np.asarray(log.floor_whisker_m, float))
         c = grid.cell_of(pts, self.s.cell_m)
         n = self.s.n_cells
         inside = np.all((c >= 0) & (c < n), axis=-1)
         c = np.where(inside[..., None], c, 0)
-        tex = np.where(inside, self.floor_map[c[..., 0], c[..., 1]], -1)
-        ll = np.asarray(log.floor_loglik[t], float)  # (F, K)
+        tex = np.where(inside, floor_map[c[..., 0], c[..., 1]], -1)
+        ll = np.asarray(floor_loglik_t, float)  # (F, K)
         known = tex >= 0
         f_idx = np.broadcast_to(np.arange(ll.shape[0])[None, :], tex.shape)
         uninformed = logsumexp(ll, axis=1) - math.log(ll.shape[1])  # mean likelihood
@@ -486,9 +490,7 @@ class ParticleFilter:
 
 
 def _shaft_points(layout: WhiskerLayout) -> np.ndarray:
-    """``(n_whiskers, SHAFT_POINTS, 2)`` robot-frame points spread along each whisker's
-    shaft.
-    """
+    """``(n_whiskers, SHAFT_POINTS, 2)`` robot-frame points spread along each whisker's shaft."""
     n = SHAFT_POINTS
     frac = (np.arange(n) + 0.5) / n
     return np.stack([layout.points(np.asarray(layout.length_m) * f) for f in frac], axis=1)

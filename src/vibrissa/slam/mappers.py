@@ -121,8 +121,9 @@ class Mapper:
     # -- evidence helpers ---------------------------------------------------------
     @staticmethod
     def blob(pf: ParticleFilter, centres: np.ndarray) -> None:
-        """Add a contact blob (``contact_p``, ``blob_sigma_m``) at ``(n_particles, 2)``
-        map-frame ``centres``, one per particle.
+        """Add a contact blob (``contact_p``, ``blob_sigma_m``) for every particle.
+
+        The blobs are at ``(n_particles, 2)`` map-frame ``centres``, one per particle.
         """
         s = pf.s
         grid.add_blob(
@@ -137,8 +138,10 @@ class Mapper:
 
     @staticmethod
     def edge(pf: ParticleFilter, centres: np.ndarray, angles: np.ndarray) -> None:
-        """Add an edge (eq. 6.2; ``edge_p``, ``sigma_r_m``, ``sigma_theta_rad``) through
-        ``(n_particles, 2)`` ``centres`` at ``(n_particles,)`` map-frame ``angles``.
+        """Add an edge (eq. 6.2; ``edge_p``, ``sigma_r_m``, ``sigma_theta_rad``) per particle.
+
+        The edges go through ``(n_particles, 2)`` ``centres`` at ``(n_particles,)`` map-frame
+        ``angles``.
         """
         s = pf.s
         grid.add_edge(
@@ -155,8 +158,9 @@ class Mapper:
 
     @classmethod
     def edge_between(cls, pf: ParticleFilter, a: np.ndarray, b: np.ndarray) -> None:
-        """Add an edge through the midpoints of ``(n_particles, 2)`` points ``a`` and ``b``,
-        along the line from ``a`` to ``b``.
+        """Add an edge through the midpoints of ``(n_particles, 2)`` points ``a`` and ``b``.
+
+        The edge runs along the line from ``a`` to ``b``.
         """
         d = b - a
         cls.edge(pf, (a + b) / 2, np.arctan2(d[:, 1], d[:, 0]))
@@ -167,8 +171,9 @@ MAPPERS: dict[str, type[Mapper]] = {}
 
 
 def register_mapper(cls: type[Mapper]) -> type[Mapper]:
-    """Register a :class:`Mapper` subclass in :data:`MAPPERS` under its :attr:`~Mapper.name`
-    (a class decorator).
+    """Register a :class:`Mapper` subclass in :data:`MAPPERS` under its :attr:`~Mapper.name`.
+
+    A class decorator.
 
     Raises
     ------
@@ -190,6 +195,7 @@ class BlobMapper(Mapper):
     name = "blob"
 
     def on_sensing(self, pf: ParticleFilter, hit_world: np.ndarray) -> None:
+        """Add a blob at each of the step's contacts, for every particle."""
         for k in range(hit_world.shape[1]):
             self.blob(pf, hit_world[:, k])
 
@@ -219,21 +225,21 @@ class EpisodeMapper(Mapper):
     def on_evidence(
         self, pf: ParticleFilter, log: SensorLog, t: int, hit_idx: np.ndarray, hit_world: np.ndarray
     ) -> None:
+        """Pass the step to :meth:`episode_step` unless the episode's edge is laid."""
         if not self.episode_done:
             self.episode_step(pf, log, t, hit_idx, hit_world)
 
     def episode_step(
         self, pf: ParticleFilter, log: SensorLog, t: int, hit_idx: np.ndarray, hit_world: np.ndarray
     ) -> None:
-        """One evidence step of an episode whose edge is not laid yet (as
-        :meth:`Mapper.on_evidence`).
+        """One evidence step of an episode whose edge is not laid yet.
+
+        As :meth:`Mapper.on_evidence`.
         """
         raise NotImplementedError
 
     def new_contacts(self, hit_idx: np.ndarray) -> list[int]:
-        """Positions in ``hit_idx`` of whiskers not in contact when :attr:`pending` was
-        taken.
-        """
+        """Positions in ``hit_idx`` of whiskers not in contact when :attr:`pending` was taken."""
         return [k for k, w in enumerate(hit_idx) if int(w) not in self.pending_whiskers]
 
     def remember_first(self, hit_idx: np.ndarray, hit_world: np.ndarray, new: list[int]) -> None:
@@ -243,19 +249,22 @@ class EpisodeMapper(Mapper):
             self.pending_whiskers = frozenset(int(w) for w in hit_idx)
 
     def on_episode_end(self, pf: ParticleFilter) -> None:
+        """Leave a blob at the pending first contact, if any, and reset for the next episode."""
         if self.pending is not None:
             self.blob(pf, self.pending)
         self.pending, self.pending_whiskers, self.episode_done = None, frozenset(), False
 
     def on_resample(self, idx: np.ndarray) -> None:
+        """Reorder the pending first contacts by the resampling indices."""
         if self.pending is not None:
             self.pending = self.pending[idx]
 
 
 @register_mapper
 class GeometricMapper(EpisodeMapper):
-    """``geometric``: an edge through the first two whiskers' contacts of an episode (two
-    new contacts in one step, or the pending first contact and the next new one).
+    """``geometric``: an edge through the first two whiskers' contacts of an episode.
+
+    The two are new contacts in one step, or the pending first contact and the next new one.
     """
 
     name = "geometric"
@@ -263,6 +272,7 @@ class GeometricMapper(EpisodeMapper):
     def episode_step(
         self, pf: ParticleFilter, log: SensorLog, t: int, hit_idx: np.ndarray, hit_world: np.ndarray
     ) -> None:
+        """Lay the edge once two contacts are known; else remember the first new contact."""
         new = self.new_contacts(hit_idx)
         if self.pending is None and len(new) >= 2:
             self.edge_between(pf, hit_world[:, new[0]], hit_world[:, new[-1]])
@@ -276,8 +286,9 @@ class GeometricMapper(EpisodeMapper):
 
 @register_mapper
 class TemplateMapper(EpisodeMapper):
-    """``template``: an edge at the surface angle the log reports (on ``HIT_2``) through
-    the mean of the step's contacts and the pending first contact.
+    """``template``: an edge at the surface angle the log reports (on ``HIT_2``).
+
+    The edge goes through the mean of the step's contacts and the pending first contact.
     """
 
     name = "template"
@@ -285,6 +296,7 @@ class TemplateMapper(EpisodeMapper):
     def episode_step(
         self, pf: ParticleFilter, log: SensorLog, t: int, hit_idx: np.ndarray, hit_world: np.ndarray
     ) -> None:
+        """Lay the edge at a reported surface angle; else remember the first new contact."""
         angle = float(log.surface_angle_rad[t])
         if math.isfinite(angle):
             pts = [hit_world[:, k] for k in range(hit_world.shape[1])]

@@ -1279,8 +1279,10 @@ def _fix_rhs(R, free):
 
 @njit(cache=True)
 def _plane_entry_fraction(xa, dx, contact, tr, radius, af):
-    """Largest fraction (<= 1) of the Newton update ``dx`` (flat, ``3 n``) that takes no
-    node from outside a plane contact's smoothing zone to inside the surface.
+    """Largest safe fraction (<= 1) of the Newton update ``dx`` (flat, ``3 n``).
+
+    That is, the largest that takes no node from outside a plane contact's smoothing zone
+    to inside the surface.
 
     The forces are evaluated at the alpha point ``xa``, which moves by ``(1 - af) dx``.
     A node that the full update would carry from a gap of more than the penalty's
@@ -1537,8 +1539,10 @@ def _object_speed(kind, traj, row):
 def _try_stride(
     state, work, rod, damping, contact, traj, anchors, settings, k, K, prev_contact, prev_slip, out
 ):
-    """Try one step of ``K * dt`` from step ``k``; keep it only if the contact state
-    stayed the same and the local error estimate is within ``settings.stride_tol``.
+    """Try one step of ``K * dt`` from step ``k``; keep it only if it passes the checks.
+
+    The checks: the contact state stayed the same and the local error estimate is within
+    ``settings.stride_tol``.
 
     On success rows ``out[k + 1 .. k + K]`` are filled (the intermediate rows by
     cubic Hermite interpolation of the magnet's motion, forces linearly) and
@@ -2222,9 +2226,10 @@ def first_possible_contact(
 # ------------------------------------------------------------------ surfaces (surfaces.py)
 @njit(cache=True)
 def dilate_axis(h, dx, R, k):
-    """Grey dilation of a periodic height field ``h`` along axis 0 by a sphere of radius
-    ``R`` (sample spacing ``dx``, ``k`` samples each way): what a probe tip of radius ``R``
-    can reach (:meth:`vibrissa.whisker.surfaces.Surface.for_tip`).
+    """Grey dilation of a periodic height field ``h`` along axis 0 by a sphere of radius ``R``.
+
+    The samples are spaced ``dx``, ``k`` of them each way. The result is what a probe tip of
+    radius ``R`` can reach (:meth:`vibrissa.whisker.surfaces.Surface.for_tip`).
     """
     n, m = h.shape
     out = h.copy()
@@ -2245,8 +2250,9 @@ def dilate_axis(h, dx, R, k):
 
 @njit(cache=True)
 def stamp_grains(H, dx, cu, cw, rad, top):
-    """Raise the periodic height field ``H`` (spacing ``dx``) in place to the spherical caps
-    of grains centred at ``(cu, cw)`` with radii ``rad`` and tops ``top``
+    """Raise the periodic height field ``H`` (spacing ``dx``) in place to spherical grain caps.
+
+    The grains are centred at ``(cu, cw)`` with radii ``rad`` and tops ``top``
     (:func:`vibrissa.whisker.surfaces.make_surface`).
     """
     n, m = H.shape

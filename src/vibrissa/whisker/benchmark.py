@@ -159,8 +159,9 @@ def _phase_rates(
     repeats: int,
     options: dict[str, Any],
 ) -> dict[str, float]:
-    """Real-time factors (best of ``repeats``) of the free-flight, whisking-in-air and
-    contact figures.
+    """Real-time factors (best of ``repeats``) of the benchmark figures.
+
+    The figures are free-flight, whisking-in-air and contact.
     """
     from vibrissa.whisker.simulate import free_vibration, simulate
 

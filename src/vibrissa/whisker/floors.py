@@ -182,8 +182,9 @@ def floor_spec(floor: str | FloorSpec) -> FloorSpec:
 def _caps(
     H: np.ndarray, dx: float, cu: np.ndarray, cw: np.ndarray, rad: np.ndarray, top: np.ndarray
 ) -> None:
-    """Stamp spherical caps (centre ``cu, cw``, radius ``rad``, summit ``top``; m) into
-    ``H`` as an upper envelope, periodically.
+    """Stamp spherical caps into ``H`` as an upper envelope, periodically.
+
+    Each cap has centre ``cu, cw``, radius ``rad`` and summit ``top`` (m).
     """
     n, m = H.shape
     for u0, w0, r, t in zip(cu, cw, rad, top, strict=True):
@@ -199,8 +200,9 @@ def _caps(
 
 
 def _texture_depth(H: np.ndarray) -> float:
-    """Mean depth below the plane of the highest summits (the 99.5th percentile), m:
-    what a volumetric patch (EN 13036-1) fills.
+    """Mean depth (m) below the plane of the highest summits (the 99.5th percentile).
+
+    This is what a volumetric patch (EN 13036-1) fills.
     """
     return float(np.percentile(H, 99.5) - H.mean())
 

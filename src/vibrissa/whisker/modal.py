@@ -80,8 +80,10 @@ ENERGY_TOL = 1e-4
 
 
 def _mv(A: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """``A @ b`` without BLAS: for these small sizes a threaded BLAS is slower (and on
-    a busy machine much slower) than einsum's own single-threaded loop.
+    """``A @ b`` without BLAS.
+
+    For these small sizes a threaded BLAS is slower (and on a busy machine much slower) than
+    einsum's own single-threaded loop.
     """
     return np.einsum("ij,j->i", A, b)
 
@@ -204,8 +206,9 @@ class LinearModes:
         return (np.ascontiguousarray(self.vectors.real), np.ascontiguousarray(self.vectors.imag))
 
     def housing_load(self) -> np.ndarray:
-        """Rates of the complex amplitudes per unit angular acceleration of a turning
-        follicle housing (1/s per rad/s^2), shape (2 m,).
+        """Rates of the complex amplitudes per unit angular acceleration of a turning housing.
+
+        The housing is the follicle's; the rates are in 1/s per rad/s^2, shape (2 m,).
 
         Seen from the housing, which turns about ``y`` through the pivot, every node
         feels the Euler load ``-m (ŷ x r) theta''`` (``r`` its rest position from the
@@ -221,9 +224,7 @@ class LinearModes:
         return _mv(self.inverse.real, qq) + 1j * _mv(self.inverse.imag, qq)
 
     def reduced(self, z: np.ndarray) -> np.ndarray:
-        """The amplitudes that are advanced: one of each conjugate pair, then the
-        real ones.
-        """
+        """The amplitudes that are advanced: one of each conjugate pair, then the real ones."""
         p = self.n_pairs
         return np.ascontiguousarray(np.concatenate([z[:p], z[2 * p :]]))
 
@@ -265,8 +266,9 @@ class LinearModes:
         return x, v
 
     def nonlinearity(self, x: np.ndarray) -> float:
-        """Geometric nonlinearity of shape ``x``: the largest squared rotation (rad^2)
-        of an edge from its rest direction.
+        """Geometric nonlinearity of shape ``x``: largest squared rotation (rad^2) of an edge.
+
+        The rotation is measured from the edge's rest direction.
 
         The linearised elastic forces differ from the rod's by a relative amount of
         this order (the rotation's cosine and sine are linearised).
@@ -274,8 +276,9 @@ class LinearModes:
         return float(max_edge_rotation_sq(self._nodes("x", x), self.tangents))
 
     def _nodes(self, name: str, a: np.ndarray) -> np.ndarray:
-        """``a`` as a contiguous float array of one row per node, or ValueError (the
-        compiled kernels do not check shapes).
+        """``a`` as a contiguous float array of one row per node, or ValueError.
+
+        The check is needed because the compiled kernels do not check shapes.
         """
         out = np.ascontiguousarray(a, dtype=float)
         if out.shape != self.x_rest.shape:

@@ -267,8 +267,9 @@ class Trajectory:
         return p, v
 
     def sample_lateral(self, times_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Lateral position and velocity (mm, mm/s) along ``y`` at ``times_s`` (zeros
-        without lateral motion).
+        """Lateral position and velocity (mm, mm/s) along ``y`` at ``times_s``.
+
+        Zeros without lateral motion.
         """
         if self.lateral_mm is None:
             z = np.zeros(np.shape(times_s))
@@ -434,8 +435,9 @@ def _initial_acceleration(
     theta: float = 0.0,
     theta_dot: float = 0.0,
 ) -> np.ndarray:
-    """Node accelerations (m/s^2) at positions ``x`` (m) and velocities ``v`` (m/s),
-    the follicle housing at angle ``theta`` (rad) turning at ``theta_dot`` (rad/s).
+    """Node accelerations (m/s^2) at positions ``x`` (m) and velocities ``v`` (m/s).
+
+    The follicle housing is at angle ``theta`` (rad), turning at ``theta_dot`` (rad/s).
     """
     n = x.shape[0]
     F = np.zeros((n, 3))
@@ -709,8 +711,10 @@ def _hybrid(
 def _to_housing(
     x: np.ndarray, v: np.ndarray, theta: float, rate: float, pivot: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Positions and velocities (n, 3) as seen from a follicle housing turned by
-    ``theta`` (rad) about ``y`` through ``pivot`` and turning at ``rate`` (rad/s).
+    """Positions and velocities (n, 3) as seen from a turned and turning follicle housing.
+
+    The housing is turned by ``theta`` (rad) about ``y`` through ``pivot`` and turning at
+    ``rate`` (rad/s).
     """
     c, s = math.cos(theta), math.sin(theta)
     r = x - pivot

@@ -1,5 +1,6 @@
-"""Dataset figures (input: an :class:`xarray.Dataset` of the package schema, simulated or
-imported): figures 3.7, 4.1 and 5.2.
+"""Dataset figures: figures 3.7, 4.1 and 5.2.
+
+The input is an :class:`xarray.Dataset` of the package schema, simulated or imported.
 
 Every plotting function takes ``ax=None`` (or ``axes``) and returns the axes it drew on;
 :func:`typical_traces_figure` composes several and returns its Figure.
@@ -150,8 +151,10 @@ def deflection_traces(
 
 
 def typical_traces_figure(ds: xr.Dataset, *, channel: int | str = 0) -> Figure:
-    """Figure 3.7 style pair: (a) three radial distances at the median speed, (b) three
-    speeds at the median radial distance.
+    """Figure 3.7 style pair of panels over radial distance and speed.
+
+    (a) three radial distances at the median speed, (b) three speeds at the median radial
+    distance.
 
     Parameters
     ----------
@@ -308,8 +311,9 @@ def feature_contours(
     axes: Sequence[Axes] | None = None,
     levels: int = 15,
 ) -> np.ndarray:
-    """Contour maps of peak deflection (a) and contact duration (b) over speed x radius
-    (figure 4.1).
+    """Contour maps of peak deflection (a) and contact duration (b) over speed x radius.
+
+    Figure 4.1.
 
     Parameters
     ----------

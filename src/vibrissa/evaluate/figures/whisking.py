@@ -19,8 +19,9 @@ def whisk_trajectories_figure(
     gating: np.ndarray | None = None,
     signal_label: str = "Hall x (V)",
 ) -> Figure:
-    """Housing angle (top), a deflection signal (middle) and, if given, the gating
-    variable ``z`` (bottom) of some runs, contacts shaded.
+    """Housing angle (top), a deflection signal (middle) and gating ``z`` (bottom) of runs.
+
+    The gating variable ``z`` is drawn only if given; contacts are shaded.
 
     Arrays are ``(n_runs, n)``; NaN pads are dropped.
     """

@@ -1,5 +1,7 @@
-"""CrunchBot (thesis 3.5, 6.5): its arenas, the finite state machine of 6.5.3 and a
-synthetic run with exact whisker contacts that feeds :mod:`vibrissa.slam`.
+"""CrunchBot (thesis 3.5, 6.5): its arenas, state machine and synthetic runs.
+
+The arenas, the finite state machine of 6.5.3 and a synthetic run with exact whisker
+contacts that feeds :mod:`vibrissa.slam`.
 """
 
 from vibrissa.robots.crunchbot.arena import (

@@ -46,8 +46,9 @@ def _pool(workers: int) -> ThreadPoolExecutor:
 
 
 def map_threads(fn: Callable[[T], R], items: Iterable[T], workers: int) -> list[R]:
-    """``[fn(i) for i in items]``, on up to ``workers`` threads (in order; the first
-    exception is raised).
+    """``[fn(i) for i in items]``, on up to ``workers`` threads.
+
+    The results are in order; the first exception is raised.
     """
     items = list(items)
     if workers <= 1 or len(items) < 2:

@@ -32,8 +32,9 @@ __all__ = ["body_collides_many", "plan_motion", "relative_increment", "odometry"
 def body_collides_many(
     arena: Arena, xy: np.ndarray, radius_m: float = ROBOT_RADIUS_M
 ) -> np.ndarray:
-    """Per row of ``xy`` (``(n, 2)`` arena metres): does the body disc leave the arena or
-    overlap an obstacle (touching does not count)?
+    """Whether the body disc, per row of ``xy``, leaves the arena or overlaps an obstacle.
+
+    ``xy`` is ``(n, 2)`` arena metres; touching does not count.
     """
     x, y = xy[:, 0], xy[:, 1]
     hit = (
@@ -101,8 +102,9 @@ def plan_motion(
 
 
 def relative_increment(start: np.ndarray, end: np.ndarray) -> np.ndarray:
-    """The true increment ``(forward_m, left_m, rotation_rad)`` from ``start`` to ``end``
-    in the frame of ``start``.
+    """The true increment ``(forward_m, left_m, rotation_rad)`` from ``start`` to ``end``.
+
+    The increment is in the frame of ``start``.
     """
     c, s = math.cos(start[2]), math.sin(start[2])
     dx, dy = end[0] - start[0], end[1] - start[1]

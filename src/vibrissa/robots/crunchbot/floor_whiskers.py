@@ -108,8 +108,10 @@ def _slides(pose: np.ndarray) -> np.ndarray:
 
 
 def _spline_height(H: np.ndarray, spacing_m: float, U: float, W: float) -> float:
-    """Height (m) of a periodic height field at surface coordinates (m), as the contact
-    kernel reads it: a uniform quadratic B-spline through the grid values.
+    """Height (m) of a periodic height field at surface coordinates (m).
+
+    The field is read as the contact kernel reads it: a uniform quadratic B-spline through
+    the grid values.
     """
     fu, fw = U / spacing_m, W / spacing_m
     iu, iw = math.floor(fu + 0.5), math.floor(fw + 0.5)
@@ -254,10 +256,11 @@ class FloorWhiskers:
     def settled(
         self, texture: str, slide_mm: Sequence[float] = (0.0, 0.0), sliding_s: float = 0.0
     ) -> DynamicState:
-        """The whisker settled on ``texture``: pressed on from a 2 mm gap over the Roomba's
-        settling time, then (``sliding_s`` > 0) dragged along ``u`` at FWD speed for
-        ``sliding_s``, ending with the sheet at ``slide_mm`` (along u, across y) under the
-        tip. Cached per argument; a copy is returned.
+        """The whisker settled on ``texture``, then dragged along ``u`` if ``sliding_s`` > 0.
+
+        It is pressed on from a 2 mm gap over the Roomba's settling time, then (``sliding_s`` >
+        0) dragged along ``u`` at FWD speed for ``sliding_s``, ending with the sheet at
+        ``slide_mm`` (along u, across y) under the tip. Cached per argument; a copy is returned.
         """
         texture = floor_spec(texture).name
         key = (texture, float(slide_mm[0]), float(slide_mm[1]), float(sliding_s))
@@ -397,8 +400,10 @@ class FloorWhiskers:
         return out
 
     def _height_change(self, texture: str, state: DynamicState, slide_mm: np.ndarray) -> float:
-        """How much lower (mm) the tip-envelope is under the settled tip (sheet at slide
-        0) than it is with the sheet at ``slide_mm``.
+        """How much lower (mm) the tip-envelope is under the settled tip than at ``slide_mm``.
+
+        Under the settled tip the sheet is at slide 0; the comparison is with the sheet at
+        ``slide_mm``.
         """
         contact = self._sheet(texture)
         H = contact.surface_for(self.model)
@@ -416,8 +421,10 @@ class FloorWhiskers:
     def _simulate(
         self, contact: SurfaceContact, traj: Trajectory, state: DynamicState
     ) -> SimulationResult:
-        """:func:`simulate` over ``traj`` from ``state``; a step that diverges (a tip caught
-        hard on a carpet loop) is retried with the time step halved, twice.
+        """:func:`simulate` over ``traj`` from ``state``, retrying a step that diverges.
+
+        A step that diverges (a tip caught hard on a carpet loop) is retried with the time step
+        halved, twice.
         """
         duration = float(traj.time_s[-1] - traj.time_s[0])
         for halving in range(RETRY_HALVINGS + 1):
@@ -439,9 +446,10 @@ class FloorWhiskers:
         state: DynamicState,
         lift_mm: np.ndarray | None = None,
     ) -> tuple[np.ndarray, DynamicState]:
-        """Simulate whisker ``w`` over ``times`` (``times[0]`` = the state's time), split at
-        texture changes, the floor shifted along its normal by ``lift_mm``; Hall volts at
-        ``times[1:]``.
+        """Simulate whisker ``w`` over ``times`` (``times[0]`` = the state's time).
+
+        The run is split at texture changes, the floor shifted along its normal by ``lift_mm``;
+        returns the Hall volts at ``times[1:]``.
         """
         base, u = self._plane()
         normal = self._sheet(tex[-1]).frame()[0][[0, 2]]

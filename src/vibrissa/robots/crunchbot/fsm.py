@@ -90,9 +90,11 @@ class FsmState:
 
 @dataclass(frozen=True)
 class Observation:
-    """What the robot sensed during a step: contact per whisker, peak strain per whisker,
-    and whether the body bumped into something (the Create's bumper; the thesis does not
-    say what happened then: ours, it aborts like an over-strain).
+    """What the robot sensed during a step.
+
+    Contact per whisker, peak strain per whisker, and whether the body bumped into something
+    (the Create's bumper; the thesis does not say what happened then: ours, it aborts like
+    an over-strain).
     """
 
     contact: tuple[bool, ...]

@@ -107,8 +107,10 @@ _FLAT = Surface(np.zeros((4, 4)), 1e-3, WALL_FRICTION, "wall")
 
 @dataclass(frozen=True)
 class Feature:
-    """Something a whisker can touch: a vertical face (``"plane"``, from ``a`` to ``b``,
-    ``normal`` pointing out of the solid) or a vertical corner edge (``"pole"`` at ``a``).
+    """Something a whisker can touch: a vertical face or a vertical corner edge.
+
+    A face is a ``"plane"``, from ``a`` to ``b``, ``normal`` pointing out of the solid; a
+    corner edge is a ``"pole"`` at ``a``.
     """
 
     kind: str
@@ -165,10 +167,11 @@ def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
 def feature_distances(
     base: np.ndarray, tip: np.ndarray, a: np.ndarray, b: np.ndarray, is_pole: np.ndarray
 ) -> np.ndarray:
-    """Distance of each feature from each straight whisker ``base``-``tip`` (..., 2):
-    ``(..., F)``. A corner (``is_pole``) is a point ``a``; a face is the segment
-    ``a``-``b``, and where it is nearest the whisker at one of its ends it counts 1 mm
-    further: there its end (a corner, or the next wall) is what the whisker meets.
+    """Distance of each feature from each straight whisker ``base``-``tip``: ``(..., F)``.
+
+    ``base`` and ``tip`` are ``(..., 2)``. A corner (``is_pole``) is a point ``a``; a face is
+    the segment ``a``-``b``, and where it is nearest the whisker at one of its ends it counts
+    1 mm further: there its end (a corner, or the next wall) is what the whisker meets.
     """
     p0, p1 = base[..., None, :], tip[..., None, :]
     to_a = _point_segment_distance(a, p0, p1)
@@ -313,8 +316,10 @@ class ObstacleWhiskers:
         return feature_distances(base, tip, self._fa, self._fb, self._is_pole)
 
     def _first_met(self, dist: np.ndarray) -> np.ndarray:
-        """Per whisker the feature the straight swept whisker meets first (within
-        :data:`CONTACT_TOL_M`), else the nearest within reach (-1: none).
+        """Per whisker the feature the straight swept whisker meets first, else the nearest.
+
+        Meeting counts within :data:`CONTACT_TOL_M`; the nearest is taken within reach (-1:
+        none).
         """
         out = np.full(dist.shape[1], -1)
         for w in range(dist.shape[1]):
@@ -331,10 +336,12 @@ class ObstacleWhiskers:
     def _contact_for(
         self, feat: Feature, base0: np.ndarray, phi0: float
     ) -> tuple[PoleContact | SurfaceContact, np.ndarray]:
-        """The simulator's contact for ``feat`` in a frame with rest direction ``phi0``
-        and base ``base0`` (arena m), and the point fixed on the object (arena m) whose
-        motion the trajectory follows: the corner, or where the whisker's rest line
-        meets the face (the foot of the perpendicular from the base if it runs along).
+        """The simulator's contact for ``feat`` and the object's point the trajectory follows.
+
+        The contact is in a frame with rest direction ``phi0`` and base ``base0`` (arena m). The
+        point is fixed on the object (arena m) and the trajectory follows its motion: the
+        corner, or where the whisker's rest line meets the face (the foot of the perpendicular
+        from the base if it runs along).
         """
         if feat.kind == "pole":
             return PoleContact(radius_mm=CORNER_RADIUS_MM, friction=WALL_FRICTION), feat.a

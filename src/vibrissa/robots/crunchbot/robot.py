@@ -64,8 +64,9 @@ FLOOR_WINDOW_S = 0.1
 
 @dataclass(frozen=True)
 class RealtimeClassifiers:
-    """What the control loop calls; built by
-    :func:`~vibrissa.robots.crunchbot.training.train_classifiers`.
+    """What the control loop calls.
+
+    Built by :func:`~vibrissa.robots.crunchbot.training.train_classifiers`.
 
     Attributes
     ----------
@@ -123,8 +124,9 @@ class _Loop:
         return out
 
     def recent(self, n: int, cols: slice, chunks: int | None = None) -> np.ndarray:
-        """The latest ``n`` samples of the given whisker columns (fewer at the start),
-        of the first ``chunks`` steps' samples (default all).
+        """The latest ``n`` samples of the given whisker columns (fewer at the start).
+
+        They are taken from the first ``chunks`` steps' samples (default all).
         """
         out, need = [], n
         for chunk in reversed(self.hall[:chunks]):
@@ -143,8 +145,10 @@ class _Loop:
 
 
 class _FloorInBackground:
-    """The floor whiskers of one step, simulated on a thread of their own while the
-    control loop goes on with the next step, then read by the floor classifier.
+    """The floor whiskers of one step, simulated on a thread of their own.
+
+    The control loop goes on with the next step meanwhile; then they are read by the floor
+    classifier.
 
     The floor whiskers carry their own state and noise streams and nothing the loop
     decides depends on them, so the record is the same as simulating them in line;
@@ -205,8 +209,9 @@ class _FloorInBackground:
             self._executor = None
 
     def finish(self, loglik0: np.ndarray, pred0: tuple[str, str]) -> None:
-        """Wait for the last step and give every row the latest report at its step
-        (``loglik0``, ``pred0`` before the first).
+        """Wait for the last step and give every row the latest report at its step.
+
+        Rows before the first report get ``loglik0``, ``pred0``.
         """
         try:
             self.wait()
@@ -222,9 +227,11 @@ class _FloorInBackground:
 
 
 def _one_blas_thread(fn: Callable[..., RunRecord]) -> Callable[..., RunRecord]:
-    """Run ``fn`` with BLAS on one thread: the loop's own threads use the cores, and
-    BLAS's workers, woken for a few small products and left spinning, took the cores
-    from the timed classifier calls (a 1 ms angle call read 7-15 ms).
+    """Run ``fn`` with BLAS on one thread.
+
+    The loop's own threads use the cores, and BLAS's workers, woken for a few small products
+    and left spinning, took the cores from the timed classifier calls (a 1 ms angle call
+    read 7-15 ms).
     """
 
     @functools.wraps(fn)

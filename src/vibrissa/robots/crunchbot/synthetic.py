@@ -79,8 +79,9 @@ def cast_rays(
 def whisker_contacts(
     arena: Arena, pose: np.ndarray, layout: WhiskerLayout = CRUNCHBOT_LAYOUT
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Radial distance of each whisker's contact at an arena-frame pose (``inf``: none),
-    and the touched segment of :meth:`Arena.segments` (``-1``: none).
+    """Radial distance of each whisker's contact at an arena-frame pose (``inf``: none).
+
+    Also the touched segment of :meth:`Arena.segments` (``-1``: none).
     """
     base = apply_motion(np.asarray(pose, float), np.c_[layout.base_m, np.zeros(layout.n_whiskers)])[
         :, :2
@@ -226,8 +227,9 @@ def synthetic_log(
 
 
 def _step_durations(log: SensorLog, settings: fsm.FsmSettings) -> np.ndarray:
-    """Robot time of each step of a synthetic log: FWD/BACK one step, TURN its rotation
-    at the turn rate, the HIT/ABORT events none.
+    """Robot time of each step of a synthetic log.
+
+    FWD/BACK take one step, TURN its rotation at the turn rate, the HIT/ABORT events none.
     """
     state = np.asarray(log.state)
     dur = np.where(np.isin(state, (fsm.FWD_1, fsm.FWD_2, fsm.BACK)), settings.step_s, 0.0)

@@ -71,8 +71,9 @@ _START = np.array([0.4, 0.625, 0.0])
 def body_whisk(
     settings: fsm.FsmSettings | None = None, toward: int = 1, reverse_m: float = 0.01
 ) -> tuple[fsm.MotorCommand, ...]:
-    """The body whisk of 6.5.1 as motor commands: reverse a little, rotate at pi/24
-    rad/s toward the object for 1 s, away for 1 s, reverse.
+    """The body whisk of 6.5.1 as motor commands.
+
+    Reverse a little, rotate at pi/24 rad/s toward the object for 1 s, away for 1 s, reverse.
 
     ``toward``: +1 the object is on the robot's left (turn anticlockwise first), -1 right.
     """
@@ -83,8 +84,9 @@ def body_whisk(
 
 
 def _block_at(corner: np.ndarray, pointing_left: bool) -> Obstacle:
-    """A block with a corner at ``corner`` lying on the far side of a whisker's line: below
-    it for a whisker pointing left of ahead, above it for one pointing right.
+    """A block with a corner at ``corner`` lying on the far side of a whisker's line.
+
+    Below it for a whisker pointing left of ahead, above it for one pointing right.
     """
     if pointing_left:
         return Obstacle(float(corner[0]), float(corner[1]) - _BLOCK_M, _BLOCK_M)
@@ -131,8 +133,9 @@ def collect_radial_training(
 
 
 def _approach(angle_deg: float, rng: np.random.Generator) -> np.ndarray:
-    """One drive into the right-hand wall with it at ``angle_deg`` in the robot's frame:
-    the 8-channel recording (volts about rest) from HIT_1, 2 s (held at its end).
+    """One drive into the right-hand wall with it at ``angle_deg`` in the robot's frame.
+
+    Returns the 8-channel recording (volts about rest) from HIT_1, 2 s (held at its end).
     """
     s = fsm.FsmSettings()
     heading = math.radians(90.0 - angle_deg)

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import Any, Literal, overload
 
 import numpy as np
 import xarray as xr
@@ -113,6 +113,12 @@ def check_chapter5_dataset(
     return groups
 
 
+@overload
+def chapter5_arrays(
+    ds: xr.Dataset, signal: Literal[True] = True
+) -> tuple[np.ndarray, np.ndarray]: ...
+@overload
+def chapter5_arrays(ds: xr.Dataset, signal: bool) -> tuple[np.ndarray | None, np.ndarray]: ...
 def chapter5_arrays(ds: xr.Dataset, signal: bool = True) -> tuple[np.ndarray | None, np.ndarray]:
     """Trials and numeric label rows ``[angle_deg, speed_mm_s, texture_code]``.
 

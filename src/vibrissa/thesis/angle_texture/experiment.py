@@ -32,6 +32,7 @@ class AngleTexture(Experiment):
     )
 
     def protocol(self, quick: bool, seed: int) -> SimulationProtocol:
+        """The ``angle-texture`` protocol: the XY robot's textured-surface grid (chapter 5)."""
         return get_protocol("angle-texture", quick=quick, seed=seed)
 
     def evaluate(
@@ -43,6 +44,7 @@ class AngleTexture(Experiment):
         options: Mapping[str, int],
         workers: int | None = None,
     ) -> Evaluation:
+        """Run every chapter-5 classifier on ``ds``, notched at the whisker's resonance."""
         # chapter 5's evaluation runs in this process (``workers`` is not used)
         from vibrissa.classify import chapter5_classifiers, dataset_sample_rate, resonance_hz
         from vibrissa.data import whisker_params
@@ -64,6 +66,7 @@ class AngleTexture(Experiment):
         workers: int | None = None,
         artifacts: Mapping[str, Any] | None = None,
     ) -> dict[str, Path]:
+        """Draw the chapter-5 figures into ``out_dir/figures`` (if ``figures``)."""
         # chapter 5's figures are drawn in this process (``workers`` is not used)
         from vibrissa.thesis.angle_texture.report import write_outputs
 
@@ -75,11 +78,13 @@ class AngleTexture(Experiment):
         figures: Mapping[str, Path],
         baseline: Mapping[str, Any] | None,
     ) -> str:
+        """The chapter-5 Markdown body; ``baseline`` adds a kappa table (figure 5.15)."""
         from vibrissa.thesis.angle_texture.report import markdown_chapter5
 
         return markdown_chapter5(results, figures, baseline)
 
     def summary(self, results: Mapping[str, Any]) -> dict[str, Any]:
+        """Each classifier's kappas and classify seconds, and the sequential texture kappas."""
         return {
             "classifiers": {
                 k: {"kappa": v["kappa"], "classify_seconds": v["classify_seconds"]}
@@ -89,6 +94,7 @@ class AngleTexture(Experiment):
         }
 
     def console_table(self, summary: Mapping[str, Any]) -> Any:
+        """Kappas per classifier and parameter, and the sequential texture kappas."""
         from rich.console import Group
         from rich.table import Table
         from rich.text import Text

@@ -1,7 +1,8 @@
-"""Result figures of chapter 5 (input: the results of
-:func:`vibrissa.thesis.angle_texture.evaluation.run_chapter5`): confusion matrices
-(figures 5.3-5.14),
-kappas beside the thesis' (figure 5.15) and the evidence-over-contacts curve.
+"""Result figures of chapter 5.
+
+Input: the results of :func:`vibrissa.thesis.angle_texture.evaluation.run_chapter5`; the
+figures: confusion matrices (figures 5.3-5.14), kappas beside the thesis' (figure 5.15)
+and the evidence-over-contacts curve.
 
 Every function takes ``ax=None`` / ``axes=None`` and returns what it drew on.
 """

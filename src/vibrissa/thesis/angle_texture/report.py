@@ -34,12 +34,12 @@ def markdown_chapter5(
     figures: Mapping[str, Path] | None = None,
     baseline: Mapping[str, Any] | None = None,
 ) -> str:
-    """The Markdown report body of chapter-5 results
-    (:func:`~vibrissa.thesis.angle_texture.evaluation.run_chapter5`).
+    """The Markdown report body of chapter-5 results.
 
     Parameters
     ----------
     results : dict
+        The results of :func:`~vibrissa.thesis.angle_texture.evaluation.run_chapter5`.
     figures : mapping of str to relative path, optional
         Figure links (``confusion/<name>``, ``kappa``, ``sequential``).
     baseline : dict, optional

@@ -1,5 +1,6 @@
-"""The thesis' chapter-5 numbers (Evans 2011, 5.4): kappas and signed errors of tables
-5.1-5.11 and figure 5.15.
+"""The thesis' chapter-5 numbers (Evans 2011, 5.4).
+
+Kappas and signed errors of tables 5.1-5.11 and figure 5.15.
 """
 
 from __future__ import annotations

@@ -151,7 +151,9 @@ def hit_rate_curves(
 
 
 def whisk_statistics(ds: xr.Dataset) -> dict[str, dict[str, float]]:
-    """Per strategy: contact time per whisk and whisker (s), peak ``x`` deflection from
+    """Whisk statistics per control strategy.
+
+    Per strategy: contact time per whisk and whisker (s), peak ``x`` deflection from
     rest (V), the within-class spread of that peak (mean over classes and whiskers of
     std / mean over whisks), the largest gating variable, and the saturated whisks.
     """
@@ -208,8 +210,10 @@ def _checks(hit: Mapping[str, Any]) -> dict[str, Any]:
 
 
 def evaluate_g1(ds: xr.Dataset, *, progress: Callable | None = None) -> dict[str, Any]:
-    """Evaluate a G1 session: hit-rate curves of both classifiers (and naive Bayes with
-    robust bins), whisk statistics and the thesis' claims tested on them.
+    """Evaluate a G1 session: hit-rate curves, whisk statistics and the thesis' claims.
+
+    The hit-rate curves are those of both classifiers (and naive Bayes with robust
+    bins); the thesis' claims are tested on them.
 
     Parameters
     ----------

@@ -48,6 +48,7 @@ class BiotactG1(Experiment):
     )
 
     def protocol(self, quick: bool, seed: int) -> SimulationProtocol:
+        """The G1 session of :func:`~vibrissa.thesis.biotact_g1.protocol.biotact_protocol`."""
         from vibrissa.thesis.biotact_g1.protocol import biotact_protocol
 
         return biotact_protocol(quick=quick, seed=seed)
@@ -55,6 +56,7 @@ class BiotactG1(Experiment):
     def protocol_for(
         self, quick: bool, seed: int, options: Mapping[str, Any]
     ) -> SimulationProtocol:
+        """The G1 session with ``--distances`` and ``--whisk-frequency`` checked and applied."""
         from vibrissa.robots.biotact import G1Head
         from vibrissa.thesis.biotact_g1.protocol import biotact_protocol
 
@@ -81,6 +83,7 @@ class BiotactG1(Experiment):
             ) from None
 
     def n_trials(self, quick: bool) -> int:
+        """Whisks of the G1 session (full or quick)."""
         return int(self.protocol(quick, 0).n_trials)
 
     def evaluate(
@@ -92,6 +95,7 @@ class BiotactG1(Experiment):
         options: Mapping[str, Any],
         workers: int | None = None,
     ) -> Evaluation:
+        """Evaluate the G1 session ``ds``: hit rates, whisk statistics, the thesis' claims."""
         from vibrissa.thesis.biotact_g1.evaluation import evaluate_g1
 
         return Evaluation(evaluate_g1(ds, progress=progress))
@@ -106,6 +110,7 @@ class BiotactG1(Experiment):
         workers: int | None = None,
         artifacts: Mapping[str, Any] | None = None,
     ) -> dict[str, Path]:
+        """Draw the hit-rate figures (6.6, 6.7) and, with ``dataset``, whisk trajectories."""
         from vibrissa.evaluate.figures.common import save_figure
         from vibrissa.thesis.biotact_g1.figures import hit_rate_figure
 
@@ -127,11 +132,13 @@ class BiotactG1(Experiment):
         figures: Mapping[str, Path],
         baseline: Mapping[str, Any] | None,
     ) -> str:
+        """The G1 report's Markdown body; ``baseline`` is not used."""
         from vibrissa.thesis.biotact_g1.report import markdown_g1
 
         return markdown_g1(results, figures)
 
     def summary(self, results: Mapping[str, Any]) -> dict[str, Any]:
+        """Hit rates, validation whisks, naive Bayes' robust range, whisk statistics, checks."""
         return {
             "hit_rate": results["hit_rate"],
             "n_validation": results["n_validation"],
@@ -142,8 +149,10 @@ class BiotactG1(Experiment):
 
 
 def _trajectory_figures(ds: xr.Dataset, fig_dir: Path) -> dict[str, Path]:
-    """Whisk trajectories with contacts: one whisk per strategy (middle class), and
-    the unmodulated whisks at every distance (middle texture).
+    """Whisk trajectories with contacts.
+
+    One whisk per strategy (middle class), and the unmodulated whisks at every distance
+    (middle texture).
     """
     from vibrissa.evaluate.figures.common import save_figure
     from vibrissa.evaluate.figures.whisking import whisk_trajectories_figure

@@ -12,8 +12,9 @@ __all__ = ["hit_rate_figure"]
 def hit_rate_figure(
     hit_rate: Mapping[str, Mapping[str, Sequence[float | None]]], title: str
 ) -> Figure:
-    """Figures 6.6 / 6.7: hit rate against training whisks, one panel per task
-    (joint, texture, distance), one line per control strategy.
+    """Figures 6.6 / 6.7: hit rate against training whisks.
+
+    One panel per task (joint, texture, distance), one line per control strategy.
 
     ``hit_rate[strategy][task]`` lists one rate per number of training whisks (1, 2,
     ...); ``None`` (no validation whisk left) is not drawn.

@@ -56,7 +56,7 @@ from vibrissa.data.dataset import signal_coords
 from vibrissa.experiments.contract import ChunkedTrials
 from vibrissa.experiments.streams import SURFACES, TRIALS, stream
 from vibrissa.robots.biotact import G1Head
-from vibrissa.robots.whisking import RCPControl, VaryingWhiskPattern, run_whisking
+from vibrissa.robots.whisking import RCPControl, VaryingWhiskPattern, WhiskPattern, run_whisking
 from vibrissa.thesis.biotact_g1.values import STRATEGIES
 from vibrissa.whisker.geometry import preset
 from vibrissa.whisker.hall import HallSensor, HallSettings, steps_per_sample
@@ -248,7 +248,7 @@ class BiotactProtocol(ChunkedTrials):
         """Trials per chunk of a generation: one class's whisks (one continuous run)."""
         return self.n_whisks
 
-    def simulate_trials(self, indices: Sequence[int]) -> dict[str, np.ndarray]:
+    def simulate_trials(self, indices: Sequence[int] | np.ndarray) -> dict[str, np.ndarray]:
         """Simulate the whisks ``indices``.
 
         A class's whisks come from one continuous run (:meth:`simulate_class`), which
@@ -287,10 +287,11 @@ class BiotactProtocol(ChunkedTrials):
         return out
 
     def simulate_class(self, c: int, n_whisks: int | None = None) -> dict[str, np.ndarray]:
-        """One continuous run of class ``c`` (strategy, texture, distance in canonical
-        order): a lead-in whisk from rest at full retraction, dropped, then
-        ``n_whisks`` (default: the protocol's) recorded whisks, each from full
-        retraction to full retraction; arrays with one row per recorded whisk.
+        """One continuous run of class ``c``; arrays with one row per recorded whisk.
+
+        The class is a (strategy, texture, distance) in canonical order. The run is a
+        lead-in whisk from rest at full retraction, dropped, then ``n_whisks`` (default:
+        the protocol's) recorded whisks, each from full retraction to full retraction.
         """
         spec = self.trials()[c * self.n_whisks]
         n_rec = self.n_whisks if n_whisks is None else int(n_whisks)
@@ -318,7 +319,7 @@ class BiotactProtocol(ChunkedTrials):
                     )
                 )
         amps = head.amplitude_deg + self.amplitude_jitter_deg * rng.standard_normal((2, n_rec + 1))
-        patterns = [
+        patterns: list[WhiskPattern] = [
             VaryingWhiskPattern(
                 f, head.amplitude_deg, 0.0, amplitudes_deg=tuple(float(a) for a in side_amps)
             )
@@ -374,8 +375,10 @@ class BiotactProtocol(ChunkedTrials):
         }
 
     def seconds_per_trial(self) -> float:
-        """Wall-clock seconds of one whisk on one core of this machine, from one
-        modulated whisk after the lead-in (the kernels load from numba's cache).
+        """Wall-clock seconds of one whisk on one core of this machine.
+
+        Measured on one modulated whisk after the lead-in (the kernels load from numba's
+        cache).
         """
         import time
 
@@ -490,9 +493,10 @@ def _sheet(texture: str, seed: int, side: int) -> Surface:
 
 
 def biotact_protocol(quick: bool = False, **overrides: Any) -> BiotactProtocol:
-    """The G1 session; ``quick``: two textures (plastic, P180) at 5 and 15 mm, two
-    whisks per class (24 whisks: one to train, one to validate) instead of 3 x 3
-    classes x 12 whisks (324).
+    """The G1 session (``quick``: a small one); ``overrides`` replace fields.
+
+    ``quick``: two textures (plastic, P180) at 5 and 15 mm, two whisks per class (24
+    whisks: one to train, one to validate) instead of 3 x 3 classes x 12 whisks (324).
     ``overrides`` replace fields (``None`` ignored).
     """
     changes = {k: v for k, v in overrides.items() if v is not None}

@@ -1,5 +1,7 @@
-"""The BIOTACT G1's report sections (thesis 6.4): the claims of 6.4.4 tested, hit-rate tables
-and figures, whisk statistics and the discussion; every number from the results.
+"""The BIOTACT G1's report sections (thesis 6.4).
+
+The claims of 6.4.4 tested, hit-rate tables and figures, whisk statistics and the
+discussion; every number from the results.
 """
 
 from __future__ import annotations
@@ -35,8 +37,9 @@ def _number(n: int) -> str:
 
 
 def strategies_text(names: list[str] | tuple[str, ...]) -> str:
-    """The control strategies of a run in words, e.g. ``unmodulated, RCP7 (sigma_z = 0.7)``
-    (sigma_z from :data:`~vibrissa.thesis.biotact_g1.values.STRATEGIES`).
+    """The control strategies of a run in words, e.g. ``unmodulated, RCP7 (sigma_z = 0.7)``.
+
+    sigma_z from :data:`~vibrissa.thesis.biotact_g1.values.STRATEGIES`.
     """
     return ", ".join(
         n if STRATEGIES[n] == 0 else f"{n.upper()} (sigma_z = {STRATEGIES[n]:g})" for n in names
@@ -75,8 +78,9 @@ def _discussion(ws: Mapping[str, Any], chk: Mapping[str, Any]) -> list[str]:
 
 
 def markdown_g1(results: Mapping[str, Any], figures: Mapping[str, Path]) -> str:
-    """The report's Markdown body for G1 results
-    (:func:`~vibrissa.thesis.biotact_g1.evaluation.evaluate_g1`) and the figures written.
+    """The report's Markdown body for G1 results and the figures written.
+
+    The results are those of :func:`~vibrissa.thesis.biotact_g1.evaluation.evaluate_g1`.
     """
     hit = results["hit_rate"]
     meta = results["meta"]

@@ -1,5 +1,6 @@
-"""The BIOTACT G1's thesis values: its control strategies (6.4.1) and what 6.4.4 says of
-each hit-rate curve.
+"""The BIOTACT G1's thesis values.
+
+Its control strategies (6.4.1) and what 6.4.4 says of each hit-rate curve.
 """
 
 from __future__ import annotations

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from vibrissa.evaluate.jobs import SharedArrays, run_jobs
+from vibrissa.evaluate.jobs import SharedArrays, resolve_workers, run_jobs
 from vibrissa.slam import (
     MODES,
     SensorLog,
@@ -54,8 +54,15 @@ def dead_reckoning(log: SensorLog) -> np.ndarray:
     return out
 
 
-def trajectory_error_mm(estimate: np.ndarray, true_pose: np.ndarray) -> float:
-    """Mean over steps of the distance between estimated and true positions (mm)."""
+def trajectory_error_mm(estimate: np.ndarray, true_pose: np.ndarray | None) -> float:
+    """Mean over steps of the distance between estimated and true positions (mm).
+
+    Raises
+    ------
+    ValueError
+        ``estimate`` and ``true_pose`` differ in shape (``None``, a log without its true
+        pose, has none).
+    """
     est, true = np.asarray(estimate, float), np.asarray(true_pose, float)
     if est.shape != true.shape:
         raise ValueError(f"estimate {est.shape} and true pose {true.shape} differ in shape")
@@ -80,8 +87,9 @@ def slam_job(
 def radial_distance_errors_mm(
     estimated_m: Sequence[np.ndarray], true_m: Sequence[np.ndarray], names: Sequence[str]
 ) -> dict[str, Any]:
-    """Std of estimate - truth (mm) per obstacle whisker over every contact of every run,
-    and ``combined`` over all whiskers; NaN where a whisker never touched.
+    """Std of estimate - truth (mm) per obstacle whisker, and ``combined`` over all whiskers.
+
+    Over every contact of every run; NaN where a whisker never touched.
     """
     est = np.concatenate([np.asarray(a, float) for a in estimated_m])
     tru = np.concatenate([np.asarray(a, float) for a in true_m])
@@ -97,8 +105,9 @@ def radial_distance_errors_mm(
 
 
 def floor_texture_accuracy(true_codes: np.ndarray, pred_codes: np.ndarray) -> float:
-    """Fraction of floor-whisker steps on a known tile whose prediction is right (NaN:
-    none on a tile).
+    """Fraction of floor-whisker steps on a known tile whose prediction is right.
+
+    NaN: none on a tile.
     """
     t, p = np.asarray(true_codes), np.asarray(pred_codes)
     on = t >= 0
@@ -137,8 +146,9 @@ def _mean_std(values: Sequence[float]) -> dict[str, float]:
 
 @dataclass(frozen=True)
 class SlamEvaluation:
-    """What :func:`evaluate_crunchbot` measured: the JSON-ready numbers and the arrays of
-    the figures (never serialised).
+    """What :func:`evaluate_crunchbot` measured.
+
+    The JSON-ready numbers and the arrays of the figures (never serialised).
 
     Attributes
     ----------
@@ -218,7 +228,7 @@ def evaluate_crunchbot(
         if progress:
             progress(done[0], len(jobs), f"run {i // len(modes)} {jobs[i]['mode']}")
 
-    with SharedArrays(workers) as arrays:
+    with SharedArrays(resolve_workers(workers)) as arrays:
         arrays.add("ground_truth", truth)
         res = run_jobs(slam_job, jobs, arrays, on_done=tick)
     by = {m: [res[r * len(modes) + k] for r in range(len(logs))] for k, m in enumerate(modes)}

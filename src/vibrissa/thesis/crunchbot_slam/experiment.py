@@ -77,6 +77,7 @@ class CrunchbotSlam(Experiment):
     )
 
     def protocol(self, quick: bool, seed: int) -> SimulationProtocol:
+        """CrunchBot's session: 20 runs of 6 minutes (``quick``: 3 runs of 40 s)."""
         from vibrissa.thesis.crunchbot_slam.protocol import crunchbot_protocol
 
         return crunchbot_protocol(quick=quick, seed=seed)
@@ -84,6 +85,7 @@ class CrunchbotSlam(Experiment):
     def protocol_for(
         self, quick: bool, seed: int, options: Mapping[str, Any]
     ) -> SimulationProtocol:
+        """CrunchBot's session with ``--runs`` and ``--seconds`` checked and applied."""
         from vibrissa.thesis.crunchbot_slam.protocol import crunchbot_protocol
 
         o = resolved_options(quick, options)
@@ -100,6 +102,7 @@ class CrunchbotSlam(Experiment):
         options: Mapping[str, Any],
         workers: int | None = None,
     ) -> Evaluation:
+        """Map the SLAM runs in three modes; score maps, trajectories, sensors, latencies."""
         from vibrissa.thesis.crunchbot_slam.evaluation import (
             evaluate_crunchbot,
             floor_texture_accuracy,
@@ -131,7 +134,7 @@ class CrunchbotSlam(Experiment):
         )
         lat = latency_stats(
             {
-                c.removeprefix("latency_").removesuffix("_s"): ds[c].values
+                str(c).removeprefix("latency_").removesuffix("_s"): ds[c].values
                 for c in ds.data_vars
                 if str(c).startswith("latency_")
             }
@@ -184,7 +187,7 @@ class CrunchbotSlam(Experiment):
                         "template_lt_geometric_lt_blob": bool(
                             means["template"] < means["geometric"] < means["blob"]
                         ),
-                        "order": sorted(means, key=means.get),
+                        "order": sorted(means, key=means.__getitem__),
                     },
                     "per_run": ev.per_run,
                     "thesis": THESIS,
@@ -203,6 +206,7 @@ class CrunchbotSlam(Experiment):
         workers: int | None = None,
         artifacts: Mapping[str, Any] | None = None,
     ) -> dict[str, Path]:
+        """Draw the maps, trajectory (with ``artifacts``), radial distances, texture trace."""
         from vibrissa.evaluate.figures.common import save_figure
         from vibrissa.thesis.crunchbot_slam.figures import (
             average_maps_figure,
@@ -261,11 +265,13 @@ class CrunchbotSlam(Experiment):
         figures: Mapping[str, Path],
         baseline: Mapping[str, Any] | None,
     ) -> str:
+        """CrunchBot's report Markdown body; ``baseline`` is not used."""
         from vibrissa.thesis.crunchbot_slam.report import markdown_crunchbot
 
         return markdown_crunchbot(results, figures)
 
     def summary(self, results: Mapping[str, Any]) -> dict[str, Any]:
+        """Map, trajectory, radial and texture errors, latency median and p99, and ``meta``."""
         meta = results["meta"]
         return {
             "map_error": results["map_error"],
@@ -281,6 +287,7 @@ class CrunchbotSlam(Experiment):
         }
 
     def console_table(self, summary: Mapping[str, Any]) -> Any:
+        """Map and trajectory error per mode beside the thesis', and the random map's."""
         from rich.table import Table
 
         from vibrissa.evaluate.report_common import fmt

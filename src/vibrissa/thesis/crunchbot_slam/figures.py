@@ -1,5 +1,7 @@
-"""Figures of CrunchBot's tactile SLAM (thesis 6.5): average maps (6.14), a floor-texture
-trace across tile boundaries (6.11), radial-distance estimates (6.12) and a trajectory.
+"""Figures of CrunchBot's tactile SLAM (thesis 6.5).
+
+Average maps (6.14), a floor-texture trace across tile boundaries (6.11),
+radial-distance estimates (6.12) and a trajectory.
 """
 
 from __future__ import annotations
@@ -56,7 +58,7 @@ def texture_trace_figure(
     ``true_codes``/``pred_codes`` are ``(n_steps, n_floor_whiskers)`` indices into
     ``textures`` (-1: none).
     """
-    n = true_codes.shape[1]
+    n: int = true_codes.shape[1]
     fig = Figure(figsize=(8.0, 1.8 * n + 0.6), layout="constrained")
     axes = np.atleast_1d(fig.subplots(n, 1, sharex=True))
     for k, ax in enumerate(axes):
@@ -128,8 +130,9 @@ def trajectory_figure(
     truth: np.ndarray | None = None,
     cell_m: float = 0.05,
 ) -> Figure:
-    """One run's true path against the filter's pose estimate per mode (and dead
-    reckoning), over the ground truth.
+    """One run's true path against the filter's pose estimate per mode, over the ground truth.
+
+    Dead reckoning is drawn as well.
     """
     fig = Figure(figsize=(5.5, 5.0), layout="constrained")
     ax = fig.add_subplot()

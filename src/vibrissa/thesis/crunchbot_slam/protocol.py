@@ -148,10 +148,8 @@ class CrunchbotProtocol(SelfGenerating, ChunkedTrials):
         """Runs: the SLAM runs and the floor-texture run."""
         return self.n_runs + (1 if self.texture_arena else 0)
 
-    @property
-    def chunk_size(self) -> int:
-        """One run per chunk."""
-        return 1
+    #: One run per chunk.
+    chunk_size = 1
 
     def to_dict(self) -> dict[str, Any]:
         """Every parameter as plain values (the robot by its function's name)."""
@@ -166,8 +164,10 @@ class CrunchbotProtocol(SelfGenerating, ChunkedTrials):
         return hashlib.sha256(blob).hexdigest()[:16]
 
     def signal_bytes(self) -> int:
-        """Bytes of the finished dataset: about 200 bytes an FSM step, 2 per robot second,
-        plus the kept Hall run (2 kHz, 12 float32 and a pose).
+        """Bytes of the finished dataset.
+
+        About 200 bytes an FSM step, 2 per robot second, plus the kept Hall run (2 kHz, 12
+        float32 and a pose).
         """
         steps = 3 * (self.n_runs * self.seconds + self.texture_seconds)
         return int(200 * steps + self.seconds * 2000 * (48 + 24 + 8))
@@ -182,10 +182,12 @@ class CrunchbotProtocol(SelfGenerating, ChunkedTrials):
         return int(stream(self.seed, TRIALS, index).generate_state(1)[0] % (2**31))
 
     def radial_fit_residuals_mm(self) -> dict[str, float] | None:
-        """Per obstacle whisker, the residual standard deviation (mm) of the radial
-        distance line on its own training contacts: the quantity of the thesis' table in
-        6.5.6.2 ("standard error for the regression", figure 6.12). ``None`` for a robot
-        without trained radial classifiers.
+        """Per obstacle whisker, the residual std (mm) of the radial-distance line.
+
+        The residual standard deviation of the radial distance line on its own training
+        contacts: the quantity of the thesis' table in 6.5.6.2 ("standard error for the
+        regression", figure 6.12). ``None`` for a robot without trained radial
+        classifiers.
         """
         clf = self.classifiers() if self.train is not None else None
         radial = getattr(clf, "radial", None)
@@ -194,8 +196,9 @@ class CrunchbotProtocol(SelfGenerating, ChunkedTrials):
         return {WHISKER_NAMES[w]: 1e3 * float(r.residual_std_m_) for w, r in enumerate(radial)}
 
     def classifiers(self) -> Any:
-        """The trained real-time classifiers (``None`` without training), trained once per
-        process, seed and ``quick_training``.
+        """The trained real-time classifiers (``None`` without training).
+
+        Trained once per process, seed and ``quick_training``.
         """
         if self.train is None:
             return None
@@ -219,9 +222,10 @@ class CrunchbotProtocol(SelfGenerating, ChunkedTrials):
         assert self.simulate_run is not None
         return self.simulate_run(arena, seconds, self.run_seed(index), **kwargs)
 
-    def simulate_trials(self, indices: Sequence[int]) -> dict[str, np.ndarray]:
-        """Simulate runs ``indices``; their per-step arrays flattened along the first axis
-        (one row per step, counts in ``n_steps``), so chunks concatenate.
+    def simulate_trials(self, indices: Sequence[int] | np.ndarray) -> dict[str, np.ndarray]:
+        """Simulate runs ``indices``; their per-step arrays flattened along the first axis.
+
+        One row per step, counts in ``n_steps``, so chunks concatenate.
         """
         parts = [
             _flatten(self.simulate(int(i)), int(i) == self.hall_run, self.textures())
@@ -247,8 +251,10 @@ class CrunchbotProtocol(SelfGenerating, ChunkedTrials):
         scheduler: str | None = None,
         **kwargs: Any,
     ) -> xr.Dataset:
-        """Train (in this process, so forked workers share it), then run every chunk with
-        :func:`~vibrissa.experiments.generate.generate` into ``path``.
+        """Train, then run every chunk into ``path``.
+
+        Training happens in this process, so forked workers share it; the chunks run with
+        :func:`~vibrissa.experiments.generate.generate`.
         """
         from vibrissa.experiments.generate import generate
 

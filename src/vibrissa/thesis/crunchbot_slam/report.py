@@ -1,6 +1,7 @@
-"""CrunchBot's report sections (thesis 6.5): map and trajectory errors beside the thesis' and
-the baselines, radial distance, floor texture, latencies and the discussion; every number
-from the results.
+"""CrunchBot's report sections (thesis 6.5).
+
+Map and trajectory errors beside the thesis' and the baselines, radial distance, floor
+texture, latencies and the discussion; every number from the results.
 """
 
 from __future__ import annotations

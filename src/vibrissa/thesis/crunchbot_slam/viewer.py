@@ -66,8 +66,10 @@ def slam_frames(
     seed: int = 0,
     progress: Callable[[int, int], None] | None = None,
 ) -> SlamFrames:
-    """Run the filter over ``log`` keeping each frame: :func:`vibrissa.slam.run_slam` with a
-    :class:`~vibrissa.slam.Frames` collector, so the final map is the one it scores.
+    """Run the filter over ``log`` keeping each frame.
+
+    :func:`vibrissa.slam.run_slam` with a :class:`~vibrissa.slam.Frames` collector, so the
+    final map is the one it scores.
 
     Parameters
     ----------
@@ -311,11 +313,13 @@ _TRACE_COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564
 
 
 def _finite_or_null(a: np.ndarray) -> list:
-    """``a`` as nested lists with ``None`` (JSON ``null``) where it is not finite: JSON
-    has no NaN, and ``JSON.parse`` refuses the page's data otherwise.
+    """``a`` as nested lists with ``None`` (JSON ``null``) where it is not finite.
+
+    JSON has no NaN, and ``JSON.parse`` refuses the page's data otherwise.
     """
     arr = np.asarray(a, float)
-    return np.where(np.isfinite(arr), arr, None).tolist()
+    # numpy's stubs take no None for ``where``'s ``y``; it is an object scalar at run time
+    return np.where(np.isfinite(arr), arr, None).tolist()  # type: ignore[call-overload]
 
 
 def write_viewer_html(
@@ -428,8 +432,10 @@ def watch_run(
     train: Callable[..., Any] | None = None,
     progress: Callable[[str, float], None] | None = None,
 ) -> dict[str, Any]:
-    """One run, then SLAM step by step, then ``crunchbot.gif`` and ``crunchbot.html`` in
-    ``out_dir`` (both written atomically); returns a summary.
+    """One run, then SLAM step by step, then the GIF and HTML viewer; returns a summary.
+
+    The files are ``crunchbot.gif`` and ``crunchbot.html`` in ``out_dir`` (both written
+    atomically).
 
     ``progress(stage, fraction)`` with stage ``"robot"``, ``"slam"`` or ``"draw"``.
     """

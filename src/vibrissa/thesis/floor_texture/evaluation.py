@@ -101,9 +101,10 @@ def condition_windows(ds: xr.Dataset, condition: str, floors: list[str]) -> dict
 
 
 def floor_classifiers(sample_rate_hz: float) -> dict[str, Any]:
-    """The methods of 6.2: spectral templates (one mean template per floor, the
-    thesis'), the nearest single training spectrum (a variant), and stationary naive
-    Bayes on raw values (6.2.3).
+    """The methods of 6.2: spectral templates, the nearest spectrum and naive Bayes.
+
+    Spectral templates (one mean template per floor, the thesis'), the nearest single
+    training spectrum (a variant), and stationary naive Bayes on raw values (6.2.3).
 
     The spectra leave out the DC bin, as the thesis author's chapter-4 code did
     (``zero_dc``, docs/methods.md): a window's mean is the whisker's static bend,

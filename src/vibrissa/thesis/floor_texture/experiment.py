@@ -44,6 +44,7 @@ class FloorTexture(Experiment):
     )
 
     def protocol(self, quick: bool, seed: int) -> SimulationProtocol:
+        """The Roomba session over all four floors (``quick``: fewer, shorter trials)."""
         from vibrissa.thesis.floor_texture.protocol import floor_protocol
 
         return floor_protocol(quick=quick, seed=seed)
@@ -51,6 +52,7 @@ class FloorTexture(Experiment):
     def protocol_for(
         self, quick: bool, seed: int, options: Mapping[str, Any]
     ) -> SimulationProtocol:
+        """The Roomba session over the floors chosen with ``--floors``."""
         from vibrissa.thesis.floor_texture.protocol import floor_protocol
 
         chosen = set(options.get("floors") or floor_names())
@@ -67,6 +69,7 @@ class FloorTexture(Experiment):
         options: Mapping[str, Any],
         workers: int | None = None,
     ) -> Evaluation:
+        """Run spectral templates, the cross-condition test and naive Bayes on ``ds``."""
         # a few fits on a few hundred windows: this process (``workers`` is not used)
         from vibrissa.thesis.floor_texture.evaluation import run_floor_texture
 
@@ -82,6 +85,7 @@ class FloorTexture(Experiment):
         workers: int | None = None,
         artifacts: Mapping[str, Any] | None = None,
     ) -> dict[str, Path]:
+        """Draw the results figures and, with ``dataset``, example signals and tip paths."""
         if not figures:
             return {}
         from vibrissa.thesis.floor_texture.figures import floor_figures
@@ -102,11 +106,13 @@ class FloorTexture(Experiment):
         figures: Mapping[str, Path],
         baseline: Mapping[str, Any] | None,
     ) -> str:
+        """The floor-texture Markdown body; ``baseline`` is not used."""
         from vibrissa.thesis.floor_texture.report import markdown_floor_texture
 
         return markdown_floor_texture(results, figures, baseline)
 
     def summary(self, results: Mapping[str, Any]) -> dict[str, Any]:
+        """Confusion matrices, mean correct, both cross-condition scores and naive Bayes'."""
         cross = results["cross_condition"]
         return {
             "confusion": results["confusion"],
@@ -119,6 +125,7 @@ class FloorTexture(Experiment):
         }
 
     def console_table(self, summary: Mapping[str, Any]) -> Any:
+        """Mean correct per condition (templates, thesis, naive Bayes), cross-condition."""
         from rich.table import Table
 
         from vibrissa.thesis.floor_texture.report import percent
@@ -146,7 +153,7 @@ class FloorTexture(Experiment):
 
 def _example_signals(ds: xr.Dataset, condition: str = "clockwise") -> dict[str, np.ndarray]:
     """The first trial of each floor in ``condition`` (figure 6.2)."""
-    out = {}
+    out: dict[str, np.ndarray] = {}
     for i in np.flatnonzero(ds["condition"].values == condition):
         f = str(ds["floor"].values[i])
         out.setdefault(f, ds["signal"].values[i])

@@ -130,8 +130,10 @@ def signals_figure(
 def trajectories_figure(
     paths: Mapping[str, Mapping[str, np.ndarray]], axes: Any = None
 ) -> np.ndarray:
-    """The tip's path over the floor, per condition: ``paths[c]`` holds ``x_mm``,
-    ``y_mm`` (floor frame) and ``kept`` (bool per point: its packet was kept).
+    """The tip's path over the floor, per condition.
+
+    ``paths[c]`` holds ``x_mm``, ``y_mm`` (floor frame) and ``kept`` (bool per point: its
+    packet was kept).
     """
     axs = _axes(axes, 1, len(paths), (3.2 * len(paths), 3.4)).ravel()
     for ax, (c, p) in zip(axs, paths.items(), strict=True):

@@ -142,7 +142,7 @@ class FloorProtocol(ChunkedTrials):
 
     def trials(self) -> list[FloorTrialSpec]:
         """Every trial, in canonical order: condition, then floor, then repetition."""
-        specs = []
+        specs: list[FloorTrialSpec] = []
         for c in self.conditions:
             for f in self.floors:
                 for k in range(1, self.trials_per_condition + 1):
@@ -174,9 +174,11 @@ class FloorProtocol(ChunkedTrials):
         return hashlib.sha256(blob).hexdigest()[:16]
 
     # ------------------------------------------------------------------ simulation
-    def simulate_trials(self, indices: Sequence[int]) -> dict[str, np.ndarray]:
-        """Simulate the trials ``indices``; each draws from its own stream
-        ``(TRIALS, index)`` of the seed, so the bytes do not depend on chunking.
+    def simulate_trials(self, indices: Sequence[int] | np.ndarray) -> dict[str, np.ndarray]:
+        """Simulate the trials ``indices``.
+
+        Each draws from its own stream ``(TRIALS, index)`` of the seed, so the bytes do not
+        depend on chunking.
 
         Returns
         -------
@@ -218,9 +220,11 @@ class FloorProtocol(ChunkedTrials):
         return out
 
     def seconds_per_trial(self) -> float:
-        """Wall-clock seconds of one trial on one core of this machine, estimated from a
-        1 s trial of the middle of the session (after one that loads the kernels), the
-        robot moving from the start (a stationary whisker costs next to nothing).
+        """Wall-clock seconds of one trial on one core of this machine.
+
+        Estimated from a 1 s trial of the middle of the session (after one that loads the
+        kernels), the robot moving from the start (a stationary whisker costs next to
+        nothing).
         """
         import time
 
@@ -301,8 +305,10 @@ def _sheet(floor: str, seed: int):
 
 
 def floor_protocol(quick: bool = False, **overrides: Any) -> FloorProtocol:
-    """The Roomba protocol; ``quick``: 2 trials of 4 s per floor and condition (24
-    trials) instead of 4 of 16 s (48). ``overrides`` replace fields (``None`` ignored).
+    """The Roomba protocol (``quick``: a small one); ``overrides`` replace fields.
+
+    ``quick``: 2 trials of 4 s per floor and condition (24 trials) instead of 4 of 16 s
+    (48). ``overrides`` replace fields (``None`` ignored).
     """
     changes = {k: v for k, v in overrides.items() if v is not None}
     if quick:
@@ -311,16 +317,18 @@ def floor_protocol(quick: bool = False, **overrides: Any) -> FloorProtocol:
 
 
 def tip_paths(ds: xr.Dataset) -> dict[str, dict[str, np.ndarray]]:
-    """The tip's path in the first trial of each condition of a session's dataset (figure
-    6.1's paths), from the same random stream the simulation drew the base's motion from,
-    with each point's packet kept or not (:func:`vibrissa.signal.active_packets`).
+    """The tip's path in the first trial of each condition of a session's dataset.
+
+    Figure 6.1's paths, from the same random stream the simulation drew the base's motion
+    from, with each point's packet kept or not (:func:`vibrissa.signal.active_packets`).
     """
     from vibrissa.signal import PACKET_SAMPLES, active_packets
 
     params = json.loads(ds.attrs["protocol_params"])
-    roomba = Roomba(
-        **{k: tuple(v) if isinstance(v, list) else v for k, v in params["roomba"].items()}
-    )
+    fields: dict[str, Any] = {
+        k: tuple(v) if isinstance(v, list) else v for k, v in params["roomba"].items()
+    }
+    roomba = Roomba(**fields)
     length = float(json.loads(ds.attrs["whisker"])["length_mm"])
     fs = float(ds.attrs["sample_rate_hz"])
     paths: dict[str, dict[str, np.ndarray]] = {}

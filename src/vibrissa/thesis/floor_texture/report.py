@@ -75,8 +75,10 @@ def markdown_floor_texture(
     figures: Mapping[str, Path] | None,
     baseline: Mapping[str, Any] | None = None,
 ) -> str:
-    """The Markdown report body of floor-texture results
-    (:func:`~vibrissa.thesis.floor_texture.evaluation.run_floor_texture`); ``baseline`` is
+    """The Markdown report body of floor-texture results.
+
+    The results are those of
+    :func:`~vibrissa.thesis.floor_texture.evaluation.run_floor_texture`; ``baseline`` is
     not used: the thesis' numbers are the comparison.
     """
     meta = results["meta"]

@@ -510,8 +510,10 @@ def window_head(estimator: Any) -> tuple[str | None, Any, Any]:
         Pipeline. ``(None, None, None)`` when the estimator does not start with a
         window followed by another step.
     """
-    steps = getattr(estimator, "steps", None)
-    if not isinstance(estimator, Pipeline) or len(steps) < 2:
+    if not isinstance(estimator, Pipeline):
+        return None, None, None
+    steps = estimator.steps
+    if len(steps) < 2:
         return None, None, None
     head = steps[0][1]
     if type(head) is not RecordingWindow:

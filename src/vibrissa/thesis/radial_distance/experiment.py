@@ -50,6 +50,7 @@ class RadialDistance(Experiment):
     options = (Option("n_seeds", 5, "Repeats of each reduced training set (thesis: 5)."),)
 
     def protocol(self, quick: bool, seed: int) -> SimulationProtocol:
+        """The ``radial-distance`` protocol: the XY robot's pole-contact grid (chapter 4)."""
         return get_protocol("radial-distance", quick=quick, seed=seed)
 
     def evaluate(
@@ -61,6 +62,7 @@ class RadialDistance(Experiment):
         options: Mapping[str, int],
         workers: int | None = None,
     ) -> Evaluation:
+        """Run the five classifiers on the thesis code's split and the text's one-set split."""
         from vibrissa.classify import CHAPTER4_ONE_SET, chapter4_classifiers, dataset_sample_rate
         from vibrissa.data import whisker_params
         from vibrissa.thesis.radial_distance.evaluation import run_chapter4
@@ -117,6 +119,7 @@ class RadialDistance(Experiment):
         workers: int | None = None,
         artifacts: Mapping[str, Any] | None = None,
     ) -> dict[str, Path]:
+        """Write the chapter-4 CSV tables and (if ``figures``) figures into ``out_dir``."""
         from vibrissa.thesis.radial_distance.report import write_outputs
 
         return write_outputs(results, out_dir, figures=figures, dataset=dataset, workers=workers)
@@ -127,11 +130,13 @@ class RadialDistance(Experiment):
         figures: Mapping[str, Path],
         baseline: Mapping[str, Any] | None,
     ) -> str:
+        """The chapter-4 Markdown body; ``baseline`` adds its table 4.7 as "before"."""
         from vibrissa.thesis.radial_distance.report import markdown_report
 
         return markdown_report(results, figures=figures, baseline=baseline)
 
     def summary(self, results: Mapping[str, Any]) -> dict[str, Any]:
+        """Radius, speed and classify time per classifier, full and per training fraction."""
         return {
             "classifiers": {k: _summary(v) for k, v in results["classifiers"].items()},
             "training_fractions": {
@@ -141,6 +146,7 @@ class RadialDistance(Experiment):
         }
 
     def console_table(self, summary: Mapping[str, Any]) -> Any:
+        """Table 4.7: signed errors and classify time per classifier, the thesis' stds."""
         from rich.table import Table
 
         from vibrissa.thesis.radial_distance.values import THESIS_CHAPTER4, THESIS_COLUMNS
@@ -163,8 +169,8 @@ class RadialDistance(Experiment):
             return "-" if x is None else f"{x:.2f}"
 
         for name, e in summary["classifiers"].items():
-            col = THESIS_COLUMNS.get(name, (None, None))[0]
-            th = thesis.get(col) or {} if col else {}
+            thesis_col = THESIS_COLUMNS.get(name, (None, None))[0]
+            th = thesis.get(thesis_col) or {} if thesis_col else {}
             sp = e["speed_mm_s"]
             table.add_row(
                 name,

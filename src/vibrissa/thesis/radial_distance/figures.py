@@ -1,5 +1,6 @@
-"""Result figures of chapter 4 (input: the results of
-:func:`vibrissa.thesis.radial_distance.evaluation.run_chapter4`): figures 4.2-4.12.
+"""Result figures of chapter 4: figures 4.2-4.12.
+
+Input: the results of :func:`vibrissa.thesis.radial_distance.evaluation.run_chapter4`.
 
 Every plotting function takes ``ax=None`` and returns the axes it drew on;
 :func:`classifier_figure` composes several and returns its Figure.
@@ -95,7 +96,8 @@ def error_histogram(
     check_parameter(parameter)
     err = np.asarray(errors, dtype=float).ravel()
     ax = new_axes(ax)
-    ax.hist(err, bins=_bins(err) if bins is None else bins, color="0.35")
+    # matplotlib's stubs type ``bins`` as int, str or Sequence[float]; an ndarray works
+    ax.hist(err, bins=_bins(err) if bins is None else bins, color="0.35")  # type: ignore[arg-type]
     ax.axvline(0.0, color="C3", lw=0.8)
     ax.set_xlabel(f"{PARAMETER_LABELS[parameter]} error")
     ax.set_ylabel("trials (count)")
@@ -434,12 +436,14 @@ def _slug(name: str) -> str:
 def _figure(results: Mapping[str, Any], kind: str, name: str | None) -> Figure:
     """One figure of :func:`chapter4_figures`: ``errors``, ``training_size`` or ``comparison``."""
     if kind == "errors":
+        assert name is not None, "an errors figure is one classifier's"
         return classifier_figure(results, name)
     fig = Figure(
         figsize=(10.0, 3.8) if kind == "training_size" else (11.0, 4.0), layout="constrained"
     )
     a, b = fig.subplots(1, 2)
     if kind == "training_size":
+        assert name is not None, "a training_size figure is one classifier's"
         training_size_plot(results, name, "radius_mm", ax=a)
         training_size_plot(results, name, "speed_mm_s", ax=b)
         a.set_title(f"(a) {SHORT_NAMES.get(name, name)}: radius")
@@ -488,7 +492,7 @@ def chapter4_figures(
         are present), ``"training_size/<name>"`` (if reduced sets were run),
         ``"comparison"`` (figure 4.12).
     """
-    from vibrissa.evaluate.jobs import SharedArrays, run_jobs
+    from vibrissa.evaluate.jobs import SharedArrays, resolve_workers, run_jobs
 
     out = Path(out_dir)
     jobs: dict[str, tuple[str, str | None, Path]] = {}
@@ -502,7 +506,7 @@ def chapter4_figures(
                 out / f"training_size_{_slug(name)}.png",
             )
     jobs["comparison"] = ("comparison", None, out / "comparison.png")
-    with SharedArrays(workers) as none:
+    with SharedArrays(resolve_workers(workers)) as none:
         paths = run_jobs(
             _draw,
             [

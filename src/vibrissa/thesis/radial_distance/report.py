@@ -181,7 +181,7 @@ def _fraction_table(results: Mapping[str, Any], name: str, table: str | None) ->
                     *[fmt(_get(_ours(results, name, f), par, stat)) for f in fracs],
                 ]
             )
-            if thesis is not None:
+            if thesis is not None and table is not None:
                 rows.append(
                     [
                         plabel,

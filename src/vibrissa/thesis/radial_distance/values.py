@@ -1,5 +1,7 @@
-"""The thesis' chapter-4 numbers (Evans 2011, 4.4): tables 4.1-4.7, the static beam's text,
-and which thesis column each of our classifiers is compared with.
+"""The thesis' chapter-4 numbers (Evans 2011, 4.4).
+
+Tables 4.1-4.7, the static beam's text, and which thesis column each of our classifiers
+is compared with.
 """
 
 from __future__ import annotations

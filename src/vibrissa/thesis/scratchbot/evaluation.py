@@ -1,6 +1,7 @@
-"""SCRATCHbot's evaluation (thesis 6.3): features per condition, the chapter-4 classifiers
-on odd/even whisks, the relations of figure 6.5, the closed-loop RCP runs and figure 3.9's
-numbers.
+"""SCRATCHbot's evaluation (thesis 6.3).
+
+Features per condition, the chapter-4 classifiers on odd/even whisks, the relations of
+figure 6.5, the closed-loop RCP runs and figure 3.9's numbers.
 """
 
 from __future__ import annotations
@@ -32,8 +33,10 @@ def _episodes(force: np.ndarray, dt_s: float, gap_s: float = 0.02) -> int:
 
 
 def closed_loop_summary(ds: xr.Dataset, half_range_fraction: float) -> dict[str, Any] | None:
-    """Per RCP setting of the closed-loop runs: peak deflection (V), contacts and
-    contact time per whisk, largest ``z``; ``None`` without closed-loop runs.
+    """Per RCP setting of the closed-loop runs, their whisk statistics.
+
+    Peak deflection (V), contacts and contact time per whisk, largest ``z``; ``None``
+    without closed-loop runs.
 
     ``half_range_fraction`` scales the normalised deflection to volts: the Hall
     output's half range as a fraction of its supply
@@ -98,7 +101,7 @@ def evaluate_scratchbot(
     labels = ["radial_distance_mm", "whisk_frequency_hz"]
     X, y = as_arrays(ds, labels)
     feats = contact_features(X, fs, threshold_v=THRESHOLD_V, duration_mode="peak")
-    conditions = []
+    conditions: list[dict[str, Any]] = []
     for r, f in sorted({(float(a), float(b)) for a, b in y}, key=lambda t: (t[1], t[0])):
         m = (y[:, 0] == r) & (y[:, 1] == f)
         conditions.append(

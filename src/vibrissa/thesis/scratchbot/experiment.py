@@ -36,6 +36,7 @@ class Scratchbot(Experiment):
     )
 
     def protocol(self, quick: bool, seed: int) -> SimulationProtocol:
+        """SCRATCHbot's grid with 12 whisks per condition (``quick``: 4)."""
         return scratchbot_protocol(quick=quick, seed=seed)
 
     def evaluate(
@@ -47,6 +48,7 @@ class Scratchbot(Experiment):
         options: Mapping[str, int],
         workers: int | None = None,
     ) -> Evaluation:
+        """Evaluate ``ds`` and simulate figure 3.9's panels (kept as artifacts)."""
         from vibrissa.robots.whisking import HALF_RANGE_FRACTION, figure_3_9
         from vibrissa.thesis.scratchbot.evaluation import evaluate_scratchbot
 
@@ -69,6 +71,7 @@ class Scratchbot(Experiment):
         workers: int | None = None,
         artifacts: Mapping[str, Any] | None = None,
     ) -> dict[str, Path]:
+        """Draw figures 6.5 and 3.9 and, with ``dataset``, whisk and closed-loop traces."""
         from vibrissa.evaluate.figures.common import save_figure
         from vibrissa.evaluate.figures.whisking import whisk_trajectories_figure
         from vibrissa.robots.whisking import figure_3_9
@@ -149,12 +152,13 @@ class Scratchbot(Experiment):
         figures: Mapping[str, Path],
         baseline: Mapping[str, Any] | None,
     ) -> str:
-
+        """SCRATCHbot's report Markdown body; ``baseline`` is not used."""
         from vibrissa.thesis.scratchbot.report import markdown_scratchbot
 
         return markdown_scratchbot(results, figures)
 
     def summary(self, results: Mapping[str, Any]) -> dict[str, Any]:
+        """Each condition's features, the classifiers, the relations and the closed loop."""
         return {
             "conditions": [
                 {

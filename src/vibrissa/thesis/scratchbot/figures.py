@@ -12,8 +12,10 @@ __all__ = ["gating_figure", "scratchbot_features_figure"]
 
 
 def scratchbot_features_figure(conditions: Sequence[Mapping[str, Any]]) -> Figure:
-    """Figure 6.5 in numbers: peak deflection against radial distance (a) and
-    contact duration against whisk frequency (b), mean +/- std per condition.
+    """Figure 6.5 in numbers, mean +/- std per condition.
+
+    Peak deflection against radial distance (a) and contact duration against whisk
+    frequency (b).
     """
     fig = Figure(figsize=(9.0, 3.6), layout="constrained")
     ax_a, ax_b = fig.subplots(1, 2)
@@ -48,8 +50,10 @@ def scratchbot_features_figure(conditions: Sequence[Mapping[str, Any]]) -> Figur
 
 
 def gating_figure(panels: Sequence[Mapping[str, Any]]) -> Figure:
-    """Figure 3.9: per panel, both sides' whisk angles with their obstructions (top)
-    and the contacting side's gating variable ``z`` (bottom).
+    """Figure 3.9: whisk angles and the gating variable ``z``, per panel.
+
+    Per panel, both sides' whisk angles with their obstructions (top) and the contacting
+    side's gating variable ``z`` (bottom).
 
     Each panel maps ``title``, ``time_s``, ``angle_deg`` (2, n), ``gating`` (2, n)
     and ``obstacle_deg`` (2,).

@@ -261,9 +261,10 @@ class ScratchbotProtocol(SelfGenerating):
         }
 
     def simulate_rcp(self, index: int) -> dict[str, np.ndarray]:
-        """The closed loop under ``rcp_settings[index]``, at the control samples: housing
-        angle (deg), normalised ``x`` deflection, gating ``z`` and the largest contact
-        force of each control period (N).
+        """The closed loop under ``rcp_settings[index]``, at the control samples.
+
+        Housing angle (deg), normalised ``x`` deflection, gating ``z`` and the largest
+        contact force of each control period (N).
         """
         sz, tz = self.rcp_settings[index]
         g = preset(self.whisker)
@@ -307,8 +308,9 @@ class ScratchbotProtocol(SelfGenerating):
         progress: Callable[[int, int], None] | None = None,
         **kwargs: Any,
     ) -> xr.Dataset:
-        """Simulate every condition and the closed-loop comparison; save the dataset to
-        ``path`` (NetCDF). Local processes only (no ``scheduler``).
+        """Simulate every condition and the closed-loop comparison.
+
+        Save the dataset to ``path`` (NetCDF). Local processes only (no ``scheduler``).
         """
         from vibrissa.data import save_dataset
 
@@ -379,7 +381,9 @@ class ScratchbotProtocol(SelfGenerating):
                 out[i, : r[key].size] = r[key][:n_run]
             return out
 
-        data = {"signal": (("trial", "channel", "time"), sig, {"units": "V"})}
+        data: dict[str, tuple[Any, ...]] = {
+            "signal": (("trial", "channel", "time"), sig, {"units": "V"})
+        }
         for key, units in (("raw_v", "V"), ("air_v", "V"), ("angle_deg", "deg"), ("force_n", "N")):
             data[f"run_{key}"] = (("condition", "run_time"), padded(key), {"units": units})
         data["run_saturated"] = (("condition",), np.array([r["saturated"][0] for r in results]))

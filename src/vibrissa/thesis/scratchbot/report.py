@@ -1,5 +1,7 @@
-"""SCRATCHbot's report sections (thesis 6.3): relations, conditions, classifiers, figure 3.9
-and the closed-loop RCP runs; every number from the results.
+"""SCRATCHbot's report sections (thesis 6.3).
+
+Relations, conditions, classifiers, figure 3.9 and the closed-loop RCP runs; every number
+from the results.
 """
 
 from __future__ import annotations
@@ -16,9 +18,10 @@ __all__ = ["markdown_scratchbot"]
 
 
 def markdown_scratchbot(results: Mapping[str, Any], figures: Mapping[str, Path]) -> str:
-    """The report's Markdown body for SCRATCHbot results
-    (:func:`~vibrissa.thesis.scratchbot.evaluation.evaluate_scratchbot`) and the figures
-    written.
+    """The report's Markdown body for SCRATCHbot results and the figures written.
+
+    The results are those of
+    :func:`~vibrissa.thesis.scratchbot.evaluation.evaluate_scratchbot`.
     """
     rel = results["relations"]
     rows = [

@@ -1,5 +1,6 @@
-"""What the thesis says of SCRATCHbot (6.3, figure 6.5) and of figure 3.9 (3.4.2): it gives
-no numbers for these experiments, only these relations and outcomes.
+"""What the thesis says of SCRATCHbot (6.3, figure 6.5) and of figure 3.9 (3.4.2).
+
+It gives no numbers for these experiments, only these relations and outcomes.
 """
 
 from __future__ import annotations
