@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Collection, Mapping, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -554,6 +555,381 @@ def _longest_first(jobs: Sequence[Mapping[str, Any]]) -> list[int]:
 
 
 # --------------------------------------------------------------------------- protocol
+@dataclass(frozen=True)
+class _Inputs:
+    """The checked inputs of :func:`run_chapter4`.
+
+    Attributes
+    ----------
+    fractions : list of float
+        Reduced training-set sizes, checked, in the order given.
+    n_seeds, seed : int
+        Random subsets per fraction and the seed of the split and subsets.
+    n_workers : int
+        Processes that fit the classifiers.
+    split : Split
+        The train/test assignment.
+    sample_rate_hz : float
+        The dataset's sample rate.
+    X, y : numpy.ndarray
+        Every trial and its ``[radial_distance_mm, speed_mm_s]`` labels.
+    train_sets : dict of str to sequence
+        Each classifier's training sets (its own, or all the pooled ones).
+    train_index : dict of str to numpy.ndarray
+        Each classifier's training trials.
+    radius_only : set of str or None
+        Names of the radius-only classifiers; ``None``: tags and predictions decide.
+    """
+
+    fractions: list[float]
+    n_seeds: int
+    seed: int
+    n_workers: int
+    split: Split
+    sample_rate_hz: float
+    X: np.ndarray
+    y: np.ndarray
+    train_sets: dict[str, Sequence[Any]]
+    train_index: dict[str, np.ndarray]
+    radius_only: set[str] | None
+
+
+@dataclass(frozen=True)
+class _Plan:
+    """Every fit of :func:`run_chapter4`, planned and not yet run.
+
+    Attributes
+    ----------
+    reduced : dict
+        ``(fraction position, name, repeat)`` -> the reduced set's trials, ``None``
+        when it is too small to train on (recorded as skipped).
+    windows : dict of str to RecordingWindow
+        The windows shared by the reduced sets' fits, by :func:`window_head` key.
+    fit_keys : list of tuple
+        ``("full", name, -1)`` for every classifier, then the reduced sets' keys
+        that are fitted, in the order of ``jobs``.
+    jobs : list of dict
+        Keyword arguments of :func:`_job`, one per fit.
+    """
+
+    reduced: dict[tuple[int, str, int], np.ndarray | None]
+    windows: dict[str, Any]
+    fit_keys: list[tuple[Any, str, int]]
+    jobs: list[dict[str, Any]]
+
+
+def _check_inputs(
+    ds: xr.Dataset,
+    classifiers: Mapping[str, Any],
+    *,
+    fractions: Sequence[float],
+    n_seeds: int,
+    seed: int,
+    train_set: Any,
+    test_set: Any,
+    radius_only: Collection[str] | None,
+    require_complete: bool,
+    classifier_train_sets: Mapping[str, Sequence[Any]] | None,
+    workers: int | None,
+) -> _Inputs:
+    """Check the arguments of :func:`run_chapter4` and draw the train/test split.
+
+    Parameters
+    ----------
+    ds, classifiers, fractions, n_seeds, seed, train_set, test_set, radius_only
+        As for :func:`run_chapter4`.
+    require_complete, classifier_train_sets, workers
+        As for :func:`run_chapter4`.
+
+    Returns
+    -------
+    _Inputs
+        The checked inputs, the split and every classifier's training trials.
+
+    Raises
+    ------
+    ValueError
+        On the first wrong input, with the messages :func:`run_chapter4` documents.
+    """
+    if not isinstance(classifiers, Mapping) or not classifiers:
+        raise ValueError("classifiers must be a non-empty mapping of name -> estimator")
+    fr = [_check_fraction(f) for f in fractions]
+    if len(set(fr)) != len(fr):
+        raise ValueError(f"fractions contain duplicates: {list(fractions)}")
+    if isinstance(n_seeds, bool) or not isinstance(n_seeds, int | np.integer) or n_seeds < 1:
+        raise ValueError(f"n_seeds must be a positive integer, got {n_seeds!r}")
+    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
+        raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
+    n_workers = resolve_workers(workers)
+    split = split_sets(
+        ds, seed, train_set=train_set, test_set=test_set, require_complete=require_complete
+    )
+    fs = dataset_sample_rate(ds)
+    check_rates(classifiers, fs)
+    X, y = dataset_arrays(ds)
+    if not np.all(np.isfinite(X)):
+        raise ValueError("dataset 'signal' contains NaN or infinite values")
+    set_vals = np.asarray(ds["set"].values)
+    pooled = split.train_set if isinstance(split.train_set, list) else [split.train_set]
+    own_sets = dict(classifier_train_sets or {})
+    unknown = sorted(set(own_sets) - set(classifiers))
+    if unknown:
+        raise ValueError(f"classifier_train_sets names unknown classifier(s) {unknown}")
+    train_sets: dict[str, Sequence[Any]] = {}
+    train_index: dict[str, np.ndarray] = {}
+    for name in classifiers:
+        train_sets[name] = own_sets.get(name, pooled)
+        sets_k = list(train_sets[name])
+        bad = [s_ for s_ in sets_k if s_ not in pooled]
+        if bad or not sets_k:
+            raise ValueError(
+                f"classifier_train_sets[{name!r}] = {sets_k} must be a non-empty subset of "
+                f"the training sets {pooled}"
+            )
+        keep = np.isin(set_vals[split.train_index], sets_k)
+        train_index[name] = split.train_index[keep]
+    return _Inputs(
+        fractions=fr,
+        n_seeds=int(n_seeds),
+        seed=int(seed),
+        n_workers=n_workers,
+        split=split,
+        sample_rate_hz=fs,
+        X=X,
+        y=y,
+        train_sets=train_sets,
+        train_index=train_index,
+        radius_only=None if radius_only is None else set(radius_only),
+    )
+
+
+def _plan_fits(classifiers: Mapping[str, Any], inputs: _Inputs) -> _Plan:
+    """Draw the reduced training sets and list every fit as a job for the workers.
+
+    One permutation of the classes per repeat ``k`` (from
+    ``numpy.random.default_rng([seed, k])``) is shared by every fraction, so the
+    5 % subset is the head of the 10 % subset, as in the thesis.
+
+    Parameters
+    ----------
+    classifiers : mapping of str to sklearn estimator
+        As for :func:`run_chapter4`.
+    inputs : _Inputs
+        From :func:`_check_inputs`.
+
+    Returns
+    -------
+    _Plan
+        The full training sets' fits (one per classifier, through the whole
+        pipeline on the raw trials), then the reduced sets' fits that are not too
+        small (on the shared windows where the pipeline starts with one).
+    """
+    fr, n_seeds, y, train_index = inputs.fractions, inputs.n_seeds, inputs.y, inputs.train_index
+    ro_names = inputs.radius_only
+
+    def ro(name: str) -> bool | None:
+        if ro_names is None:
+            return None  # the estimator's tags and its predictions decide
+        return name in ro_names
+
+    # one permutation of the classes per repeat, shared by every classifier and
+    # fraction (the 5 % subset is the head of the 10 % subset, as in the thesis)
+    subsets = {
+        name: [
+            [
+                subsample_combinations(
+                    y[train_index[name]], f, np.random.default_rng([inputs.seed, k])
+                )
+                for f in fr
+            ]
+            for k in range(n_seeds)
+        ]
+        for name in classifiers
+    }
+    # the reduced sets' fits: (fraction, name, repeat) -> trials, None when too small
+    reduced: dict[tuple[int, str, int], np.ndarray | None] = {}
+    for i in range(len(fr)):
+        for name in classifiers:
+            y_tr = y[train_index[name]]
+            for k in range(n_seeds):
+                idx = subsets[name][k][i]
+                small = min(len(np.unique(y_tr[idx, c])) for c in range(y_tr.shape[1])) < 2
+                # too small a subset of a small grid to train on: recorded as skipped
+                reduced[i, name, k] = None if small else train_index[name][idx]
+    # the reduced sets' fits share the window each preset cuts from every recording
+    # (computed once, for all trials) and fit the rest of the pipeline on it
+    heads = {name: window_head(est) for name, est in classifiers.items()}
+    windows = {}
+    if any(v is not None for v in reduced.values()):
+        windows = {key: head for name, (key, head, _) in heads.items() if key is not None}
+
+    # every fit: the full training sets (table 4.6 times them) through the whole
+    # pipeline on the raw trials, the reduced sets on the shared windows
+    fit_keys: list[tuple[Any, str, int]] = [("full", name, -1) for name in classifiers]
+    fit_keys += [k for k, v in reduced.items() if v is not None]
+    jobs: list[dict[str, Any]] = []
+    for i, name, k in fit_keys:
+        key, _, rest = heads[name]
+        full = i == "full"
+        jobs.append(
+            {
+                "kind": "fit",
+                "name": name,
+                "estimator": classifiers[name] if full or key is None else rest,
+                "data": "X" if full or key is None else key,
+                "train": train_index[name] if full else reduced[i, name, k],
+                "test": inputs.split.test_index,
+                "radius_only": ro(name),
+                "keep_predictions": full,
+                "sample_rate_hz": inputs.sample_rate_hz,
+            }
+        )
+    return _Plan(reduced=reduced, windows=windows, fit_keys=fit_keys, jobs=jobs)
+
+
+def _run_fits(
+    plan: _Plan, inputs: _Inputs, prog: Progress
+) -> dict[tuple[Any, str, int], dict[str, Any]]:
+    """Cut the shared windows and run every planned fit on the worker processes.
+
+    The skipped reduced sets are reported to ``prog`` first, then every fit as it
+    finishes; the workers take the fits longest first (:func:`_longest_first`).
+
+    Parameters
+    ----------
+    plan : _Plan
+        From :func:`_plan_fits`.
+    inputs : _Inputs
+        From :func:`_check_inputs` (trials, labels, rate, fractions, workers).
+    prog : vibrissa.evaluate.loop.Progress
+        Advanced once per fit, skipped or run.
+
+    Returns
+    -------
+    dict
+        ``plan.fit_keys`` -> :func:`fit_and_score` results, in that order.
+    """
+    fr, fs = inputs.fractions, inputs.sample_rate_hz
+
+    def step(i: Any, name: str, k: int) -> None:
+        prog.step(
+            f"{name}: full training set"
+            if i == "full"
+            else f"{name}: {fr[i]:g} of training set, seed {k}"
+        )
+
+    for i, name, k in (k for k, v in plan.reduced.items() if v is None):
+        step(i, name, k)
+    with SharedArrays(inputs.n_workers) as arrays:
+        arrays.add("X", inputs.X)
+        arrays.add("y", inputs.y)
+        cut = run_jobs(
+            _job,
+            [
+                {"kind": "window", "window": head, "sample_rate_hz": fs}
+                for head in plan.windows.values()
+            ],
+            arrays,
+        )
+        for key, w in zip(plan.windows, cut, strict=True):
+            arrays.add(key, w)
+        del cut
+        jobs, fit_keys = plan.jobs, plan.fit_keys
+        done = run_jobs(
+            _job, jobs, arrays, order=_longest_first(jobs), on_done=lambda j: step(*fit_keys[j])
+        )
+    return dict(zip(plan.fit_keys, done, strict=True))
+
+
+def _assemble_results(
+    ds: xr.Dataset,
+    classifiers: Mapping[str, Any],
+    inputs: _Inputs,
+    fits: dict[tuple[Any, str, int], dict[str, Any]],
+    *,
+    keep_predictions: bool,
+) -> dict[str, Any]:
+    """Gather the fits' scores into the JSON-ready results of :func:`run_chapter4`.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The evaluated dataset (for its set values).
+    classifiers : mapping of str to sklearn estimator
+        As for :func:`run_chapter4` (for the names and their order).
+    inputs : _Inputs
+        From :func:`_check_inputs`.
+    fits : dict
+        From :func:`_run_fits`; its results are modified (predictions and the
+        reduced sets' errors by speed are taken out).
+    keep_predictions : bool
+        Include the full-training-set predictions.
+
+    Returns
+    -------
+    dict
+        As described in :func:`run_chapter4`.
+    """
+    X, y, fr, n_seeds, seed = inputs.X, inputs.y, inputs.fractions, inputs.n_seeds, inputs.seed
+    results: dict[str, Any] = {}
+    preds: dict[str, Any] = {}
+    for name in classifiers:
+        r = fits["full", name, -1]
+        y_pred = r.pop("y_pred")
+        r["train_sets"] = [json_value(v) for v in inputs.train_sets[name]]
+        results[name] = r
+        preds[name] = {
+            "radius_mm": y_pred[:, 0].tolist(),
+            "speed_mm_s": None if r["radius_only"] else y_pred[:, 1].tolist(),
+        }
+    fractions_out: dict[str, Any] = {}
+    for i, f in enumerate(fr):
+        key = fraction_key(f)
+        fractions_out[key] = {}
+        for name in classifiers:
+            runs = []
+            for k in range(n_seeds):
+                run = fits.get((i, name, k))
+                if run is None:
+                    continue
+                run.pop("radius_error_by_speed")
+                runs.append({"seed": [seed, k], **run})
+            fractions_out[key][name] = _average_runs(runs) if runs else None
+
+    out: dict[str, Any] = {
+        "meta": {
+            "evaluation": "evans2011_chapter4",
+            "n_trials": int(X.shape[0]),
+            "n_channels": int(X.shape[1]),
+            "n_timepoints": int(X.shape[2]),
+            "sample_rate_hz": inputs.sample_rate_hz,
+            "sets": [json_value(s) for s in np.unique(np.asarray(ds["set"].values))],
+            "split": inputs.split.to_dict(),
+            "radii_mm": np.unique(y[:, 0]).tolist(),
+            "speeds_mm_s": np.unique(y[:, 1]).tolist(),
+            "fractions": fr,
+            "n_seeds": n_seeds,
+            "seed": seed,
+        },
+        "parameters": {
+            key: {"coordinate": coord, "unit": unit, "values": np.unique(y[:, i]).tolist()}
+            for i, (coord, key, unit) in enumerate(
+                zip(PARAMETERS, PARAMETERS.values(), ("mm", "mm/s"), strict=True)
+            )
+        },
+        "classifiers": results,
+        "training_fractions": fractions_out,
+    }
+    if keep_predictions:
+        y_te = y[inputs.split.test_index]
+        out["predictions"] = {
+            "radius_mm_true": y_te[:, 0].tolist(),
+            "speed_mm_s_true": y_te[:, 1].tolist(),
+            "classifiers": preds,
+        }
+    return out
+
+
 def run_chapter4(
     ds: xr.Dataset,
     classifiers: Mapping[str, Any],
@@ -660,186 +1036,21 @@ def run_chapter4(
         "std" is the standard deviation of the signed per-trial errors (the
         thesis' "Std Err"); "mean" the mean signed error ``predicted - true``.
     """
-    if not isinstance(classifiers, Mapping) or not classifiers:
-        raise ValueError("classifiers must be a non-empty mapping of name -> estimator")
-    fr = [_check_fraction(f) for f in fractions]
-    if len(set(fr)) != len(fr):
-        raise ValueError(f"fractions contain duplicates: {list(fractions)}")
-    if isinstance(n_seeds, bool) or not isinstance(n_seeds, int | np.integer) or n_seeds < 1:
-        raise ValueError(f"n_seeds must be a positive integer, got {n_seeds!r}")
-    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
-        raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
-    n_workers = resolve_workers(workers)
-    split = split_sets(
-        ds, seed, train_set=train_set, test_set=test_set, require_complete=require_complete
+    inputs = _check_inputs(
+        ds,
+        classifiers,
+        fractions=fractions,
+        n_seeds=n_seeds,
+        seed=seed,
+        train_set=train_set,
+        test_set=test_set,
+        radius_only=radius_only,
+        require_complete=require_complete,
+        classifier_train_sets=classifier_train_sets,
+        workers=workers,
     )
-    fs = dataset_sample_rate(ds)
-    check_rates(classifiers, fs)
-    X, y = dataset_arrays(ds)
-    if not np.all(np.isfinite(X)):
-        raise ValueError("dataset 'signal' contains NaN or infinite values")
-    y_te = y[split.test_index]
-    set_vals = np.asarray(ds["set"].values)
-    pooled = split.train_set if isinstance(split.train_set, list) else [split.train_set]
-    own_sets = dict(classifier_train_sets or {})
-    unknown = sorted(set(own_sets) - set(classifiers))
-    if unknown:
-        raise ValueError(f"classifier_train_sets names unknown classifier(s) {unknown}")
-    train_index: dict[str, np.ndarray] = {}
-    for name in classifiers:
-        sets_k = list(own_sets.get(name, pooled))
-        bad = [s_ for s_ in sets_k if s_ not in pooled]
-        if bad or not sets_k:
-            raise ValueError(
-                f"classifier_train_sets[{name!r}] = {sets_k} must be a non-empty subset of "
-                f"the training sets {pooled}"
-            )
-        keep = np.isin(set_vals[split.train_index], sets_k)
-        train_index[name] = split.train_index[keep]
-
-    ro_names = None if radius_only is None else set(radius_only)
-
-    def ro(name: str) -> bool | None:
-        if ro_names is None:
-            return None  # the estimator's tags and its predictions decide
-        return name in ro_names
-
-    total = len(classifiers) * (1 + len(fr) * int(n_seeds))
+    total = len(classifiers) * (1 + len(inputs.fractions) * inputs.n_seeds)
     prog = Progress(progress, total, "chapter 4")
-    test_index = split.test_index
-
-    # one permutation of the classes per repeat, shared by every classifier and
-    # fraction (the 5 % subset is the head of the 10 % subset, as in the thesis)
-    subsets = {
-        name: [
-            [
-                subsample_combinations(
-                    y[train_index[name]], f, np.random.default_rng([int(seed), k])
-                )
-                for f in fr
-            ]
-            for k in range(int(n_seeds))
-        ]
-        for name in classifiers
-    }
-    # the reduced sets' fits: (fraction, name, repeat) -> trials, None when too small
-    reduced: dict[tuple[int, str, int], np.ndarray | None] = {}
-    for i in range(len(fr)):
-        for name in classifiers:
-            y_tr = y[train_index[name]]
-            for k in range(int(n_seeds)):
-                idx = subsets[name][k][i]
-                small = min(len(np.unique(y_tr[idx, c])) for c in range(y_tr.shape[1])) < 2
-                # too small a subset of a small grid to train on: recorded as skipped
-                reduced[i, name, k] = None if small else train_index[name][idx]
-    # the reduced sets' fits share the window each preset cuts from every recording
-    # (computed once, for all trials) and fit the rest of the pipeline on it
-    heads = {name: window_head(est) for name, est in classifiers.items()}
-    windows = {}
-    if any(v is not None for v in reduced.values()):
-        windows = {key: head for name, (key, head, _) in heads.items() if key is not None}
-
-    names = list(classifiers)
-    # every fit: the full training sets (table 4.6 times them) through the whole
-    # pipeline on the raw trials, the reduced sets on the shared windows
-    fit_keys: list[tuple[Any, str, int]] = [("full", name, -1) for name in names]
-    fit_keys += [k for k, v in reduced.items() if v is not None]
-    jobs: list[dict[str, Any]] = []
-    for i, name, k in fit_keys:
-        key, _, rest = heads[name]
-        full = i == "full"
-        jobs.append(
-            {
-                "kind": "fit",
-                "name": name,
-                "estimator": classifiers[name] if full or key is None else rest,
-                "data": "X" if full or key is None else key,
-                "train": train_index[name] if full else reduced[i, name, k],
-                "test": test_index,
-                "radius_only": ro(name),
-                "keep_predictions": full,
-                "sample_rate_hz": fs,
-            }
-        )
-
-    def step(i: Any, name: str, k: int) -> None:
-        prog.step(
-            f"{name}: full training set"
-            if i == "full"
-            else f"{name}: {fr[i]:g} of training set, seed {k}"
-        )
-
-    for i, name, k in (k for k, v in reduced.items() if v is None):
-        step(i, name, k)
-    with SharedArrays(n_workers) as arrays:
-        arrays.add("X", X)
-        arrays.add("y", y)
-        cut = run_jobs(
-            _job,
-            [{"kind": "window", "window": head, "sample_rate_hz": fs} for head in windows.values()],
-            arrays,
-        )
-        for key, w in zip(windows, cut, strict=True):
-            arrays.add(key, w)
-        del cut
-        done = run_jobs(
-            _job, jobs, arrays, order=_longest_first(jobs), on_done=lambda j: step(*fit_keys[j])
-        )
-    fits = dict(zip(fit_keys, done, strict=True))
-
-    results: dict[str, Any] = {}
-    preds: dict[str, Any] = {}
-    for name in names:
-        r = fits["full", name, -1]
-        y_pred = r.pop("y_pred")
-        r["train_sets"] = [json_value(v) for v in own_sets.get(name, pooled)]
-        results[name] = r
-        preds[name] = {
-            "radius_mm": y_pred[:, 0].tolist(),
-            "speed_mm_s": None if r["radius_only"] else y_pred[:, 1].tolist(),
-        }
-    fractions_out: dict[str, Any] = {}
-    for i, f in enumerate(fr):
-        key = fraction_key(f)
-        fractions_out[key] = {}
-        for name in classifiers:
-            runs = []
-            for k in range(int(n_seeds)):
-                r = fits.get((i, name, k))
-                if r is None:
-                    continue
-                r.pop("radius_error_by_speed")
-                runs.append({"seed": [int(seed), k], **r})
-            fractions_out[key][name] = _average_runs(runs) if runs else None
-
-    out: dict[str, Any] = {
-        "meta": {
-            "evaluation": "evans2011_chapter4",
-            "n_trials": int(X.shape[0]),
-            "n_channels": int(X.shape[1]),
-            "n_timepoints": int(X.shape[2]),
-            "sample_rate_hz": fs,
-            "sets": [json_value(s) for s in np.unique(np.asarray(ds["set"].values))],
-            "split": split.to_dict(),
-            "radii_mm": np.unique(y[:, 0]).tolist(),
-            "speeds_mm_s": np.unique(y[:, 1]).tolist(),
-            "fractions": fr,
-            "n_seeds": int(n_seeds),
-            "seed": int(seed),
-        },
-        "parameters": {
-            key: {"coordinate": coord, "unit": unit, "values": np.unique(y[:, i]).tolist()}
-            for i, (coord, key, unit) in enumerate(
-                zip(PARAMETERS, PARAMETERS.values(), ("mm", "mm/s"), strict=True)
-            )
-        },
-        "classifiers": results,
-        "training_fractions": fractions_out,
-    }
-    if keep_predictions:
-        out["predictions"] = {
-            "radius_mm_true": y_te[:, 0].tolist(),
-            "speed_mm_s_true": y_te[:, 1].tolist(),
-            "classifiers": preds,
-        }
-    return out
+    plan = _plan_fits(classifiers, inputs)
+    fits = _run_fits(plan, inputs, prog)
+    return _assemble_results(ds, classifiers, inputs, fits, keep_predictions=keep_predictions)
