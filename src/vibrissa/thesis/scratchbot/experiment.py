@@ -6,7 +6,7 @@ peak deflection and the contact duration of every whisk (the chapter-4 features,
 4.3.4: peak magnitude and the supra-0.05 V run about the peak); the chapter-4
 feature and template classifiers trained on the odd whisks and tested on the
 even ones. The report also draws figure 3.9 (rapid cessation of protraction
-with two gains, :func:`vibrissa.robots.whisking.obstacle_whisk`).
+with two gains, :func:`vibrissa.robots.whisking.figure_3_9`).
 """
 
 from __future__ import annotations
