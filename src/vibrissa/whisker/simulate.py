@@ -112,13 +112,18 @@ class SurfaceContact:
     a surface parallel to the shaft, 90 deg a surface square to it. The outward
     normal points toward ``+x`` (objects come from ``-x``):
     ``n = (cos a, 0, -sin a)``, in-plane direction ``u = (sin a, 0, cos a)``.
+    Negative angles (down to -90 deg) tilt the normal toward ``+z``: a plane that a
+    whisker turned past it by its housing (:class:`BaseMotion`) meets with its tip,
+    e.g. a wall ahead of a whisker resting sideways. The contact kernels use only the
+    frame, so such a plane is the rotated image of one in [0, 90] deg
+    (``tests/whisker/test_simulate_plane_angles.py``).
 
     Parameters
     ----------
     surface
         Height field (see :func:`vibrissa.whisker.surfaces.make_surface`).
     angle_deg
-        Surface angle in [0, 90] degrees.
+        Surface angle in [-90, 90] degrees (negative: see above).
     friction
         Coulomb coefficient; ``None`` takes the surface's.
     stiffness_n_m, damping_n_s_m
@@ -139,7 +144,7 @@ class SurfaceContact:
     side: int = 1
 
     def __post_init__(self) -> None:
-        in_range("angle_deg", self.angle_deg, 0.0, 90.0, "deg")
+        in_range("angle_deg", self.angle_deg, -90.0, 90.0, "deg")
         if self.side not in (1, -1):
             raise ValueError(f"side must be +1 or -1, got {self.side!r}")
         positive("presliding_distance_um", self.presliding_distance_um)
