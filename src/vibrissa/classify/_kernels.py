@@ -1,7 +1,7 @@
 """Numba kernels of the classifiers.
 
-They compute the L1 template distances, the static beam's grid search and the naive Bayes
-histograms.
+They compute the L1 template distances, the static beam's grid search, the naive Bayes
+histograms and MiniRocket's PPV features.
 
 The kernels give the same numbers, bit for bit, as the NumPy/SciPy code they
 replaced, so the classifiers' predictions do not change:
@@ -23,6 +23,11 @@ replaced, so the classifiers' predictions do not change:
   Bayes' bin arithmetic, without the index arrays of ``numpy.bincount`` (a value
   more than 2**63 bins beyond the range now lands in the end bin it lies beyond;
   NumPy's integer conversion had put it in bin 0).
+- :func:`minirocket_ppv` computes :class:`~vibrissa.classify.MiniRocketClassifier`'s
+  convolutions with the float32 operations, in the order, of its NumPy code (the
+  shared sum ``-(x_0 + x_1 + ... + x_8)``, then ``+ 3 x_a``, ``+ 3 x_b``, ``+ 3 x_c``)
+  and counts the values above each bias, one trial at a time: a trial's features do
+  not depend on the other trials of the call.
 
 Why every kernel lives in this one module: see :mod:`vibrissa.whisker._kernels`
 (numba's on-disk cache checks only the file of the function it compiled).
@@ -33,7 +38,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["beam_grid_errors", "histogram_counts", "l1_distances"]
+__all__ = ["beam_grid_errors", "histogram_counts", "l1_distances", "minirocket_ppv"]
 
 #: Features per block of :func:`l1_distances` (the block of templates stays in L2 cache).
 _FEATURES = 64
@@ -208,3 +213,76 @@ def histogram_counts(S, lo, width, n_bins, out):  # pragma: no cover - compiled
                 else:
                     k = int(f)
                 out[i, base + k] += 1.0
+
+
+@njit(cache=True, nogil=True)
+def minirocket_ppv(Z, dilations, triples, biases, out):  # pragma: no cover - compiled
+    """MiniRocket's proportions of positive values (PPV) of pooled trials.
+
+    For trial ``i``, channel ``ch``, dilation ``d = dilations[di]`` and kernel ``k``
+    (weight 2 at the taps ``triples[k]``, -1 elsewhere), the convolution at ``s`` is
+    ``((A[s] + 3 x[s + a d]) + 3 x[s + b d]) + 3 x[s + c d]`` with
+    ``A[s] = -(x[s] + x[s + d] + ... + x[s + 8 d])`` (summed from the first tap on),
+    every operation in float32, for ``s`` in ``0 .. L - 1``, ``L = t - 8 d``.
+
+    Parameters
+    ----------
+    Z : float32 array of shape (n, c, t), C-contiguous
+        Pooled, centred trials.
+    dilations : int64 array of shape (nd,)
+        Dilations, each at most ``(t - 1) // 8``.
+    triples : int64 array of shape (nk, 3)
+        Taps of weight 2 of each kernel, ascending; kernels that share the first two
+        taps adjacent (the order of :func:`itertools.combinations`).
+    biases : float32 array of shape (nd, nk, c, nb)
+        Biases of each dilation, kernel and channel.
+    out : float32 array of shape (n, nd, nk, c, nb)
+        Filled with ``count(conv > bias) / L``.
+    """
+    n, n_ch, t = Z.shape
+    nd = dilations.size
+    nk = triples.shape[0]
+    nb = biases.shape[3]
+    three = np.float32(3.0)
+    A = np.empty(t, dtype=np.float32)
+    P = np.empty(t, dtype=np.float32)
+    G = np.empty((9, t), dtype=np.float32)
+    for i in range(n):
+        for ch in range(n_ch):
+            x = Z[i, ch]
+            for di in range(nd):
+                d = dilations[di]
+                L = t - 8 * d
+                for s in range(L):
+                    A[s] = x[s]
+                for j in range(1, 9):
+                    o = j * d
+                    for s in range(L):
+                        A[s] += x[s + o]
+                for s in range(L):
+                    A[s] = -A[s]
+                for j in range(9):
+                    o = j * d
+                    g = G[j]
+                    for s in range(L):
+                        g[s] = three * x[s + o]
+                pa = -1
+                pb = -1
+                for k in range(nk):
+                    a = triples[k, 0]
+                    b = triples[k, 1]
+                    if a != pa or b != pb:
+                        ga = G[a]
+                        gb = G[b]
+                        for s in range(L):
+                            P[s] = (A[s] + ga[s]) + gb[s]
+                        pa = a
+                        pb = b
+                    gc = G[triples[k, 2]]
+                    for q in range(nb):
+                        bias = biases[di, k, ch, q]
+                        count = 0
+                        for s in range(L):
+                            if P[s] + gc[s] > bias:
+                                count += 1
+                        out[i, di, k, ch, q] = count / L

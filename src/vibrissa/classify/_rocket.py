@@ -22,11 +22,18 @@ within reach of the best loss, which is also the fastest to fit); the kappas it 
 are in each ``vibrissa reproduce angle-texture`` report, not here, so they cannot go
 stale.
 
-Implemented in numpy, vectorised: with weights ``-1`` and ``2`` the convolution
-is ``-sum_j x_j + 3 (x_a + x_b + x_c)``, so the shared sum is computed once per
-dilation and every kernel costs three additions (two of them shared through
-pair sums). Trials are first block-averaged by ``pool`` (4 kHz -> 500 Hz by
-default), which bounds the cost on the 704-trial chapter-5 test set.
+With weights ``-1`` and ``2`` the convolution is ``-sum_j x_j + 3 (x_a + x_b +
+x_c)``, so the shared sum is computed once per dilation and every kernel costs
+three additions (two of them shared through pair sums). Trials are first
+block-averaged by ``pool`` (4 kHz -> 500 Hz by default), which bounds the cost on
+the 704-trial chapter-5 test set. The features of the fitted model are computed by
+a compiled kernel (:func:`vibrissa.classify._kernels.minirocket_ppv`) one trial at
+a time, with the float32 operations of the NumPy code it replaced (which the fit
+still uses for the biases), so a trial's features are the same, bit for bit, alone
+or in a batch, and one trial costs well under a millisecond (a streaming pipeline
+classifies each contact as it ends); the linear heads' decision values are
+computed without scikit-learn's per-call validation and their log-softmax
+without SciPy's array-API dispatch, with the same operations.
 """
 
 from __future__ import annotations
@@ -35,10 +42,10 @@ from itertools import combinations
 from typing import Any
 
 import numpy as np
-from scipy.special import log_softmax
 from sklearn.base import TransformerMixin
 from sklearn.linear_model import LogisticRegression, RidgeClassifierCV
 
+from vibrissa.classify import _kernels
 from vibrissa.classify._base import TrialClassifier
 
 __all__ = ["MiniRocketClassifier", "minirocket_kernels"]
@@ -74,6 +81,36 @@ def effective_pool(pool: int, n_timepoints: int) -> int:
     return max(1, min(int(pool), n_timepoints // 9))
 
 
+#: The 84 index triples as the feature kernel takes them (int64, C-contiguous).
+_TRIPLES = np.ascontiguousarray(minirocket_kernels(), dtype=np.int64)
+
+
+def _decision_values(head: Any, F: np.ndarray) -> np.ndarray:
+    """``head.decision_function(F)`` of a fitted linear head, without its per-call checks.
+
+    The operations of scikit-learn's ``LinearClassifierMixin.decision_function``
+    (``F @ coef_.T + intercept_``, one column raveled), so the values are the same
+    bit for bit; ``F`` is the finite float32 feature array of
+    :meth:`MiniRocketClassifier._features`, which its validation would pass as it is.
+    """
+    coef = head.coef_
+    scores = F @ (coef.T if coef.ndim == 2 else coef) + head.intercept_
+    return scores.reshape(-1) if scores.ndim > 1 and scores.shape[1] == 1 else scores
+
+
+def _log_softmax_rows(x: np.ndarray) -> np.ndarray:
+    """``scipy.special.log_softmax(x, axis=1)`` of a 2-D float array, with its operations.
+
+    SciPy's array-API dispatch costs ~20 microseconds a call, three calls per
+    prediction; the result is the same bit for bit.
+    """
+    x_max = np.max(x, axis=1, keepdims=True)
+    x_max[~np.isfinite(x_max)] = 0
+    tmp = x - x_max
+    with np.errstate(divide="ignore"):
+        return tmp - np.log(np.sum(np.exp(tmp), axis=1, keepdims=True))
+
+
 def _conv_stack(Z: np.ndarray, d: int) -> tuple[np.ndarray, np.ndarray]:
     """Shifted copies ``G_j = 3 x(t + j d)`` and ``A = -sum_j x(t + j d)`` (valid part)."""
     L = Z.shape[-1] - 8 * d
@@ -106,7 +143,8 @@ class MiniRocketClassifier(TransformerMixin, TrialClassifier):
     random_state : int, default=0
         Seed of the bias draws.
     chunk_size : int, default=128
-        Trials transformed at a time (bounds memory).
+        Trials per call of the compiled feature kernel (the features do not depend
+        on it).
     sample_rate_hz : float or None, default=None
         Sample rate of the trials, Hz. The features do not use it (``pool`` and the
         dilations count samples); when given, data at another rate are refused, and
@@ -174,24 +212,14 @@ class MiniRocketClassifier(TransformerMixin, TrialClassifier):
 
     def _ppv(self, Z: np.ndarray) -> np.ndarray:
         """PPV features of pooled trials ``Z`` (n, c, t), shape (n, n_features)."""
-        K = minirocket_kernels()
+        Z = np.ascontiguousarray(Z, dtype=np.float32)
         n, c, _ = Z.shape
-        nb = self.biases_.shape[-1]
-        out = np.empty((n, len(self.dilations_), len(K), c, nb), dtype=np.float32)
-        for s in range(0, n, int(self.chunk_size)):
-            z = Z[s : s + int(self.chunk_size)]
-            for di, d in enumerate(self.dilations_):
-                G, A = _conv_stack(z, int(d))
-                L = A.shape[-1]
-                pairs = {}
-                for ki, (a, b, cc) in enumerate(K):
-                    if (a, b) not in pairs:
-                        pairs = {(a, b): A + G[a] + G[b]}
-                    C = pairs[(a, b)] + G[cc]
-                    bias = self.biases_[di, ki]  # (c, nb)
-                    out[s : s + len(z), di, ki] = (
-                        np.count_nonzero(C[..., None, :] > bias[None, :, :, None], axis=-1) / L
-                    )
+        dilations = np.ascontiguousarray(self.dilations_, dtype=np.int64)
+        biases = np.ascontiguousarray(self.biases_, dtype=np.float32)
+        out = np.empty((n, len(dilations), len(_TRIPLES), c, biases.shape[-1]), dtype=np.float32)
+        step = int(self.chunk_size)
+        for s in range(0, n, step):
+            _kernels.minirocket_ppv(Z[s : s + step], dilations, _TRIPLES, biases, out[s : s + step])
         return out.reshape(n, -1)
 
     def _features(self, X: np.ndarray) -> np.ndarray:
@@ -251,14 +279,14 @@ class MiniRocketClassifier(TransformerMixin, TrialClassifier):
                 continue
             # log-softmax of the decision values: the logistic head's log posterior
             # without the underflow of log(predict_proba)
-            dec = np.asarray(h.decision_function(F), dtype=float)
+            dec = np.asarray(_decision_values(h, F), dtype=float)
             if dec.ndim == 1:  # binary: decision value of class 1
                 dec = (
                     np.column_stack([np.zeros_like(dec), dec])
                     if isinstance(h, LogisticRegression)
                     else np.column_stack([-dec, dec]) / 2.0
                 )
-            lp = log_softmax(dec, axis=1)
+            lp = _log_softmax_rows(dec)
             scores += lp[:, self.target_index_[:, k]]
         return scores
 
