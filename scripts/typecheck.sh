@@ -11,6 +11,7 @@ PACKAGES=(
     -m vibrissa._validate
     -m vibrissa._processes
     -p vibrissa.slam
+    -p vibrissa.framework
     -p vibrissa.reproduce
     -p vibrissa.thesis
 )

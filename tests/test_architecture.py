@@ -29,7 +29,7 @@ import pytest
 
 SRC = Path(__file__).resolve().parents[1] / "src" / "vibrissa"
 SIMULATOR = {"whisker", "robots", "experiments"}
-RECORDING_LAYERS = {"signal", "data", "classify", "evaluate", "slam"}
+RECORDING_LAYERS = {"signal", "data", "classify", "evaluate", "slam", "framework"}
 TOP = {"reproduce", "cli"}
 #: Roles of an experiment package's modules that must run on imported recordings.
 RECORDING_ROLES = {"evaluation", "report", "figures", "values"}

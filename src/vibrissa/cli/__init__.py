@@ -10,7 +10,18 @@ from __future__ import annotations
 import typer
 
 from vibrissa import __version__
-from vibrissa.cli import bench, data, generate, identify, plot, reproduce, run, whisker
+from vibrissa.cli import (
+    bench,
+    data,
+    generate,
+    identify,
+    live,
+    pipeline,
+    plot,
+    reproduce,
+    run,
+    whisker,
+)
 from vibrissa.cli._usage import OneLineUsageErrors
 
 app = typer.Typer(
@@ -39,7 +50,7 @@ def _root(
     """Whisker-based tactile sensing toolkit."""
 
 
-for _module in (whisker, bench, generate, data, plot, reproduce, identify, run):
+for _module in (whisker, bench, generate, data, plot, reproduce, identify, run, live, pipeline):
     _module.register(app)
 
 
