@@ -520,7 +520,65 @@ def extract_peers(results: Mapping[str, Any]) -> dict[str, Any]:
     return out
 
 
+def _threshold_key(t: float) -> str:
+    """A threshold as a key without a dot: 0.6 -> ``t0_6``, 0.999 -> ``t0_999``."""
+    return "t" + f"{t:g}".replace(".", "_")
+
+
+def extract_framework(results: Mapping[str, Any]) -> dict[str, Any]:
+    """What ``docs/framework.md`` quotes from a ``reproduce tactile-framework`` results dict.
+
+    The per-threshold rows are keyed by threshold (``curves.t0_99.active.accuracy``), and
+    the counts of thresholds at which active beats passive are derived here.
+    """
+    meta = results.get("meta", {})
+    curves = results["curves"]
+    by_t: dict[str, Any] = {}
+    for name, rows in curves.items():
+        for r in rows:
+            by_t.setdefault(_threshold_key(r["threshold"]), {})[name] = {
+                k: r[k]
+                for k in (
+                    "accuracy",
+                    "contacts_to_decision",
+                    "seconds_to_decision",
+                    "decided_fraction",
+                )
+            }
+    comp = results["comparison"]["per_threshold"]
+    proto = meta.get("protocol") or {}
+    return {
+        **_run_figures(meta),
+        "protocol": {
+            k: proto.get(k)
+            for k in (
+                "world",
+                "calibration_world",
+                "n_calibration",
+                "n_episodes",
+                "n_whisks",
+                "step_mm",
+                "margin_mm",
+                "tip_zone_mm",
+            )
+        },
+        "head": proto.get("head"),
+        "calibration": results["calibration"],
+        "policies": results["policies"],
+        "curves": by_t,
+        "thresholds": len(comp),
+        "active_beats_passive": {
+            "accuracy": sum(1 for r in comp if r["accuracy_active_beats_passive"]),
+            "contacts": sum(1 for r in comp if r["contacts_active_beats_passive"]),
+            "everywhere": results["comparison"]["active_beats_passive_everywhere"],
+        },
+        "maps": results["maps"],
+        "transfer": results.get("transfer"),
+    }
+
+
 EXTRACTORS = {
+    "framework": extract_framework,
     "chapter4": extract_chapter4,
     "chapter5": extract_chapter5,
     "identify": extract_identify,
