@@ -173,6 +173,34 @@ def prepare(directory: Path, given: Iterable[str]) -> None:
 
 
 # --------------------------------------------------------------------------- cases
+def _framework_cases(add: Callable[..., None]) -> None:
+    """fit-pipeline, live and reproduce tactile-framework (issue 29)."""
+    fp = ["fit-pipeline", "--out", "p.vtp"]
+    add(fp, "--where")
+    add([*fp, "--where", "missing.nc"], "missing.nc")
+    add([*fp, "--where", "dir"], "dir", "dir/")
+    add([*fp, "--where", "fifo"], "fifo", "fifo")
+    add([*fp, "--where", "garbage.nc"], "garbage.nc", "garbage.nc")
+    add([*fp, "--what", "ds.nc"], "what", "ds.nc")
+    for value in ("2", "0", "nan"):
+        add(
+            [*fp, "--where", "ds.nc", "--decision-threshold", value],
+            "--decision-threshold",
+            "ds.nc",
+        )
+    add([*fp, "--where", "ds.nc", "--tip-zone-mm", "-1"], "--tip-zone-mm", "ds.nc")
+    add("fit-pipeline --where ds.nc --out dir", "dir", "ds.nc", "dir/")
+    add("live", "--pipeline")
+    add("live --pipeline missing.vtp", "missing.vtp")
+    add("live --pipeline garbage.nc", "--pipeline", "garbage.nc")
+    add("live --pipeline fifo", "fifo", "fifo")
+    add("live --pipeline dir", "dir", "dir/")
+    tf = ["reproduce", "tactile-framework", "--quick", "--out", "r"]
+    add([*tf, "--seed", "-1"], "--seed")
+    add([*tf, "--workers", "0"], "--workers")
+    add([*tf, "--scheduler", "tcp://h:8786"], "--scheduler")
+
+
 def _cases() -> list[Case]:
     c: list[Case] = []
 
@@ -397,6 +425,7 @@ def _cases() -> list[Case]:
         ["reproduce", "scratchbot", "--quick", "--out", "r", "--scheduler", "tcp://h:8786"],
         "--scheduler",
     )
+    _framework_cases(add)
     # identify
     add("identify extra", "extra")
     add("identify --bogus", "--bogus")

@@ -20,7 +20,18 @@ from hostile_corpus import CASES, run_console, run_in_process
 from vibrissa.cli import app
 
 #: The commands of ``vibrissa --help`` (each must be in the corpus).
-COMMANDS = ("whisker", "bench", "generate", "import", "plot", "reproduce", "identify", "run")
+COMMANDS = (
+    "whisker",
+    "bench",
+    "generate",
+    "import",
+    "plot",
+    "reproduce",
+    "identify",
+    "run",
+    "live",
+    "fit-pipeline",
+)
 
 #: The issue's own command lines (findings 1-3, 7 and 8), each a case of the corpus.
 ISSUE_COMMANDS = [

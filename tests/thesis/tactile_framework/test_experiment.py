@@ -19,7 +19,7 @@ def test_quick_run_results_and_report(quick_runs):
         assert m["empty_map_error"] > 0 and m["occupancy_error"] > 0
     assert res["calibration"]["contacts"] > 0
     report = (out / "report.md").read_text()
-    for fig in ("curves.png", "episode.png", "touch_map.png"):
+    for fig in ("curves.png", "episode.png", "radial.png", "touch_map.png"):
         assert (out / "figures" / fig).stat().st_size > 10_000
         assert f"figures/{fig}" in report
     # every number of the policy table comes from the results

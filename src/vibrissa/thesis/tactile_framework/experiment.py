@@ -60,13 +60,14 @@ class TactileFramework(Experiment):
         workers: int | None = None,
         artifacts: Mapping[str, Any] | None = None,
     ) -> dict[str, Path]:
-        """The curves and, with the dataset, one episode and the touch maps."""
+        """The curves and, with the dataset, one episode, the radial distances and the maps."""
         from vibrissa.evaluate.figures.common import save_figure
         from vibrissa.thesis.tactile_framework.evaluation import build_touch_map
         from vibrissa.thesis.tactile_framework.figures import (
             POLICIES,
             curves_figure,
             episode_figure,
+            radial_figure,
             touch_map_figure,
         )
 
@@ -78,6 +79,7 @@ class TactileFramework(Experiment):
             counts = dataset["ep_episode"].to_series().value_counts()
             episode = int(counts.index[0]) if len(counts) else 0
             out["episode"] = save_figure(episode_figure(dataset, episode), fig_dir / "episode.png")
+            out["radial"] = save_figure(radial_figure(dataset), fig_dir / "radial.png")
             maps = {n: build_touch_map(dataset, p).texture_labels() for p, n in enumerate(POLICIES)}
             out["touch_map"] = save_figure(
                 touch_map_figure(

@@ -13,7 +13,7 @@ from matplotlib.figure import Figure
 
 from vibrissa.data.schema import TEXTURE_CODES
 
-__all__ = ["curves_figure", "episode_figure", "touch_map_figure"]
+__all__ = ["curves_figure", "episode_figure", "radial_figure", "touch_map_figure"]
 
 #: One colour per texture code (smooth to coarse) and the policies' colours.
 TEXTURE_COLOURS = ("#9e9e9e", "#4c9be8", "#f2a93b", "#b8403a")
@@ -163,4 +163,39 @@ def curves_figure(curves: Mapping[str, Sequence[Mapping[str, Any]]]) -> Figure:
         xscale="logit",
     )
     ax_a.legend()
+    return fig
+
+
+def radial_figure(ds: xr.Dataset) -> Figure:
+    """Where: each episode contact's estimated radial distance against the truth, and p_tip."""
+    kind = ds["ep_truth_kind"].values
+    sel = kind > 0
+    true_r = ds["ep_truth_radial_mm"].values[sel]
+    est_r = ds["ep_est_radial_mm"].values[sel]
+    p_tip = ds["ep_p_tip"].values[sel]
+    tip = kind[sel] == 1
+    params = json.loads(ds.attrs.get("protocol_params", "{}"))
+    length = float(json.loads(ds.attrs["whisker"])["length_mm"])
+    tip_r = length - float(params.get("tip_zone_mm", 5.0))
+    fig = Figure(figsize=(10.0, 4.0), layout="constrained")
+    ax_a, ax_b = fig.subplots(1, 2)
+    rng = np.random.default_rng(0)  # a little jitter so that equal classes stay visible
+    jitter = rng.uniform(-1.5, 1.5, est_r.size)
+    ax_a.scatter(true_r[~tip], est_r[~tip] + jitter[~tip], s=12, color="#d62728", label="corner")
+    ax_a.scatter(true_r[tip], est_r[tip] + jitter[tip], s=12, color="#1f77b4", label="face (tip)")
+    lo = float(min(true_r.min(initial=length), est_r.min(initial=length))) - 10.0
+    ax_a.plot([lo, length + 5], [lo, length + 5], color="k", lw=0.8)
+    ax_a.axhline(tip_r, color="k", ls=":", lw=0.8)
+    ax_a.set(
+        xlabel="true radial distance (mm)",
+        ylabel="estimated radial distance (mm)",
+        title="(a) where: radial distance of each contact",
+    )
+    ax_a.legend(fontsize=8)
+    bins = np.linspace(0.0, 1.0, 21)
+    ax_b.hist(p_tip[~tip], bins=bins, color="#d62728", alpha=0.7, label="corner")
+    ax_b.hist(p_tip[tip], bins=bins, color="#1f77b4", alpha=0.7, label="face (tip)")
+    ax_b.axvline(0.5, color="k", ls=":", lw=0.8)
+    ax_b.set(xlabel="p_tip", ylabel="contacts", title="(b) the tip-or-shaft posterior")
+    ax_b.legend(fontsize=8)
     return fig

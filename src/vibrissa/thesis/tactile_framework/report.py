@@ -125,6 +125,11 @@ def markdown_framework(results: Mapping[str, Any], figures: Mapping[str, Path]) 
         "",
         *_figure(figures, "curves", "Speed-accuracy curves of the three policies"),
         *_figure(figures, "episode", "One episode under each policy"),
+        *_figure(
+            figures,
+            "radial",
+            "Where: estimated against true radial distance, and the tip-or-shaft posterior",
+        ),
         *_transfer_section(results.get("transfer")),
         "## The touch map",
         "",
