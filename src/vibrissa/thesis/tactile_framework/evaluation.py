@@ -367,8 +367,34 @@ def evaluate_framework(
             ds["gt_face_direction_deg"].values,
             ds["gt_arena"].values.astype(bool),
         )
+    from vibrissa.data.schema import decode_texture
+
+    textures = sorted({int(t) for t in ds["what_texture_code"].values})
     return {
         "meta": {"protocol": json.loads(ds.attrs.get("protocol_params", "{}"))},
+        "parameters": {
+            "radial_distance_mm": {
+                "coordinate": "radial_class_mm",
+                "unit": "mm",
+                "values": calibration["radial_classes_mm"],
+            },
+            "angle_deg": {
+                "coordinate": "what_angle_deg",
+                "unit": "deg",
+                "values": sorted({float(a) for a in ds["what_angle_deg"].values}),
+            },
+            "texture": {
+                "coordinate": "what_texture_code",
+                "unit": "name",
+                "values": [str(t) for t in decode_texture(textures)],
+            },
+        },
+        "classifiers": {
+            "where": "MiniRocket on the 4 kHz contact window: radial-distance class; p_tip the "
+            "posterior mass of the tip class",
+            "what": "MiniRocket on the 4 kHz contact window: joint (angle class, texture); "
+            "texture evidence summed over contacts and whiskers",
+        },
         "calibration": calibration,
         "policies": policies,
         "curves": curves,

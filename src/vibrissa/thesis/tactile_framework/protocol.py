@@ -159,7 +159,7 @@ class FrameworkProtocol(SelfGenerating):
     head
         The whisking head.
     n_calibration
-        Calibration whisks (random poses about the calibration box).
+        Calibration whisks (passive patrols of ``n_whisks`` whisks in ``calibration_world``).
     n_episodes, n_whisks
         Episodes per policy, whisk-and-step cycles per episode.
     step_mm, margin_mm

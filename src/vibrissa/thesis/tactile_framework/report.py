@@ -67,7 +67,7 @@ def markdown_framework(results: Mapping[str, Any], figures: Mapping[str, Path]) 
         "",
         f"The pipeline's classifiers were fitted on a calibration session on the same platform "
         f"(`{proto.get('calibration_world', '?')}` world, {proto.get('n_calibration', '?')} whisks "
-        f"at random poses): {cal['contacts']} detected contacts, {cal['tip_contacts']} at the "
+        f"of passive patrols): {cal['contacts']} detected contacts, {cal['tip_contacts']} at the "
         f"tip and {cal['shaft_contacts']} on the shaft; {cal['what_classes']} joint (angle class, "
         f"texture) classes; radial classes {_join_mm(cal['radial_classes_mm'])} mm.",
         "",
