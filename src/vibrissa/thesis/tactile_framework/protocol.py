@@ -170,6 +170,9 @@ class FrameworkProtocol(SelfGenerating):
     odometry_noise
         Relative standard deviation of the odometry per move (CrunchBot's odometry is
         "accurate to about 10 % of any movement", 6.5.4).
+    transfer
+        Also simulate the XY robot's quick chapter-4/5 sessions for the transfer comparison
+        (:meth:`xy_sessions`; off in the quick run, which checks the loop end to end).
     tip_zone_mm
         A contact is called a tip contact when its radial distance is estimated within
         this of the length (5 mm: "Contacts at less than 5 mm from the tip did not
@@ -189,6 +192,7 @@ class FrameworkProtocol(SelfGenerating):
     base_speed_mm_s: float = 100.0
     odometry_noise: float = 0.1
     tip_zone_mm: float = 5.0
+    transfer: bool = True
     seed: int = 0
     name: str = "tactile-framework"
 
@@ -444,7 +448,7 @@ class FrameworkProtocol(SelfGenerating):
 
         calib = self.calibrate(workers, progress)
         pipeline = self.fit_pipeline(calib)
-        xy = self.xy_sessions(Path(path).parent, workers)
+        xy = self.xy_sessions(Path(path).parent, workers) if self.transfer else None
         jobs = [(p, i) for p in POLICIES for i in range(self.n_episodes)]
 
         def job(k: int) -> dict[str, Any]:
@@ -940,5 +944,11 @@ def framework_protocol(quick: bool = False, seed: int = 0, **overrides: Any) -> 
     """The full session, or a quick one (fewer calibration whisks and episodes)."""
     changes: dict[str, Any] = {k: v for k, v in overrides.items() if v is not None}
     if quick:
-        changes = {"n_calibration": 120, "n_episodes": 4, "n_whisks": 10, **changes}
+        changes = {
+            "n_calibration": 120,
+            "n_episodes": 4,
+            "n_whisks": 10,
+            "transfer": False,
+            **changes,
+        }
     return FrameworkProtocol(seed=seed, **changes)
