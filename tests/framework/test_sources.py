@@ -216,7 +216,9 @@ def test_replay_at_speed_one_takes_real_time(tmp_path):
     batches = list(replay_dataset(tmp_path / "d.nc", speed=1.0))
     took = time.monotonic() - start
     assert sum(t.size for t, _ in batches) == 500 and len(batches) > 5
-    assert 0.45 <= took < 0.8
+    # never faster than the data's own 0.5 s; the upper bound only catches a stall (a
+    # loaded CI worker also reads and verifies the file inside the timed call)
+    assert 0.45 <= took < 3.0
 
 
 def test_replay_refuses_bad_trials_and_speed(tmp_path):
