@@ -125,6 +125,9 @@ def report_header(meta: Mapping[str, Any]) -> str:
         f"- dataset `{Path(str(ds.get('path', '?'))).name}`{reused}: "
         f"{ds.get('n_trials', '?')} trials; generation {fmt_seconds(wall.get('generate'))}, "
         f"evaluation {fmt_seconds(wall.get('evaluate'))}",
-        "",
     ]
+    if "variability_sources" in ds:
+        on = ", ".join(ds["variability_sources"]) or "none"
+        out.append(f"- trial-to-trial variability simulated (`robots.xy_variability`): {on}")
+    out.append("")
     return "\n".join(out) + "\n"

@@ -29,6 +29,7 @@ from vibrissa._validate import in_range, positive
 from vibrissa.experiments.contract import SimulationProtocol
 from vibrissa.experiments.streams import ORDER, stream
 from vibrissa.robots.xy_stage import XYStage
+from vibrissa.robots.xy_variability import TrialVariability
 from vibrissa.whisker.geometry import PRESETS, preset
 from vibrissa.whisker.hall import HallSettings, steps_per_sample
 from vibrissa.whisker.surfaces import TEXTURES
@@ -184,6 +185,14 @@ class Protocol(SimulationProtocol):
         whisker properties".
     stage
         The robot and its MI controller.
+    variability
+        Physical trial-to-trial variability (:mod:`vibrissa.robots.xy_variability`):
+        Hall offset and gain drift with room temperature, object placement within the
+        stage's repeatability, Young's modulus with room temperature; each trial draws
+        its own. Whisker creep is off here: it carries over from one contact to the
+        next, which a generator simulating trials in parallel and resuming in any order
+        cannot follow (its size between alternating contacts, below 1 mV, is under
+        the sensor's 2 mV noise: ``robots.xy_variability``).
     seed
         Seed of everything random in the session.
     """
@@ -202,6 +211,7 @@ class Protocol(SimulationProtocol):
     sensor: HallSettings = field(default_factory=HallSettings)
     drift_fraction: float = -0.05
     stage: XYStage = field(default_factory=XYStage)
+    variability: TrialVariability = field(default_factory=lambda: TrialVariability(creep=False))
     seed: int = 0
 
     def __post_init__(self) -> None:
@@ -309,6 +319,7 @@ class Protocol(SimulationProtocol):
         """Every parameter as plain JSON-compatible values."""
         d = dataclasses.asdict(self)
         d["stage"] = self.stage.to_dict()
+        d["variability"] = self.variability.to_dict()
         return d
 
     def fingerprint(self) -> str:

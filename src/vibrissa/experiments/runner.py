@@ -19,6 +19,7 @@ import numpy as np
 from vibrissa.experiments.protocols import Protocol, TrialSpec
 from vibrissa.experiments.streams import SURFACES, TRIALS, stream
 from vibrissa.robots.xy_stage import PoleStimulus, SurfaceStimulus, run_trial
+from vibrissa.robots.xy_variability import VariabilityState
 from vibrissa.whisker.geometry import WhiskerGeometry, preset
 from vibrissa.whisker.hall import HallSensor
 from vibrissa.whisker.rod import RodModel
@@ -163,10 +164,20 @@ def simulate_trials(protocol: Protocol, indices: Sequence[int]) -> dict[str, np.
     for k, i in enumerate(idx):
         spec = specs[int(i)]
         rng = np.random.default_rng(stream(protocol.seed, TRIALS, int(i)))
+        # each trial's physical variability, drawn first from its own stream (no creep
+        # memory: see Protocol.variability)
+        perturbation = VariabilityState(protocol.variability).draw(
+            rng, previous_peak_tan=0.0, previous_direction=0, interval_s=0.0
+        )
         drift = 0.0
         if protocol.drift_fraction:
             level = round(spec.order / max(n_total - 1, 1) * _DRIFT_LEVELS) / _DRIFT_LEVELS
             drift = protocol.drift_fraction * level
+        # the modulus' temperature change joins the session's drift on the drift levels'
+        # grid (0.25 % steps for the default -5 %): a few dozen cached models per worker,
+        # each costing ~0.2 s to set up (its damping), instead of one per trial
+        step = abs(protocol.drift_fraction) / _DRIFT_LEVELS if protocol.drift_fraction else 0.0025
+        drift = round(((1 + drift) * perturbation.modulus_factor - 1) / step) * step
         model = whisker_model(protocol.whisker, protocol.n_elements, drift)
         surface = None
         if protocol.name == "radial-distance":
@@ -185,6 +196,7 @@ def simulate_trials(protocol: Protocol, indices: Sequence[int]) -> dict[str, np.
             rng,
             dt_s=protocol.dt_s,
             surface=surface,
+            perturbation=perturbation,
         )
         out["signal"][k] = res.signal_v
         for name in TRIAL_DIAGNOSTICS:

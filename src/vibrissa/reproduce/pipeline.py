@@ -273,6 +273,7 @@ def run_experiment(
             "reused": reused,
             "fingerprint": protocol.fingerprint(),
             "n_trials": int(ds.sizes["trial"]),
+            **_variability_meta(protocol),
         },
         **evaluation_meta,
     }
@@ -295,6 +296,14 @@ def run_experiment(
     meta["wall_seconds"]["total"] = round(time.perf_counter() - t0, 3)
     write_json(envelope, out / "results.json")
     return envelope
+
+
+def _variability_meta(protocol: Any) -> dict[str, Any]:
+    """The trial-to-trial variability sources a protocol simulates (empty if it has none)."""
+    variability = getattr(protocol, "variability", None)
+    if variability is None or not hasattr(variability, "enabled"):
+        return {}
+    return {"variability_sources": list(variability.enabled())}
 
 
 def write_reports(
@@ -321,7 +330,10 @@ def write_reports(
         results, out, dataset=dataset, figures=figures, workers=workers, artifacts=artifacts or {}
     )
     rel = {k: p.relative_to(out) for k, p in figs.items()}
+    from vibrissa.thesis.claims import report_section
+
     text = report_header(results["meta"]) + exp.report_sections(results, rel, baseline)
+    text = text.rstrip() + "\n\n" + report_section(exp.name)
     md = atomic_write_text(out / "report.md", text.rstrip() + "\n")
     html = write_html_report(md, out / "report.html")
     return {"report": md, "report_html": html, **{f"figure:{k}": p for k, p in figs.items()}}

@@ -9,11 +9,22 @@ contact due to the controller duty cycle."
 
 Modelled here:
 
-* **Motion**: constant approach speed; on the controller's command the stage
-  brakes and reverses with a finite acceleration (``acceleration_mm_s2``, default
-  10 m/s^2, about 1 g, typical of belt/ball-screw Cartesian robots) up to the
-  retraction speed. Positioning error: Gaussian with sigma = repeatability / 2 on
-  the object's starting position.
+* **Motion** (:mod:`vibrissa.robots.stage_motion`): constant approach speed; on the
+  controller's command one point-to-point move brakes, reverses at up to the
+  retraction speed and stops at the retract target, with a finite acceleration
+  (``acceleration_mm_s2``, 10 m/s^2, about 1 g, assumed: typical of ball-screw
+  Cartesian robots; the thesis gives only the speeds) and optionally a jerk limit
+  (``jerk_mm_s3``, none by default). The target lies ``retract_clearance_mm``
+  behind where the object first touches the resting whisker: 3 mm, **identified**
+  (``scripts/identify_stage.py``, ``docs/runs/identify_stage.json``) as the nearest
+  point from which the approach can start at rest and reach 216 mm/s, among the
+  settings meeting the most of ``vibrissa identify``'s observables. Where the move
+  ends decides how fast the object leaves the whisker as it springs back through
+  its rest position, and with it the ringing after release (3.3: MI "keeps whisker
+  ringing after contact to a minimum"); a target 10 mm further back releases it at
+  full speed and every trial rings. Positioning error: Gaussian with sigma =
+  repeatability / 2 on the object's starting position, or a trial's
+  :class:`~vibrissa.robots.xy_variability.TrialPerturbation`.
 * **Loop latency**: the controller polls the sensor once per duty cycle and the
   command takes effect after a fixed pipeline delay. The threshold crossing is
   therefore seen at a uniformly distributed phase of the duty cycle: latency from
@@ -44,6 +55,8 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from vibrissa._validate import in_range, non_negative, positive
+from vibrissa.robots.stage_motion import mi_axis_motion
+from vibrissa.robots.xy_variability import TrialPerturbation
 from vibrissa.whisker.geometry import WhiskerGeometry
 from vibrissa.whisker.hall import HallSensor, steps_per_sample
 from vibrissa.whisker.rod import RodModel
@@ -95,21 +108,24 @@ class XYStage:
     max_speed_mm_s: float = 720.0
     retract_speed_mm_s: float = 720.0
     acceleration_mm_s2: float = 10_000.0
+    jerk_mm_s3: float = float("inf")
     repeatability_mm: float = 0.01
     latency: LatencyModel = field(default_factory=LatencyModel)
     threshold_v: float = 0.05
     approach_gap_mm: float = 1.0
-    retract_clearance_mm: float = 10.0
+    retract_clearance_mm: float = 3.0
     max_travel_mm: float = 80.0
 
     def __post_init__(self) -> None:
         positive("max_speed_mm_s", self.max_speed_mm_s)
         in_range("retract_speed_mm_s", self.retract_speed_mm_s, 1e-9, self.max_speed_mm_s)
         positive("acceleration_mm_s2", self.acceleration_mm_s2)
+        if not self.jerk_mm_s3 > 0:
+            raise ValueError(f"jerk_mm_s3 must be > 0 (inf for none), got {self.jerk_mm_s3!r}")
         non_negative("repeatability_mm", self.repeatability_mm)
         positive("threshold_v", self.threshold_v)
         positive("approach_gap_mm", self.approach_gap_mm)
-        positive("retract_clearance_mm", self.retract_clearance_mm)
+        non_negative("retract_clearance_mm", self.retract_clearance_mm)
         positive("max_travel_mm", self.max_travel_mm)
 
     def check_speed(self, speed_mm_s: float) -> float:
@@ -230,31 +246,14 @@ def _mi_contact(
     return float(t[0]), float(t[last])
 
 
-def _motion_profile(
-    t_rev: float,
-    v: float,
-    vr: float,
-    acc: float,
-    clearance_mm: float,
-    x_start: float,
-    t_end: float,
-    dt: float,
-) -> tuple[np.ndarray, np.ndarray]:
-    """Sampled x(t), vx(t): advance at v; from t_rev brake, retract at -vr and stop.
-
-    The stop is ``clearance_mm`` behind the starting point (clear of the whisker).
-    """
-    t = np.arange(0.0, t_end + dt, dt)
-    vel = np.full_like(t, v)
-    after = t > t_rev
-    vel[after] = np.maximum(v - acc * (t[after] - t_rev), -vr)
-    x = x_start + np.concatenate([[0.0], np.cumsum(0.5 * (vel[1:] + vel[:-1]) * np.diff(t))])
-    stop = after & (vel < 0) & (x <= x_start - clearance_mm)
-    if np.any(stop):
-        k = int(np.argmax(stop))
-        x[k:] = x[k]
-        vel[k:] = 0.0
-    return t, np.column_stack([x, vel])
+def _hall_input(
+    tan: np.ndarray, sensor: HallSensor, perturbation: TrialPerturbation | None
+) -> np.ndarray:
+    """The magnet's tangents as the Hall IC of this trial reads them (offset and gain)."""
+    if perturbation is None:
+        return tan
+    offset = np.asarray(perturbation.sensor_offset_v, dtype=float) / sensor.gain_v
+    return tan * perturbation.sensor_gain + offset
 
 
 def run_trial(
@@ -268,6 +267,7 @@ def run_trial(
     rng: np.random.Generator,
     dt_s: float = 2.5e-4,
     surface: Surface | None = None,
+    perturbation: TrialPerturbation | None = None,
 ) -> TrialResult:
     """Simulate one MI contact and record it as the thesis did.
 
@@ -294,6 +294,13 @@ def run_trial(
         (:func:`~vibrissa.whisker.hall.steps_per_sample`).
     surface
         Height field for a surface stimulus (default: built from the texture).
+    perturbation
+        This trial's physical variability (:mod:`vibrissa.robots.xy_variability`):
+        its position error replaces the default placement draw (Gaussian, sigma =
+        repeatability / 2), the whisker's residual rest angle (creep) moves the contact
+        by ``r tan(angle)`` along the motion, and the Hall offset and gain act on the
+        sensor's input. Its ``modulus_factor`` is the caller's to apply to ``model``.
+        ``None``: the default placement draw only.
     """
     v = stage.check_speed(speed_mm_s)
     step = steps_per_sample(dt_s, sensor.sample_rate_hz)
@@ -301,7 +308,10 @@ def run_trial(
         raise ValueError(f"direction must be +1 or -1, got {direction!r}")
     g: WhiskerGeometry = model.geometry
     latency = stage.latency.sample(rng)
-    jitter = rng.normal(0.0, stage.repeatability_mm / 2, 2)
+    if perturbation is None:
+        jitter = rng.normal(0.0, stage.repeatability_mm / 2, 2)
+    else:
+        jitter = np.asarray(perturbation.position_offset_mm, dtype=float).copy()
     sgn = float(direction)
     acc = stage.acceleration_mm_s2
     vr = stage.retract_speed_mm_s
@@ -313,6 +323,7 @@ def run_trial(
         clearance = stimulus.radius_mm + float(g.radius_m(r * 1e-3)) * 1e3
         x_start = -(clearance + stage.approach_gap_mm) + jitter[0]
         z_ref = r + jitter[1]
+        r_contact = r
     elif isinstance(stimulus, SurfaceStimulus):
         in_range("angle_deg", stimulus.angle_deg, 1e-6, 90.0 - 1e-6, "deg")
         surf = (
@@ -331,15 +342,24 @@ def run_trial(
         origin += u * rng.uniform(0, 8e-3)
         x_start = origin[0] * 1e3 + jitter[0]
         z_ref = origin[2] * 1e3 + jitter[1]
+        r_contact = g.length_mm
     else:
         raise TypeError(f"unsupported stimulus {type(stimulus).__name__}")
+    if perturbation is not None:
+        # a rest shape tilted towards the motion (+x here) meets the object later
+        tilt = sgn * float(perturbation.rest_angle_rad[0])
+        x_start -= r_contact * np.tan(tilt)
+
+    # the retract move ends retract_clearance_mm behind the object's first touch of the
+    # resting whisker (x_start is approach_gap_mm short of it)
+    x_end = x_start + stage.approach_gap_mm - stage.retract_clearance_mm
 
     def traj_for(t_rev: float, t_end: float) -> Trajectory:
-        t, xv = _motion_profile(
-            t_rev, v, vr, acc, stage.retract_clearance_mm, x_start, t_end, min(1e-3, 4 * dt_s)
-        )
-        pos = np.column_stack([sgn * xv[:, 0], np.full(t.size, z_ref)])
-        vel = np.column_stack([sgn * xv[:, 1], np.zeros(t.size)])
+        dt_traj = min(1e-3, 4 * dt_s)
+        t = np.arange(0.0, t_end + dt_traj, dt_traj)
+        x, vx = mi_axis_motion(t, v, t_rev, vr, acc, stage.jerk_mm_s3, x_start, x_end)
+        pos = np.column_stack([sgn * x, np.full(t.size, z_ref)])
+        vel = np.column_stack([sgn * vx, np.zeros(t.size)])
         return Trajectory(t, pos, vel)
 
     # phase 1: advance until the controller sees the threshold
@@ -370,7 +390,7 @@ def run_trial(
             [parts[0].contact_force_n] + [p.contact_force_n[1:] for p in parts[1:]]
         )
         tan = tan * np.array([sgn, 1.0])  # convert -x trials: equivalent to +x
-        volts = sensor.read(tan, 1.0 / dt_s, rng)
+        volts = sensor.read(_hall_input(tan, sensor, perturbation), 1.0 / dt_s, rng)
         dev = np.abs(volts[:, 0] - sensor.offset_v)
         k_peak = int(np.argmax(dev))
         n_before = int(round(window_s[0] * sensor.sample_rate_hz))
@@ -380,14 +400,15 @@ def run_trial(
         t_end += window_s[1]
     time = np.concatenate([parts[0].time_s] + [p.time_s[1:] for p in parts[1:]])
     t_peak = float(time[k_peak * step])  # sample k of the sensor is internal step k * step
-    rest = sensor.read(np.zeros((max(n_before, 1) * step, 2)), 1.0 / dt_s, rng)
+    rest_tan = _hall_input(np.zeros((max(n_before, 1) * step, 2)), sensor, perturbation)
+    rest = sensor.read(rest_tan, 1.0 / dt_s, rng)
     padded = np.concatenate([rest[: max(0, n_before - k_peak)], volts], axis=0)
     k_peak += max(0, n_before - k_peak)
     seg = padded[k_peak - n_before : k_peak + n_after + 1]
     in_contact = force > 0
     duration = float(np.count_nonzero(in_contact) * dt_s)
     # the stage advances until it has braked to a stop after t_rev
-    t_stop = t_rev + v / acc
+    t_stop = t_rev + v / acc + (acc / stage.jerk_mm_s3) / 2
     t_on, t_off = _mi_contact(time, in_contact, _CONTACT_GAP_S, t_stop)
     slipped = bool(np.isfinite(t_off) and t_off < t_stop)
     saturated = bool(np.any(seg <= sensor.v_min) or np.any(seg >= sensor.v_max))
