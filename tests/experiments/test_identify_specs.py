@@ -17,7 +17,7 @@ from vibrissa.experiments.identify import SPECS, ObservableSpec, Tolerance
 
 # The strings printed by `vibrissa identify` and stored in docs/runs/identify.json.
 TEXTS = {
-    "resonance_hz": "within 10 %",
+    "resonance_hz": "median between 25 Hz and 35 Hz",
     "mi_latency_ms": "median within 300 +/- 30 ms",
     "duration_grows_with_speed": "at least 0.9",
     "ringing_chapter4": "median at most 0.1",
