@@ -19,9 +19,12 @@ from vibrissa.classify._base import (
 from vibrissa.data.schema import parse_whisker
 
 __all__ = [
+    "ANGLE_MODES",
     "DEFAULT_SPEED_MM_S",
     "StaticBeamClassifier",
     "base_moment_nm",
+    "beam_radius_at_angle_mm",
+    "oracle_protraction_angle_rad",
     "static_beam_radius_mm",
     "thesis_parameter_grid",
 ]
@@ -31,6 +34,10 @@ _TIE_MM = 1e-9
 
 #: Median of the chapter-4 speed grid (36-216 mm/s), used when no speed is known.
 DEFAULT_SPEED_MM_S = 126.0
+
+#: Values of ``StaticBeamClassifier(angle=...)``: one assumed speed for every trial, or
+#: the thesis author's oracle angle from each trial's true speed and radial distance.
+ANGLE_MODES = ("fixed_speed", "oracle")
 
 _REQUIRED_KEYS = (
     "length_mm",
@@ -151,6 +158,77 @@ def static_beam_radius_mm(
     return 2.0 * length_mm / (1.0 + np.sqrt(1.0 + 4.0 * q))
 
 
+def oracle_protraction_angle_rad(
+    speed_mm_s: Any, radius_mm: Any, latency_s: float = 0.3
+) -> np.ndarray:
+    """The thesis author's protraction angle, from each trial's true speed and radial distance.
+
+    The object travels ``d = speed x latency`` into the whisker during the
+    controller's loop latency, and the angle is that distance seen from the base
+    at the true contact point, ``theta = d / r``. This is an *oracle*: it needs the
+    very radial distance the classifier is to estimate (and the speed, which the
+    static beam cannot estimate, 4.3.6).
+
+    Parameters
+    ----------
+    speed_mm_s : array-like
+        True contact speed of each trial, mm/s (> 0).
+    radius_mm : array-like
+        True radial distance of each trial, mm (> 0); broadcast against ``speed_mm_s``.
+    latency_s : float, default=0.3
+        Protraction duration, s (> 0).
+
+    Returns
+    -------
+    ndarray
+        ``theta``, rad.
+    """
+    speed = np.asarray(speed_mm_s, dtype=float)
+    radius = np.asarray(radius_mm, dtype=float)
+    lat = float(latency_s)
+    if not math.isfinite(lat) or lat <= 0:
+        raise ValueError(f"latency_s must be positive, got {latency_s!r}")
+    if not np.all(np.isfinite(speed)) or np.any(speed <= 0):
+        raise ValueError("speed_mm_s must be finite and positive")
+    if not np.all(np.isfinite(radius)) or np.any(radius <= 0):
+        raise ValueError("radius_mm must be finite and positive")
+    return speed * lat / radius
+
+
+def beam_radius_at_angle_mm(
+    moment_nm: Any,
+    theta_rad: Any,
+    youngs_modulus_gpa: float,
+    base_radius_mm: float,
+    length_mm: float,
+) -> np.ndarray:
+    """Radial distance from eq. 4.1 with a known protraction angle.
+
+    ``r = C theta L / (C theta + M L)`` with ``C = 3 E I_base / 4`` and
+    ``I_base = pi r_base^4`` (eq. 4.2), i.e. ``r = L / (1 + M L / (C theta))``.
+    With ``theta = d / r`` at the root ``r`` of :func:`static_beam_radius_mm`, it
+    returns that root.
+
+    Parameters
+    ----------
+    moment_nm : array-like
+        Base moment at peak deflection, N m (>= 0).
+    theta_rad : array-like
+        Protraction angle of each trial, rad (> 0); broadcast against ``moment_nm``.
+    youngs_modulus_gpa, base_radius_mm, length_mm : float
+        Beam parameters.
+
+    Returns
+    -------
+    ndarray
+        Radial distance, mm, in ``(0, length_mm]``.
+    """
+    c = 3.0 * youngs_modulus_gpa * 1e9 * math.pi * (base_radius_mm * 1e-3) ** 4 / 4.0
+    m = np.asarray(moment_nm, dtype=float)
+    theta = np.asarray(theta_rad, dtype=float)
+    return length_mm / (1.0 + m * (length_mm * 1e-3) / (c * theta))
+
+
 class StaticBeamClassifier(TrialClassifier):
     """Radial distance from the base moment with the static beam equation (thesis 4.3.1).
 
@@ -170,6 +248,16 @@ class StaticBeamClassifier(TrialClassifier):
     the training speeds (the thesis' errors are smallest at the median speed and
     grow away from it, 4.4.1, which is what a fixed speed produces), and
     ``theta = d / r`` is solved jointly with eq. 4.1 for the unknown ``r``.
+
+    **The author's oracle angle** (``angle="oracle"``). To reproduce the thesis
+    author's numbers, ``angle="oracle"`` takes ``theta`` from each trial's *true*
+    speed and radial distance (:func:`oracle_protraction_angle_rad`): ``fit`` reads
+    them from ``y`` (speed in ``speed_column``; the parameter search of
+    ``fit_parameters=True`` is then done under that angle), and the trials to
+    classify need theirs too, so :meth:`predict`, :meth:`predict_proba`,
+    :meth:`score` and :meth:`predict_radius_mm` refuse, and
+    :meth:`predict_with_oracle_angle` takes them explicitly. It is not a
+    classifier of unknown contacts: it shows what the angle is worth.
 
     **Speed.** The method cannot estimate speed (4.3.6). ``classes_`` holds the
     distinct radial distances; for a 2-D ``y`` its rows carry the radial distance
@@ -203,6 +291,10 @@ class StaticBeamClassifier(TrialClassifier):
         :data:`DEFAULT_SPEED_MM_S` (126 mm/s) when ``y`` has no speed column.
     latency_s : float, default=0.3
         Protraction duration (controller loop latency), s.
+    angle : {"fixed_speed", "oracle"}, default="fixed_speed"
+        How ``theta`` is obtained (see above): from one assumed speed
+        (``speed_mm_s``), or the author's oracle from each trial's true speed and
+        radial distance (``speed_mm_s`` is then ignored).
     sample_rate_hz : float or None, default=None
         Sample rate of the trials, Hz. The method does not use it (the peak of a
         trial is the same at any rate); when given, data at another rate are
@@ -215,7 +307,8 @@ class StaticBeamClassifier(TrialClassifier):
     radii_mm_ : ndarray of shape (n_radii,)
         Sorted radial-distance classes, mm.
     protraction_mm_ : float
-        ``d`` used for ``theta = d / r``, mm.
+        ``d`` used for ``theta = d / r``, mm (NaN with ``angle="oracle"``, where
+        each trial has its own).
     youngs_modulus_gpa_, base_radius_mm_, length_mm_, moment_scale_ : float
         Parameters in use (measured, or the grid optimum).
     hall_offset_v_, hall_gain_v_, follicle_stiffness_nm_per_rad_ : float
@@ -238,6 +331,7 @@ class StaticBeamClassifier(TrialClassifier):
         speed_column: int = 1,
         speed_mm_s: float | None = None,
         latency_s: float = 0.3,
+        angle: str = "fixed_speed",
         sample_rate_hz: float | None = None,
     ) -> None:
         self.whisker = whisker
@@ -248,6 +342,7 @@ class StaticBeamClassifier(TrialClassifier):
         self.speed_column = speed_column
         self.speed_mm_s = speed_mm_s
         self.latency_s = latency_s
+        self.angle = angle
         self.sample_rate_hz = sample_rate_hz
 
     def __vibrissa_tags__(self) -> EstimatorTags:
@@ -296,7 +391,20 @@ class StaticBeamClassifier(TrialClassifier):
         peak = vsig.peak_magnitude(X[:, ch], rest_v=self.hall_offset_v_)
         return base_moment_nm(peak, self.hall_gain_v_, self.follicle_stiffness_nm_per_rad_)
 
-    def _estimate(self, moment: np.ndarray) -> np.ndarray:
+    def _estimate(self, moment: np.ndarray, theta_rad: np.ndarray | None = None) -> np.ndarray:
+        if theta_rad is not None:
+            return beam_radius_at_angle_mm(
+                self.moment_scale_ * moment,
+                theta_rad,
+                self.youngs_modulus_gpa_,
+                self.base_radius_mm_,
+                self.length_mm_,
+            )
+        if self.angle == "oracle":
+            raise ValueError(
+                "this StaticBeamClassifier has angle='oracle': it needs each trial's true speed "
+                "and radial distance, call predict_with_oracle_angle(X, speed_mm_s, radius_mm)"
+            )
         return static_beam_radius_mm(
             self.moment_scale_ * moment,
             self.protraction_mm_,
@@ -311,7 +419,23 @@ class StaticBeamClassifier(TrialClassifier):
         if not math.isfinite(lat) or lat <= 0:
             raise ValueError(f"latency_s must be positive, got {self.latency_s!r}")
         y_arr = np.asarray(y)
-        if self.speed_mm_s is not None:
+        if self.angle not in ANGLE_MODES:
+            raise ValueError(f"angle must be one of {list(ANGLE_MODES)}, got {self.angle!r}")
+        theta = None
+        if self.angle == "oracle":
+            if not (
+                y_arr.ndim == 2
+                and 0 <= self.speed_column < y_arr.shape[1]
+                and self.speed_column != self.radius_column
+            ):
+                raise ValueError(
+                    "angle='oracle' needs y with a speed column (speed_column): the angle is "
+                    "each trial's true speed x latency_s / its true radial distance"
+                )
+            speeds = target_column(y_arr, self.speed_column, "y (speed)")
+            theta = oracle_protraction_angle_rad(speeds, self.radii_mm_[y_idx], lat)
+            speed = math.nan
+        elif self.speed_mm_s is not None:
             speed = float(self.speed_mm_s)
             if not math.isfinite(speed) or speed <= 0:
                 raise ValueError(f"speed_mm_s must be positive, got {self.speed_mm_s!r}")
@@ -337,12 +461,14 @@ class StaticBeamClassifier(TrialClassifier):
         }
         moment = self._moment(X)
         r_true = self.radii_mm_[y_idx]
-        best = self._grid_search(moment, r_true, measured) if self.fit_parameters else measured
+        best = (
+            self._grid_search(moment, r_true, measured, theta) if self.fit_parameters else measured
+        )
         self.youngs_modulus_gpa_ = best["youngs_modulus_gpa"]
         self.base_radius_mm_ = best["base_radius_mm"]
         self.length_mm_ = best["length_mm"]
         self.moment_scale_ = best["moment_scale"]
-        est = self._estimate(moment)
+        est = self._estimate(moment, theta)
         snapped = self.radii_mm_[nearest_values(est, self.radii_mm_)]
         self.training_error_mm_ = float(np.mean(np.abs(snapped - r_true)))
         gap = float(np.min(np.diff(self.radii_mm_)))
@@ -350,7 +476,11 @@ class StaticBeamClassifier(TrialClassifier):
         self.residual_std_mm_ = max(rms, 0.5 * gap)
 
     def _grid_search(
-        self, moment: np.ndarray, r_true: np.ndarray, measured: dict[str, float]
+        self,
+        moment: np.ndarray,
+        r_true: np.ndarray,
+        measured: dict[str, float],
+        theta_rad: np.ndarray | None = None,
     ) -> dict[str, float]:
         grid = thesis_parameter_grid() if self.param_grid is None else dict(self.param_grid)
         unknown = set(grid) - set(measured)
@@ -369,14 +499,22 @@ class StaticBeamClassifier(TrialClassifier):
         # Eq. 4.1 depends on E, r_base and the moment scale only through
         # kappa = scale / (C d): evaluate each distinct kappa once per length.
         c = 3.0 * E * 1e9 * math.pi * (rb * 1e-3) ** 4 / 4.0
-        kappa = (S / (c * self.protraction_mm_ * 1e-3)).ravel()
+        if theta_rad is None:
+            kappa = (S / (c * self.protraction_mm_ * 1e-3)).ravel()
+        else:
+            # the oracle angle: eq. 4.1 depends on them through kappa = scale / C,
+            # r = L / (1 + kappa L M / theta) for each trial's own theta
+            kappa = (S / c).ravel()
         order = np.argsort(kappa)
         ks = kappa[order]
         new = np.r_[True, np.diff(ks) > 1e-12 * ks[1:]]
         inv = np.empty(kappa.size, dtype=np.intp)
         inv[order] = np.cumsum(new) - 1
         kappa_u = ks[new]
-        err_u = self._grid_errors(kappa_u, L_vals, moment, r_true)
+        if theta_rad is None:
+            err_u = self._grid_errors(kappa_u, L_vals, moment, r_true)
+        else:
+            err_u = self._oracle_grid_errors(kappa_u, L_vals, moment / theta_rad, r_true)
         # full[e, b, s, l]: error of every grid combination.
         full = err_u[inv].reshape(*E.shape, len(L_vals))
         ties = np.argwhere(full <= full.min() + _TIE_MM)
@@ -478,6 +616,111 @@ class StaticBeamClassifier(TrialClassifier):
             rows = np.flatnonzero(near[:, j])
             err[rows, j] = self._snapped_errors(kappa[rows], lengths_mm[j], moment, r_true)
         return err
+
+    def _oracle_snapped_errors(
+        self, kappa: np.ndarray, length_mm: float, u: np.ndarray, r_true: np.ndarray
+    ) -> np.ndarray:
+        """Mean absolute snapped error for each ``kappa`` at one length, oracle angle.
+
+        ``u = M / theta`` per trial; the estimate is ``r = L / (1 + kappa L u)``
+        (:func:`beam_radius_at_angle_mm` with ``kappa = scale / C``).
+        """
+        mid = 0.5 * (self.radii_mm_[1:] + self.radii_mm_[:-1])
+        Lm = length_mm * 1e-3
+        out = np.empty(len(kappa))
+        block = max(1, 2_000_000 // max(1, u.size))
+        for s in range(0, len(kappa), block):
+            r = length_mm / (1.0 + (kappa[s : s + block, None] * Lm) * u[None, :])
+            snapped = self.radii_mm_[np.searchsorted(mid, r)]
+            out[s : s + block] = np.mean(np.abs(snapped - r_true[None, :]), axis=1)
+        return out
+
+    def _oracle_grid_errors(
+        self, kappa: np.ndarray, lengths_mm: np.ndarray, u: np.ndarray, r_true: np.ndarray
+    ) -> np.ndarray:
+        """Errors ``(len(kappa), len(lengths_mm))`` of :meth:`_oracle_snapped_errors`.
+
+        The estimate falls with ``u``, so the trials snapped to each class are a run
+        of the trials sorted by ``u``, bounded where the estimate crosses the
+        midpoints between classes: prefix sums of each class's absolute error give
+        every grid point's error from ``n_classes`` binary searches. The points
+        within a few boundary trials' worth of the smallest error (a trial whose
+        ``u`` rounds across a bound moves by at most the widest class gap) are
+        evaluated again directly, the rest set to infinity, so the minimum and its
+        ties are those of :meth:`_oracle_snapped_errors`.
+        """
+        radii = self.radii_mm_
+        n, n_cls = u.size, radii.size
+        if not (np.all(np.isfinite(u)) and np.all(u >= 0) and np.all(kappa > 0)):
+            return np.column_stack(
+                [self._oracle_snapped_errors(kappa, L, u, r_true) for L in lengths_mm]
+            )
+        order = np.argsort(u, kind="stable")
+        u_sorted = u[order]
+        prefix = np.zeros((n + 1, n_cls))
+        np.cumsum(np.abs(radii[None, :] - r_true[order][:, None]), axis=0, out=prefix[1:])
+        mid = 0.5 * (radii[1:] + radii[:-1])
+        cols = np.arange(n_cls)
+        fast = np.empty((kappa.size, lengths_mm.size))
+        for j, L in enumerate(lengths_mm):
+            # class >= c  <=>  r > mid[c - 1]  <=>  u < (L / mid[c - 1] - 1) / (kappa L)
+            with np.errstate(divide="ignore"):
+                bound = (L / mid - 1.0)[None, :] / (kappa[:, None] * L * 1e-3)
+            n_ge = np.searchsorted(u_sorted, bound.ravel(), side="left").reshape(bound.shape)
+            hi = np.column_stack([np.full(kappa.size, n), n_ge])  # trials of class >= c
+            lo = np.column_stack([n_ge, np.zeros(kappa.size, dtype=n_ge.dtype)])
+            fast[:, j] = (prefix[hi, cols] - prefix[lo, cols]).sum(axis=1) / n
+        gap = float(np.max(np.diff(radii)))
+        spread = float(radii[-1] - radii[0])
+        slack = _TIE_MM + 4.0 * gap / n + 8.0 * (n_cls + 2) * np.finfo(float).eps * spread
+        near = fast <= fast.min() + slack
+        err = np.full(fast.shape, np.inf)
+        for j in np.flatnonzero(near.any(axis=0)):
+            rows = np.flatnonzero(near[:, j])
+            err[rows, j] = self._oracle_snapped_errors(kappa[rows], lengths_mm[j], u, r_true)
+        return err
+
+    def predict_with_oracle_angle(
+        self,
+        X: Any,
+        speed_mm_s: Any,
+        radius_mm: Any,
+        sample_rate_hz: float | None = None,
+    ) -> np.ndarray:
+        """Classify with the thesis author's angle: each trial's TRUE speed and radial distance.
+
+        An oracle (see the class docstring): ``theta = speed x latency_s / radius``
+        of each trial (:func:`oracle_protraction_angle_rad`), eq. 4.1 with the
+        fitted parameters (:func:`beam_radius_at_angle_mm`), snapped to the nearest
+        radial-distance class. Works after either ``angle``; the parameters were
+        searched under the angle of ``fit``.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_trials, n_channels, n_timepoints) or (n_trials, n_timepoints)
+        speed_mm_s : array-like of shape (n_trials,)
+            True contact speed of each trial, mm/s.
+        radius_mm : array-like of shape (n_trials,)
+            True radial distance of each trial, mm (the quantity estimated: only
+            its role in the angle is used).
+        sample_rate_hz : float, optional
+            Sample rate of ``X``, Hz; refused when not ``sample_rate_hz_``.
+
+        Returns
+        -------
+        ndarray of shape (n_trials,) or (n_trials, n_targets)
+            Rows of ``classes_``, as :meth:`predict` returns.
+        """
+        Xc = self._fitted_input(X, sample_rate_hz)
+        n = Xc.shape[0]
+        speed = np.asarray(speed_mm_s, dtype=float)
+        radius = np.asarray(radius_mm, dtype=float)
+        for name, arr in (("speed_mm_s", speed), ("radius_mm", radius)):
+            if arr.shape != (n,):
+                raise ValueError(f"{name} must have shape ({n},) (one per trial), got {arr.shape}")
+        theta = oracle_protraction_angle_rad(speed, radius, float(self.latency_s))
+        est = self._estimate(self._moment(Xc), theta)
+        return self.classes_[nearest_values(est, self.radii_mm_)]
 
     def _joint_scores(self, X: np.ndarray) -> np.ndarray:
         est = self._estimate(self._moment(X))

@@ -23,6 +23,7 @@ one permutation per repeat shared by all fractions (so, as in the thesis, the
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -32,7 +33,13 @@ import xarray as xr
 from sklearn.base import clone
 from sklearn.pipeline import Pipeline
 
-from vibrissa.classify import RecordingWindow, dataset_sample_rate, estimator_tags
+from vibrissa.classify import (
+    RecordingWindow,
+    check_sample_rate,
+    dataset_sample_rate,
+    estimator_tags,
+    sample_rate_fit_params,
+)
 from vibrissa.evaluate import metrics
 from vibrissa.evaluate.jobs import SharedArrays, resolve_workers, run_jobs
 from vibrissa.evaluate.loop import FitRecord, Progress, ProgressLike, check_rates, json_value
@@ -40,6 +47,8 @@ from vibrissa.evaluate.loop import fit_and_score as loop_fit_and_score
 from vibrissa.evaluate.splits import Split
 
 __all__ = [
+    "ORACLE_ANGLE_LABEL",
+    "ORACLE_ANGLE_NAMES",
     "PARAMETERS",
     "THESIS_FRACTIONS",
     "Split",
@@ -49,7 +58,9 @@ __all__ = [
     "fitted_parameters",
     "fraction_key",
     "is_radius_only",
+    "oracle_angle_scores",
     "run_chapter4",
+    "run_oracle_angle",
     "score_predictions",
     "split_sets",
     "subsample_combinations",
@@ -63,6 +74,12 @@ PARAMETERS: dict[str, str] = {"radial_distance_mm": "radius_mm", "speed_mm_s": "
 THESIS_FRACTIONS: tuple[float, ...] = (0.8, 0.6, 0.4, 0.2, 0.1, 0.05)
 
 _REQUIRED_COORDS = ("radial_distance_mm", "speed_mm_s", "set")
+
+#: The label of the static beam rows that use the thesis author's protraction angle.
+ORACLE_ANGLE_LABEL = "author's angle (oracle: true speed and radius of each test trial)"
+
+#: The static-beam classifiers evaluated again with the author's oracle angle.
+ORACLE_ANGLE_NAMES: tuple[str, ...] = ("static_beam_measured", "static_beam_fitted")
 
 #: Trials windowed at a time when the reduced training sets' windows are cut.
 _WINDOW_BLOCK = 2048
@@ -1054,3 +1071,145 @@ def run_chapter4(
     plan = _plan_fits(classifiers, inputs)
     fits = _run_fits(plan, inputs, prog)
     return _assemble_results(ds, classifiers, inputs, fits, keep_predictions=keep_predictions)
+
+
+# --------------------------------------------------------------------------- oracle angle
+def oracle_angle_scores(
+    name: str,
+    estimator: Any,
+    X_train: np.ndarray,
+    y_train: np.ndarray,
+    X_test: np.ndarray,
+    y_test: np.ndarray,
+    *,
+    sample_rate_hz: float | None = None,
+) -> dict[str, Any]:
+    """Fit a static beam with the thesis author's oracle angle and score it on the test set.
+
+    The angle of every trial, training and test, is its TRUE speed x 0.3 s over
+    its TRUE radial distance (``ProtractionAngle.m`` of the author's code; see
+    :meth:`vibrissa.classify.StaticBeamClassifier.predict_with_oracle_angle`): a
+    clone of ``estimator`` (a :class:`~vibrissa.classify.StaticBeamClassifier` or
+    a Pipeline ending in one) is set to ``angle="oracle"``, so a parameter search
+    runs under that angle too, and the test trials' true labels are passed in.
+
+    Parameters
+    ----------
+    name : str
+        Classifier name (used in error messages).
+    estimator : sklearn estimator
+        Cloned, never modified.
+    X_train, y_train, X_test, y_test : numpy.ndarray
+        Trials and ``[radial_distance_mm, speed_mm_s]`` labels.
+    sample_rate_hz : float, optional
+        Sample rate of the trials, Hz (passed at fit, checked before classifying).
+
+    Returns
+    -------
+    dict
+        :func:`score_predictions` (radius only) plus ``fit_seconds``,
+        ``classify_seconds``, ``n_train``, ``n_test``, ``n_classes_train``,
+        ``radius_only`` (True), ``fitted_parameters`` and ``abs_error_mm``
+        (``mean`` and ``std`` of the absolute radial error).
+    """
+    est = clone(estimator)
+    step, final = est.steps[-1] if isinstance(est, Pipeline) else (None, est)
+    if not hasattr(final, "predict_with_oracle_angle") or "angle" not in final.get_params():
+        raise TypeError(
+            f"estimator of {name!r} must be a StaticBeamClassifier or a Pipeline ending in one, "
+            f"got {type(final).__name__}"
+        )
+    est.set_params(**{"angle" if step is None else f"{step}__angle": "oracle"})
+    y_tr = np.asarray(y_train, dtype=float)
+    y_te = np.asarray(y_test, dtype=float)
+    t0 = time.perf_counter()
+    try:
+        est.fit(X_train, y_tr, **sample_rate_fit_params(est, sample_rate_hz))
+    except ValueError as exc:
+        raise ValueError(f"classifier {name!r} (oracle angle) failed to fit: {exc}") from exc
+    t1 = time.perf_counter()
+    if sample_rate_hz is not None:
+        check_sample_rate(est, sample_rate_hz)
+    X_in = est[:-1].transform(X_test) if step is not None else X_test
+    final = est.steps[-1][1] if step is not None else est
+    y_pred = np.asarray(
+        final.predict_with_oracle_angle(X_in, y_te[:, 1], y_te[:, 0]), dtype=float
+    ).reshape(len(y_te), -1)
+    if y_pred.shape[1] == 1:
+        y_pred = np.column_stack([y_pred[:, 0], np.full(len(y_te), np.nan)])
+    t2 = time.perf_counter()
+    out = score_predictions(y_te, y_pred, radius_only=True)
+    abs_err = np.abs(y_pred[:, 0] - y_te[:, 0])
+    out.update(
+        abs_error_mm={
+            "mean": float(abs_err.mean()),
+            "std": float(abs_err.std(ddof=1)) if abs_err.size > 1 else None,
+        },
+        fit_seconds=t1 - t0,
+        classify_seconds=t2 - t1,
+        n_train=int(X_train.shape[0]),
+        n_test=int(X_test.shape[0]),
+        n_classes_train=int(np.unique(np.round(y_tr, 6), axis=0).shape[0]),
+        radius_only=True,
+        fitted_parameters=fitted_parameters(est),
+    )
+    return out
+
+
+def run_oracle_angle(
+    ds: xr.Dataset,
+    classifiers: Mapping[str, Any],
+    *,
+    train_set: Any,
+    test_set: Any,
+    names: Sequence[str] = ORACLE_ANGLE_NAMES,
+    require_complete: bool = True,
+) -> dict[str, Any]:
+    """The static-beam rows again with the thesis author's oracle protraction angle.
+
+    An extra, labelled result (:data:`ORACLE_ANGLE_LABEL`) beside table 4.7: the
+    author's code computed ``theta`` from each test trial's true speed and radial
+    distance, which no classifier of unknown contacts can; evaluated on the given
+    split (that of the static-beam rows), full training set only.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Chapter-4 dataset (see :func:`check_dataset`).
+    classifiers : mapping of str to sklearn estimator
+        As for :func:`run_chapter4`; those of ``names`` present are evaluated.
+    train_set, test_set
+        As for :func:`split_sets` (``train_set`` may be a list, pooled).
+    names : sequence of str, default=ORACLE_ANGLE_NAMES
+        Static-beam classifiers to evaluate with the oracle angle.
+    require_complete : bool, default=True
+        Passed to :func:`check_dataset`.
+
+    Returns
+    -------
+    dict
+        JSON-ready: ``{"label", "description", "split": {...}, "classifiers":
+        {name: oracle_angle_scores(...)}}`` keyed by the static-beam row each
+        entry redoes.
+    """
+    split = split_sets(
+        ds, train_set=train_set, test_set=test_set, require_complete=require_complete
+    )
+    X, y = dataset_arrays(ds)
+    fs = dataset_sample_rate(ds)
+    tr, te = split.train_index, split.test_index
+    rows = {
+        name: oracle_angle_scores(
+            name, classifiers[name], X[tr], y[tr], X[te], y[te], sample_rate_hz=fs
+        )
+        for name in names
+        if name in classifiers
+    }
+    return {
+        "label": ORACLE_ANGLE_LABEL,
+        "description": "the static beam with theta = true speed x latency / true radial "
+        "distance of every trial (training and test), as in the thesis author's "
+        "ProtractionAngle.m; an oracle, not a classifier of unknown contacts",
+        "split": split.to_dict(),
+        "classifiers": rows,
+    }

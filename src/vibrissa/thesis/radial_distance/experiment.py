@@ -65,7 +65,7 @@ class RadialDistance(Experiment):
         """Run the five classifiers on the thesis code's split and the text's one-set split."""
         from vibrissa.classify import CHAPTER4_ONE_SET, chapter4_classifiers, dataset_sample_rate
         from vibrissa.data import whisker_params
-        from vibrissa.thesis.radial_distance.evaluation import run_chapter4
+        from vibrissa.thesis.radial_distance.evaluation import run_chapter4, run_oracle_angle
 
         clfs = chapter4_classifiers(dataset_sample_rate(ds), whisker_params(ds))
         # The split that produced table 4.7 (the author's code): test on set 1; naive
@@ -103,6 +103,19 @@ class RadialDistance(Experiment):
                 k: {p: v[p] for p in ("radius_mm", "speed_mm_s", "joint", "train_sets")}
                 for k, v in other["classifiers"].items()
             },
+        }
+        # An extra, labelled row (issue 30): the static beam with the thesis author's
+        # angle, an oracle from each test trial's true speed and radius, on the same
+        # splits as the static-beam rows; no other row changes.
+        results["oracle_angle"] = run_oracle_angle(
+            ds, clfs, train_set=list(THESIS_TRAIN_SETS), test_set=THESIS_TEST_SET
+        )
+        one_set = run_oracle_angle(
+            ds, clfs, train_set=THESIS_ONE_TRAIN_SET, test_set=THESIS_TEST_SET
+        )
+        results["other_split"]["oracle_angle"] = {
+            k: {p: v[p] for p in ("radius_mm", "abs_error_mm")}
+            for k, v in one_set["classifiers"].items()
         }
         results["meta"]["saturated_fraction"] = (
             float(ds["saturated"].mean()) if "saturated" in ds.coords else None

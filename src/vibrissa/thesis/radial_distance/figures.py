@@ -32,6 +32,7 @@ __all__ = [
     "comparison_plot",
     "error_histogram",
     "error_scatter",
+    "oracle_angle_speed_plot",
     "prediction_scatter",
     "static_beam_speed_plot",
     "training_size_plot",
@@ -231,6 +232,53 @@ def static_beam_speed_plot(
     ax.set_xlabel("contact speed (mm/s)")
     ax.set_ylabel("radial distance error (mm)")
     ax.set_title(f"{SHORT_NAMES.get(name, name)}: error per speed")
+    return ax
+
+
+def oracle_angle_speed_plot(
+    results: Mapping[str, Any],
+    name: str = "static_beam_measured",
+    *,
+    errorbar: Literal["std", "sem"] = "std",
+    ax: Axes | None = None,
+) -> Axes:
+    """Radial error per speed of a static beam: its own angle and the author's oracle angle.
+
+    Parameters
+    ----------
+    results : dict
+        Results of a chapter-4 run with the ``oracle_angle`` section
+        (:func:`~vibrissa.thesis.radial_distance.evaluation.run_oracle_angle`).
+    name : str, default="static_beam_measured"
+        Static-beam classifier.
+    errorbar : {"std", "sem"}, default="std"
+        Spread of the per-trial errors or standard error of their mean.
+    ax : matplotlib.axes.Axes, optional
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    if errorbar not in ("std", "sem"):
+        raise ValueError(f"errorbar must be 'std' or 'sem', got {errorbar!r}")
+    oracle = (results.get("oracle_angle") or {}).get("classifiers", {})
+    if name not in oracle:
+        raise ValueError(f"results hold no oracle-angle row for {name!r} (have {sorted(oracle)})")
+    ax = new_axes(ax)
+    series = (
+        ("fixed speed (ours)", _entry(results, name)["radius_error_by_speed"], "C0", 0.0),
+        ("author's oracle angle", oracle[name]["radius_error_by_speed"], "C3", 1.5),
+    )
+    for label, rows, color, shift in series:
+        s = np.array([r["speed_mm_s"] for r in rows], float)
+        m = np.array([np.nan if r["mean"] is None else r["mean"] for r in rows], float)
+        e = np.array([0.0 if r[errorbar] is None else r[errorbar] for r in rows], float)
+        ax.errorbar(s + shift, m, yerr=e, fmt="o-", ms=3, capsize=2, color=color, label=label)
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.set_xlabel("contact speed (mm/s)")
+    ax.set_ylabel(f"radial distance error (mm), mean ± {errorbar}")
+    ax.set_title(f"{SHORT_NAMES.get(name, name)}: error per speed")
+    ax.legend(fontsize=8)
     return ax
 
 
@@ -438,6 +486,12 @@ def _figure(results: Mapping[str, Any], kind: str, name: str | None) -> Figure:
     if kind == "errors":
         assert name is not None, "an errors figure is one classifier's"
         return classifier_figure(results, name)
+    if kind == "oracle_angle":
+        names = list(results["oracle_angle"]["classifiers"])
+        fig = Figure(figsize=(5.5 * len(names), 3.8), layout="constrained")
+        for ax, n in zip(np.atleast_1d(fig.subplots(1, len(names))), names, strict=True):
+            oracle_angle_speed_plot(results, n, ax=ax)
+        return fig
     fig = Figure(
         figsize=(10.0, 3.8) if kind == "training_size" else (11.0, 4.0), layout="constrained"
     )
@@ -490,7 +544,8 @@ def chapter4_figures(
     dict of str to pathlib.Path
         Keys ``"errors/<name>"`` (per-classifier error figure, if predictions
         are present), ``"training_size/<name>"`` (if reduced sets were run),
-        ``"comparison"`` (figure 4.12).
+        ``"comparison"`` (figure 4.12), ``"oracle_angle"`` (the static beam's error
+        per speed with the author's oracle angle, if the results have it).
     """
     from vibrissa.evaluate.jobs import SharedArrays, resolve_workers, run_jobs
 
@@ -506,6 +561,8 @@ def chapter4_figures(
                 out / f"training_size_{_slug(name)}.png",
             )
     jobs["comparison"] = ("comparison", None, out / "comparison.png")
+    if (results.get("oracle_angle") or {}).get("classifiers"):
+        jobs["oracle_angle"] = ("oracle_angle", None, out / "oracle_angle.png")
     with SharedArrays(resolve_workers(workers)) as none:
         paths = run_jobs(
             _draw,

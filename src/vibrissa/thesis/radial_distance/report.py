@@ -21,7 +21,7 @@ import numpy as np
 
 from vibrissa._atomic import atomic_write_text
 from vibrissa.evaluate.report_common import fmt, fmt_seconds, md_table
-from vibrissa.thesis.radial_distance.evaluation import fraction_key
+from vibrissa.thesis.radial_distance.evaluation import ORACLE_ANGLE_LABEL, fraction_key
 from vibrissa.thesis.radial_distance.values import (
     TABLE_FRACTIONS,
     THESIS_CHAPTER4,
@@ -34,6 +34,7 @@ __all__ = [
     "THESIS_COLUMNS",
     "discussion",
     "markdown_report",
+    "oracle_angle_gap",
     "results_csv",
     "write_csv",
     "write_outputs",
@@ -462,6 +463,18 @@ def markdown_report(
                     fmt(_get(th, "radius_mm", "std")),
                 ]
             )
+    oracle = (results.get("oracle_angle") or {}).get("classifiers", {})
+    for name, entry in oracle.items():
+        rows.append(
+            [
+                f"{name}, {(results.get('oracle_angle') or {}).get('label', ORACLE_ANGLE_LABEL)}",
+                "ours (extra row)",
+                fmt(None),
+                fmt(None),
+                fmt(_get(entry, "radius_mm", "mean")),
+                fmt(_get(entry, "radius_mm", "std")),
+            ]
+        )
     if baseline is not None:
         out += [f"*before*: {baseline.get('meta', {}).get('label', 'an earlier run')}.", ""]
     out += [
@@ -479,6 +492,7 @@ def markdown_report(
             "see docs/methods.md): " + "; ".join(f"{n}: {v}" for n, v in own.items()) + ".",
             "",
         ]
+    out += _oracle_angle_section(results, figures)
     other = results.get("other_split")
     if other:
         out += [f"### The other split: {other.get('description', '')}", ""]
@@ -545,6 +559,141 @@ def markdown_report(
 
     out += ["## Discussion", "", discussion(results), ""]
     return "\n".join(out)
+
+
+def oracle_angle_gap(results: Mapping[str, Any], name: str) -> dict[str, Any] | None:
+    """How much of a static beam's gap to the thesis' spread the author's angle explains.
+
+    Parameters
+    ----------
+    results : dict
+        Results of a chapter-4 run with the ``oracle_angle`` section.
+    name : {"static_beam_measured", "static_beam_fitted"}
+        The static-beam row; compared with the thesis' std of the same parameters
+        (8.8 mm measured, table 4.7 and 4.4.1; 10.4 mm fitted, 4.4.1).
+
+    Returns
+    -------
+    dict or None
+        ``ours_std_mm`` (one assumed speed), ``oracle_std_mm`` (author's angle),
+        ``thesis_std_mm``, ``gap_mm`` (ours - thesis) and ``explained`` (the share
+        of the gap the angle closes, ``(ours - oracle) / gap``; ``None`` when ours is
+        not above the thesis'); ``None`` when the run lacks either row.
+    """
+    label = {"static_beam_measured": "measured", "static_beam_fitted": "fitted"}.get(name)
+    ours = _get((results.get("classifiers") or {}).get(name), "radius_mm", "std")
+    entry = ((results.get("oracle_angle") or {}).get("classifiers") or {}).get(name)
+    oracle = _get(entry, "radius_mm", "std")
+    if label is None or ours is None or oracle is None:
+        return None
+    thesis = float(THESIS_CHAPTER4["static_beam_text"][label]["std"])
+    gap = float(ours) - thesis
+    return {
+        "ours_std_mm": float(ours),
+        "oracle_std_mm": float(oracle),
+        "thesis_std_mm": thesis,
+        "gap_mm": gap,
+        "explained": (float(ours) - float(oracle)) / gap if gap > 0 else None,
+    }
+
+
+def _gap_sentence(results: Mapping[str, Any], name: str) -> str | None:
+    g = oracle_angle_gap(results, name)
+    if g is None:
+        return None
+    head = (
+        f"**{name} with the author's angle**: radius std {fmt(g['oracle_std_mm'])} mm "
+        f"against {fmt(g['ours_std_mm'])} mm with one assumed speed and "
+        f"{fmt(g['thesis_std_mm'], 1)} mm in the thesis"
+    )
+    if g["explained"] is None:
+        return head + "; ours is not above the thesis', so there is no gap to explain."
+    share = 100.0 * g["explained"]
+    if share >= 100.0:
+        verdict = f"the angle closes the whole gap of {fmt(g['gap_mm'])} mm ({fmt(share, 0)} %)"
+    elif share <= 0.0:
+        verdict = f"the angle closes none of the gap of {fmt(g['gap_mm'])} mm ({fmt(share, 0)} %)"
+    else:
+        verdict = (
+            f"the angle explains {fmt(share, 0)} % of the gap of {fmt(g['gap_mm'])} mm, "
+            f"{fmt(g['oracle_std_mm'] - g['thesis_std_mm'])} mm remain"
+        )
+    return f"{head}: {verdict}."
+
+
+def _oracle_angle_section(results: Mapping[str, Any], figures: Mapping[str, str]) -> list[str]:
+    """The static beam with the thesis author's oracle angle (issue 30): table and sentence."""
+    section = results.get("oracle_angle") or {}
+    oracle = section.get("classifiers") or {}
+    if not oracle:
+        return []
+    cl = results.get("classifiers", {})
+    other = ((results.get("other_split") or {}).get("oracle_angle")) or {}
+    other_cl = (results.get("other_split") or {}).get("classifiers", {})
+    out = [
+        f"### Extra row: static beam, {section.get('label', ORACLE_ANGLE_LABEL)}",
+        "",
+        "The thesis author's code (ProtractionAngle.m) computes the protraction angle "
+        "theta = speed x 0.3 s / radial distance from each test trial's TRUE speed and "
+        "radius, which a classifier of unknown contacts cannot know. These rows redo the "
+        "static beam that way (theta of the training trials too, so the fitted row "
+        "searches its parameters under that angle), on the same splits; every other row "
+        "is unchanged. Statistics as in table 4.7 (signed error), and of the absolute error.",
+        "",
+    ]
+    rows = []
+    for name, entry in oracle.items():
+        for split, fixed, orc in (
+            ("main", cl.get(name), entry),
+            ("one set", other_cl.get(name), other.get(name)),
+        ):
+            if orc is None:
+                continue
+            rows.append(
+                [
+                    name,
+                    split,
+                    fmt(_get(fixed, "radius_mm", "std")),
+                    fmt(_get(orc, "radius_mm", "mean")),
+                    fmt(_get(orc, "radius_mm", "std")),
+                    fmt(_get(orc, "abs_error_mm", "mean")),
+                    fmt(_get(orc, "abs_error_mm", "std")),
+                ]
+            )
+    out += [
+        md_table(
+            [
+                "static beam",
+                "split",
+                "radius std, one assumed speed (mm)",
+                "oracle: radius mean (mm)",
+                "oracle: radius std (mm)",
+                "oracle: mean |error| (mm)",
+                "oracle: SD |error| (mm)",
+            ],
+            rows,
+        ),
+        "",
+    ]
+    for sentence in (_gap_sentence(results, n) for n in oracle):
+        if sentence:
+            out += [sentence, ""]
+    fp = {k: (e.get("fitted_parameters") or {}) for k, e in oracle.items()}
+    if fp.get("static_beam_fitted"):
+        p = fp["static_beam_fitted"]
+        out += [
+            "Parameters the fitted row finds under the oracle angle: E "
+            f"{fmt(p.get('youngs_modulus_gpa'), 2)} GPa, r_base {fmt(p.get('base_radius_mm'), 2)}"
+            f" mm, L {fmt(p.get('length_mm'), 1)} mm, moment scale "
+            f"x {fmt(p.get('moment_scale'), 3)}.",
+            "",
+        ]
+    if "oracle_angle" in figures:
+        out += [
+            f"![Static beam error per speed, with the author's angle]({figures['oracle_angle']})",
+            "",
+        ]
+    return out
 
 
 def _speed_std(results: Mapping[str, Any]) -> tuple[float, float] | None:
@@ -624,6 +773,10 @@ def discussion(results: Mapping[str, Any]) -> str:
                 "assumed speed for every trial (the author's code used each test trial's "
                 "true speed and radius, docs/methods.md)."
             )
+    for name in (results.get("oracle_angle") or {}).get("classifiers", {}):
+        sentence = _gap_sentence(results, name)
+        if sentence:
+            lines.append(f"- {sentence}")
     meta = results.get("meta") or {}
     if meta.get("saturated_fraction") is not None:
         lines.append(
