@@ -269,8 +269,168 @@ def _run_figures(meta: Mapping[str, Any]) -> dict[str, Any]:
     }
 
 
+def sig4(value: Any) -> Any:
+    """``value`` with every float rounded to 4 significant digits (dicts and lists too).
+
+    Integers, strings, booleans and ``None`` are kept; a non-finite float becomes ``None``.
+    """
+    if isinstance(value, Mapping):
+        return {str(k): sig4(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [sig4(v) for v in value]
+    if isinstance(value, bool) or not isinstance(value, float):
+        return value
+    if value != value or value in (float("inf"), float("-inf")):
+        return None
+    return float(f"{value:.4g}")
+
+
+def _int_matrix(matrix: Any) -> Any:
+    return None if matrix is None else [[int(round(x)) for x in row] for row in matrix]
+
+
+def _error_histogram(pred: list[Any] | None, true: list[Any]) -> dict[str, list[Any]] | None:
+    """Counts of each signed error ``predicted - true`` (4 significant digits)."""
+    if pred is None:
+        return None
+    counts: dict[float, int] = {}
+    for p, t in zip(pred, true, strict=True):
+        if p is None or t is None:
+            continue
+        e = sig4(float(p) - float(t))
+        counts[e] = counts.get(e, 0) + 1
+    keys = sorted(counts)
+    return {"error": keys, "count": [counts[k] for k in keys]}
+
+
+_SCORE_KEYS = ("mean", "std", "sem", "mean_abs", "rmse", "exact_hit", "n", "kappa")
+
+
+def _scores(entry: Any) -> Any:
+    if not isinstance(entry, Mapping):
+        return None
+    return sig4({k: entry[k] for k in (*_SCORE_KEYS, "mean_sd_over_seeds") if k in entry})
+
+
+def _chapter4_tables(results: Mapping[str, Any]) -> dict[str, Any]:
+    """Tables 4.1-4.7 and the figures' data (error histograms, errors by speed).
+
+    ``tables.training_curves[name][fraction]`` holds tables 4.2-4.5 and figures 4.4-4.10
+    (``"1"`` is the full training set); ``derived`` the comparisons the ledger of
+    thesis claims reads (``scripts/thesis_claims.py``).
+    """
+    clfs = results.get("classifiers", {})
+    fractions = results.get("training_fractions", {}) or {}
+    curves: dict[str, Any] = {}
+    for name, entry in clfs.items():
+        rows = {"1": entry} | {
+            f: fractions[f][name] for f in fractions if isinstance(fractions[f].get(name), Mapping)
+        }
+        curves[name] = {
+            frac: {
+                "radius_mm": _scores(r.get("radius_mm")),
+                "speed_mm_s": _scores(r.get("speed_mm_s")),
+                "joint": sig4(r.get("joint")),
+                "n_train": r.get("n_train"),
+                "fit_seconds": sig4(r.get("fit_seconds")),
+                "classify_seconds": sig4(r.get("classify_seconds")),
+            }
+            for frac, r in rows.items()
+        }
+    preds = results.get("predictions", {}) or {}
+    truth = {"radius_mm": preds.get("radius_mm_true"), "speed_mm_s": preds.get("speed_mm_s_true")}
+    histograms = {
+        name: {
+            p: _error_histogram(pc.get(p), truth[p]) if truth[p] is not None else None
+            for p in ("radius_mm", "speed_mm_s")
+        }
+        for name, pc in (preds.get("classifiers", {}) or {}).items()
+    }
+    tables: dict[str, Any] = {
+        "table_4_1": {
+            kind: sig4(clfs.get(f"static_beam_{kind}", {}).get("fitted_parameters"))
+            for kind in ("measured", "fitted")
+        },
+        "table_4_6": {
+            name: sig4({k: e.get(k) for k in ("classify_seconds", "fit_seconds", "n_test")})
+            for name, e in clfs.items()
+        },
+        "table_4_7": {
+            name: {p: _scores(e.get(p)) for p in ("radius_mm", "speed_mm_s")}
+            | {"joint": sig4(e.get("joint"))}
+            for name, e in clfs.items()
+        },
+        "training_curves": curves,
+        "radius_error_by_speed": {
+            name: sig4(e["radius_error_by_speed"])
+            for name, e in clfs.items()
+            if e.get("radius_error_by_speed")
+        },
+        "error_histograms": histograms,
+    }
+    if isinstance(results.get("other_split"), Mapping):
+        other = results["other_split"]
+        tables["other_split"] = {
+            "description": other.get("description"),
+            "classifiers": {
+                name: {p: _scores(e.get(p)) for p in ("radius_mm", "speed_mm_s")}
+                for name, e in (other.get("classifiers") or {}).items()
+            },
+        }
+    if isinstance(results.get("oracle_angle"), Mapping):
+        oracle = results["oracle_angle"]
+        tables["oracle_angle"] = {
+            "label": oracle.get("label"),
+            "classifiers": {
+                name: {
+                    "radius_mm": _scores(e.get("radius_mm")),
+                    "abs_error_mm": sig4(e.get("abs_error_mm")),
+                }
+                for name, e in (oracle.get("classifiers") or {}).items()
+            },
+        }
+    derived: dict[str, Any] = {}
+    for name in ("static_beam_measured", "static_beam_fitted"):
+        rows = tables["radius_error_by_speed"].get(name)
+        if not rows:
+            continue
+        speeds = sorted(r["speed_mm_s"] for r in rows)
+        median = speeds[(len(speeds) - 1) // 2]
+        by = {r["speed_mm_s"]: r for r in rows}
+        derived[name] = {
+            "median_speed_mm_s": median,
+            "std_at_median_speed": by[median]["std"],
+            "mean_at_median_speed": by[median]["mean"],
+            "std_at_extreme_speed": max(by[speeds[0]]["std"], by[speeds[-1]]["std"]),
+        }
+    ratios = {}
+    fitted = {f for c in curves.values() for f in c if f != "1"}  # None entries left out
+    smallest = min(fitted, key=float) if fitted else None  # the thesis' 5 %
+    for name in ("frequency", "template", "feature", "naive_bayes_velocity"):
+        full = curves.get(name, {}).get("1", {}).get("radius_mm")
+        low = curves.get(name, {}).get(str(smallest), {}).get("radius_mm")
+        if full and low and full.get("std"):
+            ratios[name] = sig4(low["std"] / full["std"])
+    reduced: dict[str, Any] = {"smallest_fraction": smallest, "radius_std_ratio_smallest": ratios}
+    if ratios:
+        reduced["worst_radius_std_ratio_smallest"] = max(ratios.values())
+    feat = {
+        f: r["radius_mm"]["std"] for f, r in curves.get("feature", {}).items() if r["radius_mm"]
+    }
+    if feat:
+        reduced["feature_best_radius_fraction"] = float(min(feat, key=lambda f: (feat[f], f)))
+    derived["reduced_training"] = reduced
+    return {"tables": tables, "derived": derived}
+
+
 def extract_chapter4(results: Mapping[str, Any]) -> dict[str, Any]:
-    """What the docs quote from a ``reproduce radial-distance`` results dict."""
+    """What the docs quote from a ``reproduce radial-distance`` results dict.
+
+    Besides the keys the templates use (``classifiers``, times), every table and figure
+    of chapter 4 the reproduction computes, floats to 4 significant digits: ``tables``
+    (:func:`_chapter4_tables`: 4.1, 4.2-4.5 as ``training_curves``, 4.6, 4.7, the static
+    beam's errors by speed, error histograms) and ``derived``.
+    """
     meta = results.get("meta", {})
     out: dict[str, Any] = {
         **_run_figures(meta),
@@ -282,7 +442,85 @@ def extract_chapter4(results: Mapping[str, Any]) -> dict[str, Any]:
     }
     if out["n_trials"] and out["generate_seconds"]:
         out["trials_per_second"] = out["n_trials"] / out["generate_seconds"]
-    return out
+    return out | _chapter4_tables(results)
+
+
+def _kappa(matrix: list[list[int]]) -> float | None:
+    """Cohen's kappa of a confusion matrix (``None`` when undefined)."""
+    n = sum(sum(row) for row in matrix)
+    if n == 0:
+        return None
+    k = len(matrix)
+    po = sum(matrix[i][i] for i in range(k)) / n
+    pe = sum(sum(matrix[i]) * sum(row[i] for row in matrix) for i in range(k)) / n**2
+    return None if pe >= 1 else sig4((po - pe) / (1 - pe))
+
+
+def _texture_groups(conf: Mapping[str, Any], smooth_code: float) -> dict[str, Any] | None:
+    """Kappa of smooth vs rough (the 4 x 4 texture matrix collapsed to 2 x 2) and among
+    the sandpapers (the 3 x 3 block of sandpaper rows and columns)."""
+    if not isinstance(conf, Mapping) or conf.get("matrix") is None:
+        return None
+    labels, m = list(conf["labels"]), conf["matrix"]
+    if smooth_code not in labels or len(labels) < 3:
+        return None
+    s = labels.index(smooth_code)
+    rough = [i for i in range(len(labels)) if i != s]
+    two = [
+        [m[s][s], sum(m[s][j] for j in rough)],
+        [sum(m[i][s] for i in rough), sum(m[i][j] for i in rough for j in rough)],
+    ]
+    block = [[m[i][j] for j in rough] for i in rough]
+    return {"smooth_vs_rough_kappa": _kappa(two), "among_sandpapers_kappa": _kappa(block)}
+
+
+_FIGURE_5_15 = ("template_lowpass", "frequency", "feature", "naive_bayes_velocity")
+
+
+def _chapter5_tables(results: Mapping[str, Any]) -> dict[str, Any]:
+    """Tables 5.1-5.11, the confusion matrices (figures 5.3-5.14, 5.17) and figure 5.15.
+
+    ``tables.classifiers[name]``: signed errors (mean, std, ...) per parameter, weighted
+    kappas, the joint score, fit time; ``tables.confusion[name][parameter]``: labels and
+    integer matrix (rows: true class); ``tables.figure_5_15[parameter]``: the four
+    methods of figure 5.15 ranked by kappa, best first; ``derived.texture_groups``.
+    """
+    clfs = results.get("classifiers", {})
+    tables: dict[str, Any] = {"classifiers": {}, "confusion": {}}
+    groups: dict[str, Any] = {}
+    codes = (results.get("meta", {}) or {}).get("texture_codes") or {"aluminium": 0}
+    smooth = float(codes.get("aluminium", 0))
+    for name, e in clfs.items():
+        tables["classifiers"][name] = sig4(
+            {
+                "errors": {
+                    unit: {k: v for k, v in (err or {}).items() if k in _SCORE_KEYS}
+                    for unit, err in (e.get("errors") or {}).items()
+                },
+                "weighted_kappa": e.get("weighted_kappa"),
+                "joint": e.get("joint"),
+                **{
+                    k: e.get(k)
+                    for k in ("fit_seconds", "texture_alone_seconds", "n_train", "n_test")
+                },
+            }
+        )
+        conf = e.get("confusion") or {}
+        tables["confusion"][name] = {
+            p: None
+            if c is None
+            else {"labels": sig4(list(c["labels"])), "matrix": _int_matrix(c["matrix"])}
+            for p, c in conf.items()
+        }
+        g = _texture_groups(conf.get("texture"), smooth)
+        if g is not None:
+            groups[name] = g
+    fig: dict[str, Any] = {}
+    for p in ("angle", "speed", "texture"):
+        have = [n for n in _FIGURE_5_15 if (clfs.get(n) or {}).get("kappa", {}).get(p) is not None]
+        fig[p] = sorted(have, key=lambda n: -clfs[n]["kappa"][p])
+    tables["figure_5_15"] = fig
+    return {"tables": tables, "derived": {"texture_groups": groups}}
 
 
 def extract_chapter5(results: Mapping[str, Any]) -> dict[str, Any]:
@@ -292,6 +530,8 @@ def extract_chapter5(results: Mapping[str, Any]) -> dict[str, Any]:
     :data:`vibrissa.evaluate.THESIS_CHAPTER5`: the range of texture kappas of the
     thesis' methods, how many of them reach the thesis' kappa on angle and speed,
     and the largest kappa of the naive Bayes classifiers with the thesis' binning.
+    ``tables`` keeps tables 5.1-5.11, the confusion matrices and figure 5.15
+    (:func:`_chapter5_tables`), floats to 4 significant digits.
     """
     from vibrissa.thesis.angle_texture.values import THESIS_CHAPTER5
 
@@ -337,7 +577,9 @@ def extract_chapter5(results: Mapping[str, Any]) -> dict[str, Any]:
     derived["naive_bayes_thesis_binning_kappa_max"] = max(
         clfs[n]["kappa"][p] for n in nb for p in ("angle", "speed", "texture")
     )
-    out["derived"] = derived
+    more = _chapter5_tables(results)
+    out["tables"] = more["tables"]
+    out["derived"] = derived | more["derived"]
     return out
 
 
@@ -345,19 +587,28 @@ def extract_identify(report: Mapping[str, Any]) -> dict[str, Any]:
     """What the docs quote from ``vibrissa identify --json``: counts and met / unmet names.
 
     ``met`` and ``not_met`` are lists of observable keys in backticks (``["none"]`` if
-    empty), so that a template can print them as a sentence.
+    empty), so that a template can print them as a sentence. ``observables[key]`` keeps
+    every observable whole: the thesis' statement and value, ours (``value``), the
+    tolerance, the verdict (``within``) and the measurements behind it (``detail``),
+    floats to 4 significant digits.
     """
     obs = report.get("observables", report)
     items = obs.items() if isinstance(obs, Mapping) else [(o.get("name"), o) for o in obs]
     met, unmet = [], []
     for name, o in items:
         (met if o.get("within") else unmet).append(f"`{name}`")
+    kept = ("key", "description", "thesis", "thesis_value", "value", "unit", "tolerance")
     return {
         "met": met or ["none"],
         "not_met": unmet or ["none"],
         "n_within": len(met),
         "n_observables": len(met) + len(unmet),
         **{k: v for k, v in report.items() if k in ("n_trials", "quick")},
+        "observables": {
+            str(name): sig4({k: o.get(k) for k in kept if k in o})
+            | {"within": bool(o.get("within")), "detail": sig4(o.get("detail") or {})}
+            for name, o in items
+        },
     }
 
 
