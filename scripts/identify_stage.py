@@ -92,6 +92,7 @@ def derive(out: dict[str, Any]) -> dict[str, Any]:
         "max_within": max(r["n_within"] for r in rows),
         "chosen_values": chosen["values"],
         "far_clearance_mm": far["retract_clearance_mm"],
+        "highest_resonance_hz": max(r["values"]["resonance_hz"] for r in rows + out["jerk"]),
         "far_values": far["values"],
         "n_meeting_duration_fast_and_ringing": len(both),
         "best_above_216_where_ringing_and_duration_met": max(

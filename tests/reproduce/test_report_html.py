@@ -38,3 +38,20 @@ def test_report_html_renders(quick_runs, name, tmp_path):
         assert all(t["rows"] > 1 for t in view["tables"])
         assert all(i["decoded"] and i["natural_width"] > 0 for i in view["images"])
     assert (tmp_path / "shot.png").stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("name", list(experiments()))
+def test_a_report_links_to_the_ledger_rows_of_its_claims(quick_runs, name):
+    from vibrissa.thesis.claims import EXPERIMENTS, anchor, claims_for
+
+    out, _ = quick_runs[name]
+    md = (out / "report.md").read_text()
+    html = (out / "report.html").read_text()
+    if name not in EXPERIMENTS:
+        assert "thesis_claims.md#" not in md
+        return
+    claims = claims_for(name)
+    assert claims
+    for c in claims:
+        link = f"docs/thesis_claims.md#{anchor(c.id)}"
+        assert link in md and f'href="{link}"' in html

@@ -449,8 +449,7 @@ def report_section(experiment_name: str) -> str:
     for c in claims:
         words = c.quote if len(c.quote) <= 110 else c.quote[:107].rstrip() + "..."
         lines.append(
-            f"- {c.section}: {words} "
-            f"([ledger row](docs/thesis_claims.md#{_anchor_name(c.id)}))"
+            f"- {c.section}: {words} ([ledger row](docs/thesis_claims.md#{_anchor_name(c.id)}))"
         )
     return "\n".join(lines) + "\n"
 
@@ -541,7 +540,8 @@ CLAIMS: tuple[Claim, ...] = (
         "3.3",
         ("identify", "radial-distance"),
         "this policy ... keeps whisker ringing after contact to a minimum",
-        "- (no number; tolerance: median first overshoot <= 0.1 of peak)",
+        "- (no number; tolerance: median first overshoot <= 0.1 of peak, and below a "
+        "passive push's)",
         {
             "ring": _obs("ringing_chapter4"),
             "passive": "identify.observables.ringing_chapter4.detail.passive_push_median",
@@ -765,8 +765,9 @@ CLAIMS: tuple[Claim, ...] = (
         "0.4 (table 4.4: std 7.70 mm)",
         {"best": "chapter4.derived.reduced_training.feature_best_radius_fraction"},
         Compare("best", "==", 0.4),
-        "{best:g}",
-        "the feature classifier is best at fraction {best:g}",
+        "best at training fraction {best:g}",
+        "the feature classifier is best at training fraction {best:g}: its spread "
+        "falls as the training data grows",
     ),
     Claim(
         "static-beam-quickest",

@@ -621,7 +621,9 @@ def _gap_sentence(results: Mapping[str, Any], name: str) -> str | None:
     return f"{head}: {verdict}."
 
 
-def _oracle_angle_section(results: Mapping[str, Any], figures: Mapping[str, str]) -> list[str]:
+def _oracle_angle_section(
+    results: Mapping[str, Any], figures: Mapping[str, str | os.PathLike[str]]
+) -> list[str]:
     """The static beam with the thesis author's oracle angle (issue 30): table and sentence."""
     section = results.get("oracle_angle") or {}
     oracle = section.get("classifiers") or {}
