@@ -117,7 +117,13 @@ def main(argv: list[str] | None = None) -> int:
     )
     args = ap.parse_args(argv)
     if args.derive_only:
-        out = json.loads(args.json.read_text())
+        try:
+            out = json.loads(args.json.read_text())
+            missing = [k for k in ("grid", "jerk", "chosen") if k not in out]
+            if missing:
+                raise KeyError(", ".join(missing))
+        except (OSError, ValueError, KeyError) as e:
+            ap.error(f"--json: {args.json} is not a record of this script ({e})")
         for r in out["grid"] + out["jerk"]:  # the passive push is identify's own record now
             r["detail"].pop("ringing_chapter4_passive_push_median", None)
         out["derived"] = derive(out)
