@@ -649,21 +649,10 @@ def _measure_resonance(model: RodModel, surface: SurfaceTrials, fs: float) -> Me
     )
     sig5 = np.stack([res.signal_v[0] for *_, res in surface])
     peaks = trial_spectral_peaks_hz(sig5, fs)
-    bins = {"below_14_hz": 0, "14_to_20_hz": 0, "20_to_25_hz": 0, "25_to_35_hz": 0}
-    bins["above_35_hz"] = 0
-    for f in peaks:
-        key = (
-            "below_14_hz"
-            if f < 14
-            else "14_to_20_hz"
-            if f < 20
-            else "20_to_25_hz"
-            if f < 25
-            else "25_to_35_hz"
-            if f <= 35
-            else "above_35_hz"
-        )
-        bins[key] += 1
+    # bands of the per-trial peaks: [0, 14), [14, 20), [20, 25), [25, 35], above 35 Hz
+    band = np.searchsorted([14.0, 20.0, 25.0], peaks, side="right") + (peaks > 35.0)
+    names = ("below_14_hz", "14_to_20_hz", "20_to_25_hz", "25_to_35_hz", "above_35_hz")
+    bins = {name: int(np.count_nonzero(band == i)) for i, name in enumerate(names)}
     return {
         "resonance_hz": (
             float(np.median(peaks)),
