@@ -35,6 +35,7 @@ from vibrissa.experiments.generate import (
     generate,
     max_workers,
 )
+from vibrissa.reproduce.provenance import code_fingerprint, git_commit
 from vibrissa.reproduce.registry import Evaluation, Experiment, get_experiment
 
 __all__ = [
@@ -260,6 +261,8 @@ def run_experiment(
         "seed": int(seed),
         "quick": bool(quick),
         "options": opts,
+        "commit": git_commit(),
+        "code": {"package": _package(exp), **code_fingerprint(_package(exp))},
         "started_at": started.isoformat(timespec="seconds"),
         "wall_seconds": {"generate": round(t1 - t0, 3), "evaluate": round(t2 - t1, 3)},
         "scheduler": scheduler,
@@ -296,6 +299,11 @@ def run_experiment(
     meta["wall_seconds"]["total"] = round(time.perf_counter() - t0, 3)
     write_json(envelope, out / "results.json")
     return envelope
+
+
+def _package(exp: Experiment) -> str:
+    """The package of ``exp`` (its ``experiment`` module's parent)."""
+    return type(exp).__module__.rsplit(".", 1)[0]
 
 
 def _variability_meta(protocol: Any) -> dict[str, Any]:
