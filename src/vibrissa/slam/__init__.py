@@ -13,7 +13,7 @@ written by a real robot runs the same way.
 """
 
 from vibrissa.slam.collectors import Collector, Frames, FrameStack, PoseEstimates, Progress
-from vibrissa.slam.error import map_error, random_map_error, smooth_ground_truth
+from vibrissa.slam.error import arena_mask, map_error, random_map_error, smooth_ground_truth
 from vibrissa.slam.filter import (
     MODES,
     SHAFT_POINTS,
@@ -47,6 +47,7 @@ __all__ = [
     "add_edge",
     "edge_likelihood",
     "effective_sample_size",
+    "arena_mask",
     "map_error",
     "random_map_error",
     "register_mapper",

@@ -42,17 +42,44 @@ def smooth_ground_truth(
     return ndimage.convolve(g, gaussian_kernel(size, sigma), mode="constant", cval=0.0)
 
 
-def map_error(maps: np.ndarray, ground_truth: np.ndarray) -> float:
+def map_error(maps: np.ndarray, ground_truth: np.ndarray, mask: np.ndarray | None = None) -> float:
     """Eq. 6.3: mean absolute cell error of one map ``(n, n)`` or of runs ``(N, n, n)``.
 
     ``ground_truth`` is the already smoothed grid (:func:`smooth_ground_truth`); maps
-    carry :data:`UNEXPLORED` where unexplored (``SlamRun.best_map`` does).
+    carry :data:`UNEXPLORED` where unexplored (``SlamRun.best_map`` does). ``mask``
+    (boolean, the grid's shape) restricts the mean to its cells (e.g.
+    :func:`arena_mask`); ``None``: every cell, as the thesis.
     """
     gt = v.finite_array("ground truth", ground_truth)
     m = v.finite_array("maps", maps)
     if m.shape[-2:] != gt.shape or m.ndim not in (2, 3):
         raise ValueError(f"maps must be {gt.shape} grids, got shape {m.shape}")
-    return float(np.mean(np.abs(m - gt)))
+    err = np.abs(m - gt)
+    if mask is None:
+        return float(np.mean(err))
+    keep = np.asarray(mask)
+    if keep.shape != gt.shape or keep.dtype != bool:
+        raise ValueError(f"mask must be a boolean {gt.shape} grid, got {keep.dtype} {keep.shape}")
+    if not keep.any():
+        raise ValueError("mask selects no cell")
+    return float(np.mean(err[..., keep]))
+
+
+def arena_mask(n_cells: int, cell_m: float, offset_m: float, size_m: float) -> np.ndarray:
+    """The cells of a square map that hold the arena or its walls.
+
+    A cell counts when its centre lies within ``[offset_m - cell_m, offset_m + size_m +
+    cell_m]`` on both axes: the arena and the one-cell wall ring around it (where
+    ``Arena.occupancy_grid`` puts the walls).
+    """
+    if isinstance(n_cells, bool) or not isinstance(n_cells, int) or n_cells <= 0:
+        raise ValueError(f"n_cells must be a positive integer, got {n_cells!r}")
+    v.positive("cell_m", cell_m)
+    v.non_negative("offset_m", offset_m)
+    v.positive("size_m", size_m)
+    c = (np.arange(n_cells) + 0.5) * cell_m
+    inside = (c >= offset_m - cell_m) & (c <= offset_m + size_m + cell_m)
+    return inside[:, None] & inside[None, :]
 
 
 def random_map_error(
@@ -61,12 +88,13 @@ def random_map_error(
     n_maps: int = 100,
     p: float = 0.5,
     smooth: bool = False,
+    mask: np.ndarray | None = None,
 ) -> float:
     """The error of ``n_maps`` random maps, each cell Bernoulli(``p``), against the truth.
 
     With ``smooth=False`` its expectation is exactly 0.5 whatever the truth when
     ``p = 0.5`` (``E|B - g| = 0.5 (1 - g) + 0.5 g``); ``smooth=True`` passes each random
-    map through the same 5 x 5 filter as the truth first.
+    map through the same 5 x 5 filter as the truth first. ``mask``: as :func:`map_error`.
     """
     if isinstance(n_maps, bool) or not isinstance(n_maps, int) or n_maps <= 0:
         raise ValueError(f"n_maps must be a positive integer, got {n_maps!r}")
@@ -76,4 +104,4 @@ def random_map_error(
     if smooth:
         k = gaussian_kernel()
         maps = np.stack([ndimage.convolve(mp, k, mode="constant") for mp in maps])
-    return map_error(maps, gt)
+    return map_error(maps, gt, mask)

@@ -9,9 +9,14 @@ sees the true pose; ``true_pose`` rides along only to score a run.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
+
+#: The FSM's states (6.5.3), the vocabulary of a log's ``state`` column.
+FSM_STATES: tuple[str, ...] = ("FWD_1", "HIT_1", "FWD_2", "HIT_2", "ABORT", "BACK", "TURN")
 
 
 @dataclass(frozen=True)
@@ -166,3 +171,41 @@ class SensorLog:
             floor_loglik=None if self.floor_loglik is None else self.floor_loglik[:n],
             true_pose=None if self.true_pose is None else self.true_pose[: n + 1],
         )
+
+
+def fsm_outcome_counts(states: Sequence[str] | np.ndarray) -> dict[str, Any]:
+    """How the FSM's episodes ended in a run's sequence of states (one per step).
+
+    Parameters
+    ----------
+    states
+        The state of each step, in order (a sensor log's ``state``).
+
+    Returns
+    -------
+    dict
+        ``hit_1``, ``hit_2``, ``abort``, ``turn``: how many steps were in each of those
+        states; ``abort_after``: the aborts by the state the robot was in when the strain
+        (or the bumper) stopped it (``FWD_1``, ``FWD_2``, ``TURN``); ``fwd2_ends``: of
+        the FWD_2 runs, how many ended in HIT_2 and how many in ABORT; ``back_steps``: the
+        BACK steps.
+    """
+    s = [str(x) for x in states]
+    unknown = sorted(set(s) - set(FSM_STATES))
+    if unknown:
+        raise ValueError(
+            f"unknown FSM state(s) {', '.join(unknown)}; states are {', '.join(FSM_STATES)}"
+        )
+    after: dict[str, int] = {"FWD_1": 0, "FWD_2": 0, "TURN": 0}
+    for prev, cur in zip(s[:-1], s[1:], strict=False):
+        if cur == "ABORT" and prev in after:
+            after[prev] += 1
+    return {
+        "hit_1": s.count("HIT_1"),
+        "hit_2": s.count("HIT_2"),
+        "abort": s.count("ABORT"),
+        "turn": s.count("TURN"),
+        "abort_after": after,
+        "fwd2_ends": {"hit_2": s.count("HIT_2"), "abort": after["FWD_2"]},
+        "back_steps": s.count("BACK"),
+    }

@@ -19,6 +19,7 @@ from vibrissa.robots.crunchbot.fsm import (
     FsmState,
     Observation,
     draw_turn,
+    outcome_counts,
     transition,
 )
 
@@ -107,3 +108,51 @@ def test_bad_states_and_settings_are_refused() -> None:
         FsmSettings(fwd2_speed_m_s=0.0)
     with pytest.raises(ValueError, match="variance must be non-negative"):
         FsmSettings(turn_components=((1.0, 0.5, -1.0),))
+    with pytest.raises(ValueError, match="max_back_steps must be at least 1"):
+        FsmSettings(max_back_steps=0)
+
+
+def test_back_repeats_while_a_whisker_still_touches_up_to_its_limit() -> None:
+    rng = np.random.default_rng(0)
+    s = FsmSettings(max_back_steps=3)
+    state = FsmState(BACK)
+    names = []
+    for _ in range(4):
+        state, cmd = transition(state, _touch(1), rng, s)
+        names.append(state.name)
+    assert names[:3] == [BACK, BACK, TURN]  # the third BACK step is the last allowed
+    # touching during the step but free at its end: clear, so TURN
+    free_at_end = Observation(_touch(1).contact, _touch(1).strain, contact_at_end=(False,) * 4)
+    assert transition(FsmState(BACK), free_at_end, rng, s)[0].name == TURN
+    once = FsmSettings(back_until_clear=False)
+    assert transition(FsmState(BACK), _touch(1), rng, once)[0].name == TURN
+
+
+def test_an_over_strain_while_turning_aborts_if_the_turn_is_watched() -> None:
+    rng = np.random.default_rng(0)
+    strained = _touch(0, strain=1.5)
+    assert transition(FsmState(TURN), strained, rng)[0].name == ABORT
+    unwatched = FsmSettings(monitor_turn=False)
+    assert transition(FsmState(TURN), strained, rng, unwatched)[0].name == FWD_1
+    assert transition(FsmState(TURN), _touch(0), rng)[0].name == FWD_1
+
+
+def test_outcome_counts_say_where_each_abort_came_from() -> None:
+    states = [FWD_1, HIT_1, FWD_2, HIT_2, BACK, TURN, FWD_1, ABORT, BACK, BACK, TURN]
+    states += [ABORT, BACK, TURN, FWD_1, HIT_1, FWD_2, FWD_2, ABORT, BACK]
+    c = outcome_counts(states)
+    assert (c["hit_1"], c["hit_2"], c["abort"], c["turn"]) == (2, 1, 3, 3)
+    assert c["abort_after"] == {FWD_1: 1, FWD_2: 1, TURN: 1}
+    assert c["fwd2_ends"] == {"hit_2": 1, "abort": 1}
+    assert c["back_steps"] == 5
+    with pytest.raises(ValueError, match="unknown FSM state"):
+        outcome_counts([FWD_1, "JUMP"])
+
+
+def test_two_whiskers_touching_in_fwd_2_are_a_second_contact() -> None:
+    rng = np.random.default_rng(0)
+    both = FsmState(FWD_2, frozenset({1, 2}))
+    assert transition(both, _touch(1, 2), rng)[0].name == HIT_2
+    strict = FsmSettings(two_in_contact=False)
+    assert transition(both, _touch(1, 2), rng, strict)[0].name == FWD_2
+    assert transition(both, _touch(2, 3), rng, strict)[0].name == HIT_2

@@ -27,12 +27,13 @@ while it touches or rings. A whisker at rest with nothing within reach skips the
 physics: its output is the rest value plus sensor noise, exact for a free whisker on a
 base at constant velocity.
 
-Strain (:data:`STRAIN_SOURCE`): the magnet's tilt ``|tan|`` (proportional to the base
-moment, ``k_f sin``) as a fraction of the tilt a static tip deflection of
-:data:`SAFE_TIP_DEFLECTION_MM` gives (the thesis gives no number), averaged over the
-latest 10 ms so a millisecond flick at first touch does not count, and counted only while
-the whisker touches (a whisker ringing free after it slipped off is not strained by an
-object; the thesis' robot read strain from the same sensors).
+Strain (:data:`STRAIN_SOURCE`): what the robot can read of it, the Hall output's
+deflection magnitude ``|(V_x, V_y) - rest|`` as a fraction of the sensor's calibrated half
+range (1.0 at full scale; each axis clamps there as the sensor does), which is the magnet's
+tilt and so the moment at the whisker's base. It is averaged over the latest 10 ms so a
+millisecond flick at first touch does not count, and counted only while the whisker
+touches (a whisker ringing free after it slipped off is not strained by an object). The
+FSM's safety threshold (``FsmSettings.strain_limit``) is in these units.
 """
 
 from __future__ import annotations
@@ -92,13 +93,10 @@ PENETRATION_LIMIT_M = 1e-3
 N_ELEMENTS = 16
 #: Trailing average of the strain (samples at 2 kHz: 10 ms).
 STRAIN_WINDOW = 20
-#: The safe limit of strain: the magnet tilt of this static tip deflection (mm; ours:
-#: less than the 25 mm BACK reverses, so backing off frees a whisker pressed head-on).
-SAFE_TIP_DEFLECTION_MM = 20.0
 #: Where the strain measure comes from.
 STRAIN_SOURCE = (
-    "magnet tilt |tan| (proportional to the base moment) over the tilt of a "
-    f"static {SAFE_TIP_DEFLECTION_MM:g} mm tip deflection, 10 ms trailing "
+    "Hall deflection magnitude |(V_x, V_y) - rest| over the sensor's calibrated half range "
+    "(each axis clamped at full scale; proportional to the base moment), 10 ms trailing "
     "average, counted while the whisker touches"
 )
 _REST_TOL_V = 2.5e-4
@@ -200,7 +198,7 @@ class StepSignals:
     first_contact_m
         ``(4,)`` true radial distance of the first point touched in the step (NaN: none).
     strain
-        ``(m, 4)`` strain as a fraction of the safe limit (:data:`STRAIN_SOURCE`).
+        ``(m, 4)`` strain as a fraction of the sensor's full scale (:data:`STRAIN_SOURCE`).
     physics
         ``(4,)`` bool, whether the whisker ran the physics this step.
     """
@@ -278,8 +276,8 @@ class ObstacleWhiskers:
         self.model = RodModel(preset("crunchbot"), n_elements=N_ELEMENTS)
         settings = hall or HallSettings(sample_rate_hz=self.rate)
         self.sensor: HallSensor = settings.calibrate(self.model.geometry, self.model.n_elements)
-        probe = self.model.static_force(1e-4, self.model.geometry.length_mm)
-        self.tan_safe = abs(probe.tan_x) * SAFE_TIP_DEFLECTION_MM / abs(probe.deflection_mm)
+        # the magnet tilt (tan) at the sensor's full scale: strain 1.0
+        self.tan_full_scale = (self.sensor.v_max - self.sensor.offset_v) / self.sensor.gain_v
         self.length_m = self.model.geometry.length_mm * 1e-3
         self.features = arena_features(arena)
         self.whiskers = [_Whisker() for _ in range(layout.n_whiskers)]
@@ -555,7 +553,8 @@ class ObstacleWhiskers:
 
     def _strain(self, tan: np.ndarray, touching: np.ndarray) -> np.ndarray:
         """Strain per sample (:data:`STRAIN_SOURCE`), 0 where the whisker is free."""
-        mag = np.hypot(tan[:, 0], tan[:, 1]) / self.tan_safe
+        read = np.clip(tan, -self.tan_full_scale, self.tan_full_scale)
+        mag = np.hypot(read[:, 0], read[:, 1]) / self.tan_full_scale
         c = np.cumsum(np.r_[0.0, mag])
         k = np.arange(1, len(mag) + 1)
         lo = np.maximum(k - STRAIN_WINDOW, 0)

@@ -338,11 +338,12 @@ def run_crunchbot(
             start = pose.copy()
             planned, bumped = plan_motion(arena, pose, command, sample_rate_hz)
             forward = command.linear_m_s > 0
+            watched = forward or (state.name == fsm.TURN and s.monitor_turn)
             sig, m = whiskers.advance(
                 start,
                 planned,
                 rng_noise,
-                s.strain_limit if forward else None,
+                s.strain_limit if watched else None,
                 stop_on_contact=state.name == fsm.FWD_1,
             )
             bumped = bumped and m == len(planned)
@@ -393,8 +394,12 @@ def run_crunchbot(
                 # report of this step's row are filled in when they finish
                 floor_bg.submit(t_s, poses, hall, len(r["state"]) - 1)
             elapsed += max(m, 1) / sample_rate_hz if command.duration_s > 0 else 0.0
+            at_end = sig.contact[-1] if m else np.zeros(W, bool)
             obs = fsm.Observation(
-                tuple(bool(x) for x in touching), tuple(float(x) for x in strain), bumped
+                tuple(bool(x) for x in touching),
+                tuple(float(x) for x in strain),
+                bumped,
+                tuple(bool(x) for x in at_end),
             )
             state, command = fsm.transition(state, obs, rng_fsm, s)
             if progress is not None:

@@ -118,7 +118,7 @@ def texture_grid(
 
 
 def _strain(distance: np.ndarray, layout: WhiskerLayout) -> np.ndarray:
-    """Strain as a fraction of the safe limit: 0 at a tip contact, 1 at half the length."""
+    """Stand-in strain (fraction of full scale): 0 at a tip contact, 1 at half the length."""
     length = np.asarray(layout.length_m, float)
     return np.where(np.isfinite(distance), 2 * (length - distance) / length, 0.0)
 
@@ -175,7 +175,8 @@ def synthetic_log(
                 pose = nxt
                 dist, seg = whisker_contacts(arena, pose, layout)
                 peak = np.maximum(peak, _strain(dist, layout))
-                if command.linear_m_s > 0 and peak.max() > s.strain_limit:
+                watched = command.linear_m_s > 0 or (state.name == fsm.TURN and s.monitor_turn)
+                if watched and peak.max() > s.strain_limit:
                     break
         elapsed += command.duration_s
         touching = np.isfinite(dist)
