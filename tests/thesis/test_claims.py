@@ -130,3 +130,31 @@ def test_ledger_counts_and_rows():
     assert "**does not hold** | a is 3.0 |" in rows[2]
     assert "no value for `r.x.a`, `r.x.b`" in rows[3]
     json.dumps(out)  # JSON-ready
+
+
+def _seeded(a: list[float], b: list[float]) -> dict:
+    mean = {"a": sum(a) / len(a), "b": sum(b) / len(b)}
+    spread = {k: {"values": v} for k, v in (("a", a), ("b", b))}
+    return {"r": {"x": mean, "spread": {"x": spread}}}
+
+
+def test_a_claim_over_seeds_holds_only_where_the_spread_allows():
+    claim = _claim()
+    clear = cl.evaluate(claim, _seeded([1.0, 1.1, 0.9, 1.0, 1.05], [2.0, 2.1, 1.9, 2.0, 2.05]))
+    assert clear.status == "holds" and clear.support == 1.0 and clear.n_seeds == 5
+    assert "mean of 5 seeds" in clear.ours
+    # a < b on the mean, but one seed in five has a far above b: not within the spread
+    mixed = cl.evaluate(claim, _seeded([1.0, 1.0, 1.0, 1.0, 9.0], [2.7, 2.7, 2.7, 2.7, 2.7]))
+    assert mixed.values["a"] < mixed.values["b"]
+    assert mixed.status == "does not hold" and mixed.support < cl.SUPPORT
+    assert "not within the spread over 5 seeds" in mixed.diagnosis
+    # the same figures without a spread: judged on the means alone
+    flat = {"r": {"x": {"a": 2.6, "b": 2.6001}}}
+    assert cl.evaluate(claim, flat).support is None
+
+
+def test_seed_pairs_are_kept_when_resampling():
+    # a < b in every seed although a's and b's ranges overlap: the pairing decides
+    a = [1.0, 2.0, 3.0, 4.0, 5.0]
+    b = [x + 0.1 for x in a]
+    assert cl.evaluate(_claim(), _seeded(a, b)).status == "holds"

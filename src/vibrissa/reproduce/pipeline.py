@@ -264,6 +264,7 @@ def run_experiment(
         "commit": git_commit(),
         "code": {"package": _package(exp), **code_fingerprint(_package(exp))},
         "started_at": started.isoformat(timespec="seconds"),
+        "date": started.date().isoformat(),
         "wall_seconds": {"generate": round(t1 - t0, 3), "evaluate": round(t2 - t1, 3)},
         "scheduler": scheduler,
         "cores": {

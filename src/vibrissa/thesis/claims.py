@@ -6,7 +6,10 @@ Each :class:`Claim` quotes the thesis, names the run-file keys of our value(s)
 declarative predicate over them (:class:`Compare`, :class:`Between`,
 :class:`Ranking`, :class:`All`). :func:`evaluate` reads the values and gives the
 claim's status, never typed by hand: ``"holds"``, ``"does not hold"`` or, when a run
-file or key is missing (or the value is ``null``), ``"not measured"``.
+file or key is missing (or the value is ``null``), ``"not measured"``. Where a run file
+repeated its session over several seeds (a ``spread`` tree beside its figures,
+:mod:`vibrissa.evaluate.spread`), a claim holds only if it holds on the means *and* in at
+least :data:`SUPPORT` of bootstrap resamples of the seeds: the spread must allow it.
 :func:`ledger` turns the verdicts into the JSON of ``docs/runs/claims.json``,
 including the Markdown table that ``docs/templates/thesis_claims.md`` prints
 (``scripts/thesis_claims.py`` writes it).
@@ -30,6 +33,7 @@ __all__ = [
     "CLAIMS",
     "EXPERIMENTS",
     "STATUSES",
+    "SUPPORT",
     "All",
     "Between",
     "Claim",
@@ -249,6 +253,8 @@ class Verdict:
     missing: list[str]
     ours: str
     diagnosis: str
+    support: float | None = None
+    n_seeds: int | None = None
 
 
 _MISSING = object()
@@ -315,14 +321,74 @@ def evaluate(claim: Claim, runs: Mapping[str, Any]) -> Verdict:
         ok = claim.predicate.holds(values)
     except TypeError:  # a value of the wrong type (text where a number belongs)
         return Verdict(claim, "not measured", values, list(claim.keys.values()), "-", "")
+    spreads = _spreads(claim, runs)
+    support, n_seeds = None, None
+    ours = _fill(claim.ours, values)
+    diagnosis = "" if ok else _fill(claim.diagnosis, values)
+    if spreads:
+        support = _bootstrap_support(claim.predicate, values, spreads)
+        n_seeds = min(len(v) for v, _ in spreads.values())
+        ours += f" (mean of {n_seeds} seeds; holds in {100 * support:.0f} % of resamples)"
+        if ok and support < SUPPORT:
+            ok = False
+            diagnosis = (
+                f"holds on the mean but not within the spread over {n_seeds} seeds (in "
+                f"{100 * support:.0f} % of bootstrap resamples, under {100 * SUPPORT:.0f} %)"
+            )
     return Verdict(
-        claim,
-        "holds" if ok else "does not hold",
-        values,
-        [],
-        _fill(claim.ours, values),
-        "" if ok else _fill(claim.diagnosis, values),
+        claim, "holds" if ok else "does not hold", values, [], ours, diagnosis, support, n_seeds
     )
+
+
+#: Fraction of bootstrap resamples of the seeds in which a claim must hold to hold.
+SUPPORT = 0.95
+#: Bootstrap resamples of the seeds (fixed seed: the ledger is reproducible).
+N_RESAMPLES = 2000
+
+
+def _spreads(claim: Claim, runs: Mapping[str, Any]) -> dict[str, tuple[list[Any], str]]:
+    """Per value name with a spread: its per-seed values and the run file they come from.
+
+    A run file that repeated its session over seeds keeps, beside each figure (the mean),
+    ``spread.<same path>.values`` (:mod:`vibrissa.evaluate.spread`).
+    """
+    out: dict[str, tuple[list[Any], str]] = {}
+    for name, key in claim.keys.items():
+        source, path = key.split(".", 1)
+        leaf = lookup(runs, f"{source}.spread.{path}")
+        vals = leaf.get("values") if isinstance(leaf, Mapping) else None
+        if isinstance(vals, list) and sum(_usable(x) for x in vals) >= 2:
+            out[name] = (vals, source)
+    return out
+
+
+def _bootstrap_support(
+    predicate: Predicate, means: Mapping[str, Any], spreads: Mapping[str, tuple[list[Any], str]]
+) -> float:
+    """Fraction of bootstrap resamples of the seeds in which ``predicate`` holds.
+
+    Seeds are resampled with replacement, the same draw for every value of one run file
+    (its values are paired by seed); each value is the mean over the drawn seeds that
+    gave one. Values without a spread keep their figure.
+    """
+    import random
+
+    rng = random.Random(20111)
+    sizes = {src: len(vals) for vals, src in spreads.values()}
+    held = 0
+    for _ in range(N_RESAMPLES):
+        draw = {src: [rng.randrange(n) for _ in range(n)] for src, n in sizes.items()}
+        vals = dict(means)
+        for name, (seed_vals, src) in spreads.items():
+            picked = [seed_vals[i] for i in draw[src] if i < len(seed_vals)]
+            ok = [float(x) for x in picked if _usable(x) and not isinstance(x, bool | str)]
+            if ok:
+                vals[name] = sum(ok) / len(ok)
+        try:
+            held += bool(predicate.holds(vals))
+        except TypeError:
+            continue
+    return held / N_RESAMPLES
 
 
 def _fill(template: str, values: Mapping[str, Any]) -> str:
@@ -499,6 +565,8 @@ def ledger(verdicts: Sequence[Verdict]) -> dict[str, Any]:
             "ours": v.ours,
             "diagnosis": v.diagnosis,
             "missing": v.missing,
+            "support": v.support,
+            "n_seeds": v.n_seeds,
         }
     return {"counts": counts, "claims": entries, "table": "\n".join(rows)}
 
@@ -1120,6 +1188,21 @@ CLAIMS: tuple[Claim, ...] = (
         Compare("at7", ">=", 1.0),
         "{at7:.0%} at 7 whisks",
         "RCP7 reaches {at7:.0%} at 7 whisks",
+    ),
+    Claim(
+        "crunchbot-abort-is-the-exception",
+        "6.5.5.2",
+        ("crunchbot-slam",),
+        "In some cases the FWD_2 state terminates to ABORT without a second contact due to "
+        "a strain safety threshold being exceeded",
+        "- (FWD_2 normally ends in HIT_2)",
+        {
+            "hit2": "crunchbot_slam.fsm_outcomes.fwd2_ends.hit_2",
+            "abort": "crunchbot_slam.fsm_outcomes.fwd2_ends.abort",
+        },
+        All((Compare("hit2", ">", "abort"), Compare("abort", ">", 0))),
+        "FWD_2 ended {hit2} times in HIT_2 and {abort} times in ABORT",
+        "FWD_2 ended {hit2} times in HIT_2 and {abort} times in ABORT",
     ),
     Claim(
         "map-error-ordering",

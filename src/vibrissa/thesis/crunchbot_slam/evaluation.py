@@ -31,6 +31,7 @@ from vibrissa.slam import (
 )
 from vibrissa.slam.error import UNEXPLORED
 from vibrissa.slam.filter import apply_motion
+from vibrissa.slam.log import fsm_outcome_counts
 
 __all__ = [
     "SlamEvaluation",
@@ -75,8 +76,11 @@ def slam_job(
     """One run in one mode: map error, trajectory error, best map and pose estimate."""
     run = run_slam(log, SlamSettings(n_particles=particles, mode=mode), seed=seed)
     best = run.best_map()
+    truth = np.asarray(arrays["ground_truth"])
+    mask = np.asarray(arrays["arena_mask"]) if "arena_mask" in arrays else None
     return {
-        "map_error": map_error(best, np.asarray(arrays["ground_truth"])),
+        "map_error": map_error(best, truth),
+        "map_error_arena": map_error(best, truth, mask) if mask is not None else math.nan,
         "trajectory_error_mm": trajectory_error_mm(run.pose_estimate, log.true_pose),
         "best_map": best.astype(np.float32),
         "pose_estimate": run.pose_estimate,
@@ -155,6 +159,8 @@ class SlamEvaluation:
     map_error : dict
         Eq. 6.3 per mode (mean, std over runs) and of the ``random``, ``random_smoothed``
         and ``empty`` baselines.
+    map_error_arena : dict
+        The same over the arena's cells only (``None`` without an arena mask).
     trajectory_error_mm : dict
         Per mode and of ``dead_reckoning`` (mean, std over runs).
     per_run : list of dict
@@ -170,6 +176,7 @@ class SlamEvaluation:
     """
 
     map_error: dict[str, Any]
+    map_error_arena: dict[str, Any] | None
     trajectory_error_mm: dict[str, Any]
     per_run: list[dict[str, Any]]
     mean_maps: dict[str, np.ndarray]
@@ -187,6 +194,7 @@ def evaluate_crunchbot(
     modes: Sequence[str] = MODES,
     workers: int | None = None,
     progress: Callable[[int, int, str], None] | None = None,
+    arena_mask: np.ndarray | None = None,
 ) -> SlamEvaluation:
     """SLAM in every mode over every run's log, spread over ``workers`` processes.
 
@@ -201,6 +209,9 @@ def evaluate_crunchbot(
     seed
         Seeds the filters (run ``r`` uses the same filter seed in every mode) and the
         random-map baseline.
+    arena_mask
+        The map's cells that hold the arena (:func:`vibrissa.slam.error.arena_mask`): the
+        errors are given over those cells too (``map_error_arena``).
 
     Returns
     -------
@@ -230,10 +241,22 @@ def evaluate_crunchbot(
 
     with SharedArrays(resolve_workers(workers)) as arrays:
         arrays.add("ground_truth", truth)
+        if arena_mask is not None:
+            arrays.add("arena_mask", np.asarray(arena_mask, bool))
         res = run_jobs(slam_job, jobs, arrays, on_done=tick)
     by = {m: [res[r * len(modes) + k] for r in range(len(logs))] for k, m in enumerate(modes)}
     rng = np.random.default_rng(np.random.SeedSequence([seed, 10**6]))
     dr = [trajectory_error_mm(dead_reckoning(lg), lg.true_pose) for lg in logs]
+    arena_err = None
+    if arena_mask is not None:
+        mask = np.asarray(arena_mask, bool)
+        arena_rng = np.random.default_rng(np.random.SeedSequence([seed, 10**6 + 1]))
+        arena_err = {
+            **{m: _mean_std([r["map_error_arena"] for r in by[m]]) for m in modes},
+            "random": random_map_error(truth, arena_rng, mask=mask),
+            "random_smoothed": random_map_error(truth, arena_rng, smooth=True, mask=mask),
+            "empty": map_error(np.full(truth.shape, UNEXPLORED), truth, mask),
+        }
     return SlamEvaluation(
         map_error={
             **{m: _mean_std([r["map_error"] for r in by[m]]) for m in modes},
@@ -241,6 +264,7 @@ def evaluate_crunchbot(
             "random_smoothed": random_map_error(truth, rng, smooth=True),
             "empty": map_error(np.full(truth.shape, UNEXPLORED), truth),
         },
+        map_error_arena=arena_err,
         trajectory_error_mm={
             **{m: _mean_std([r["trajectory_error_mm"] for r in by[m]]) for m in modes},
             "dead_reckoning": _mean_std(dr),
@@ -252,12 +276,19 @@ def evaluate_crunchbot(
                 **{
                     m: {
                         "map_error": by[m][r]["map_error"],
+                        "map_error_arena": by[m][r]["map_error_arena"],
                         "trajectory_error_mm": by[m][r]["trajectory_error_mm"],
                         "n_resamples": by[m][r]["n_resamples"],
                     }
                     for m in modes
                 },
                 "dead_reckoning_error_mm": dr[r],
+                "fsm": {
+                    **fsm_outcome_counts(lg.state),
+                    "hit_2_with_surface_angle": int(
+                        np.isfinite(np.asarray(lg.surface_angle_rad)[lg.state == "HIT_2"]).sum()
+                    ),
+                },
             }
             for r, lg in enumerate(logs)
         ],
@@ -266,3 +297,86 @@ def evaluate_crunchbot(
         dead_reckoning=dead_reckoning(logs[0]),
         truth=truth,
     )
+
+
+def sum_outcomes(per_run: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
+    """The runs' FSM outcome counts (``fsm.outcome_counts``), summed.
+
+    Nested counts (``abort_after``, ``fwd2_ends``) are summed key by key; ``runs`` says
+    how many runs.
+    """
+
+    def add(a: Any, b: Any) -> Any:
+        if isinstance(a, Mapping):
+            return {k: add(a[k], b.get(k, 0)) for k in a}
+        return a + b
+
+    total: dict[str, Any] = {}
+    for r in per_run:
+        total = add(r, total)
+    return {**total, "runs": len(per_run)}
+
+
+def _order_holds(err: Mapping[str, float]) -> bool:
+    return bool(err["template"] < err["geometric"] < err["blob"])
+
+
+def ordering_over_runs(
+    per_run: Mapping[str, Mapping[str, Sequence[float]]],
+    grid: Mapping[str, Any],
+    arena: Mapping[str, Any],
+) -> dict[str, Any]:
+    """Whether the thesis' ordering and the baselines hold on the means and run by run.
+
+    Parameters
+    ----------
+    per_run
+        ``{"grid" | "arena": {mode: [error per run]}}``.
+    grid, arena
+        The map errors over the grid and over the arena: per mode ``{"mean", "std"}`` and
+        the ``empty`` and ``random`` baselines (``arena`` may be empty: not measured).
+
+    Returns
+    -------
+    dict
+        ``runs_template_lt_geometric_lt_blob``: the fraction of runs whose own errors are
+        in the thesis' order (over the grid); ``arena``: the order over the arena's cells
+        (on the means, and that fraction); ``beats_empty`` and ``beats_random``: per
+        region and mode, whether the mean is below the baseline and the fraction of runs
+        that are.
+    """
+    modes = ("blob", "geometric", "template")
+
+    def fraction(region: str) -> float | None:
+        rows = per_run.get(region, {})
+        if not rows or any(not rows.get(m) for m in modes):
+            return None
+        n = len(rows["blob"])
+        return sum(_order_holds({m: rows[m][i] for m in modes}) for i in range(n)) / n
+
+    def below(region: str, err: Mapping[str, Any], base: str) -> dict[str, Any]:
+        if not err or base not in err:
+            return {}
+        out = {}
+        for m in modes:
+            vals = [x for x in per_run[region][m] if x is not None and math.isfinite(x)]
+            out[m] = {
+                "mean_below": bool(err[m]["mean"] < err[base]),
+                "runs_below": sum(x < err[base] for x in vals) / len(vals) if vals else None,
+            }
+        return out
+
+    out: dict[str, Any] = {"runs_template_lt_geometric_lt_blob": fraction("grid")}
+    if arena:
+        means = {m: arena[m]["mean"] for m in modes}
+        out["arena"] = {
+            "template_lt_geometric_lt_blob": _order_holds(means),
+            "order": sorted(means, key=means.__getitem__),
+            "runs_template_lt_geometric_lt_blob": fraction("arena"),
+        }
+    for base in ("empty", "random"):
+        out[f"beats_{base}"] = {
+            "grid": below("grid", grid, base),
+            "arena": below("arena", arena, base),
+        }
+    return out

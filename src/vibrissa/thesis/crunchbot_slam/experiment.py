@@ -19,9 +19,11 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from vibrissa.evaluate.spread import spread_leaf
 from vibrissa.experiments.contract import SimulationProtocol
 from vibrissa.reproduce.registry import Evaluation, Experiment, Option, register
-from vibrissa.thesis.crunchbot_slam.values import THESIS
+from vibrissa.slam.error import arena_mask
+from vibrissa.thesis.crunchbot_slam.values import MAP_SIZE_M, THESIS
 
 #: Defaults of the options left empty: (full, quick).
 _DEFAULTS = {"runs": (20, 3), "seconds": (360, 40), "particles": (100, 100)}
@@ -108,21 +110,30 @@ class CrunchbotSlam(Experiment):
             floor_texture_accuracy,
             json_ready,
             latency_stats,
+            ordering_over_runs,
             radial_distance_errors_mm,
+            sum_outcomes,
         )
         from vibrissa.thesis.crunchbot_slam.protocol import sensor_logs
 
         proto = json.loads(ds.attrs["protocol_params"])
         particles = resolved_options(False, options)["particles"]
         logs = sensor_logs(ds, "slam")
+        truth_grid = ds["ground_truth"].values
+        arena_info = json.loads(ds.attrs["arena"])
+        n_cells = int(truth_grid.shape[0])
+        cell_m = MAP_SIZE_M / n_cells
+        offset_m = max(0.0, round((MAP_SIZE_M - arena_info["size_m"]) / 2 / cell_m) * cell_m)
         ev = evaluate_crunchbot(
             logs,
-            ds["ground_truth"].values,
+            truth_grid,
             particles=particles,
             seed=seed,
             workers=workers,
             progress=progress,
+            arena_mask=arena_mask(n_cells, cell_m, offset_m, float(arena_info["size_m"])),
         )
+        fsm_runs = [r["fsm"] for r in ev.per_run]
         slam_runs = ds["kind"].values == "slam"
         names = [str(w) for w in ds["whisker"].values]
         est = ds["radial_distance_m"].values[slam_runs].reshape(-1, len(names))
@@ -141,7 +152,17 @@ class CrunchbotSlam(Experiment):
         )
         rtf = float(ds["seconds"].values.sum() / ds["wall_seconds"].values.sum())
         robot = str(ds.attrs["robot"])
-        means = {m: ev.map_error[m]["mean"] for m in ("blob", "geometric", "template")}
+        modes = ("blob", "geometric", "template")
+        means = {m: ev.map_error[m]["mean"] for m in modes}
+        arena_err = ev.map_error_arena or {}
+        per_run_err = {
+            region: {m: [r[m][key] for r in ev.per_run] for m in modes}
+            for region, key in (("grid", "map_error"), ("arena", "map_error_arena"))
+        }
+        spread = {
+            "map_error": {m: {"mean": spread_leaf(per_run_err["grid"][m])} for m in modes},
+            "map_error_arena": {m: {"mean": spread_leaf(per_run_err["arena"][m])} for m in modes},
+        }
         artifacts = {
             "mean_maps": ev.mean_maps,
             "estimates": ev.estimates,
@@ -175,6 +196,8 @@ class CrunchbotSlam(Experiment):
                         "random_smoothed": ev.map_error["random_smoothed"],
                         "empty": ev.map_error["empty"],
                     },
+                    "map_error_arena": arena_err,
+                    "fsm_outcomes": sum_outcomes(fsm_runs),
                     "trajectory_error_mm": ev.trajectory_error_mm,
                     "radial_distance_error_mm": {k: radial[k] for k in (*names, "combined")},
                     "radial_distance_contacts": radial["n_contacts"],
@@ -188,7 +211,9 @@ class CrunchbotSlam(Experiment):
                             means["template"] < means["geometric"] < means["blob"]
                         ),
                         "order": sorted(means, key=means.__getitem__),
+                        **ordering_over_runs(per_run_err, ev.map_error, arena_err),
                     },
+                    "spread": spread,
                     "per_run": ev.per_run,
                     "thesis": THESIS,
                 }

@@ -81,6 +81,7 @@ def markdown_crunchbot(results: Mapping[str, Any], figures: Mapping[str, Path]) 
         "unexplored cell counts 0.3.",
         "",
     ]
+    out += _arena_section(results) + _fsm_section(results)
     if "maps" in figures:
         out += [f"![average maps (figure 6.14)]({figures['maps']})", ""]
     if "trajectory" in figures:
@@ -208,3 +209,80 @@ def _discussion(results: Mapping[str, Any]) -> str:
         f"{te['dead_reckoning']['mean']:.1f} mm."
     )
     return text
+
+
+def _arena_section(results: Mapping[str, Any]) -> list[str]:
+    """Eq. 6.3 over the arena's cells only, beside its empty and random maps."""
+    ma = results.get("map_error_arena") or {}
+    if not ma:
+        return []
+    ordering = results.get("ordering", {})
+    arena = ordering.get("arena", {})
+    beats = ordering.get("beats_empty", {}).get("arena", {})
+    modes = ("blob", "geometric", "template")
+    rows = [
+        [
+            m,
+            f"{fmt(ma[m]['mean'], 3)} +/- {fmt(ma[m]['std'], 3)}",
+            fmt((beats.get(m) or {}).get("runs_below"), 2),
+        ]
+        for m in modes
+    ]
+    rows += [
+        ["random (Bernoulli 0.5)", fmt(ma["random"], 3), ""],
+        ["random, smoothed 5 x 5", fmt(ma["random_smoothed"], 3), ""],
+        ["empty (all 0.3)", fmt(ma["empty"], 3), ""],
+    ]
+    order = arena.get("order") or []
+    return [
+        "## Map error over the arena only",
+        "",
+        "The same error over the cells of the arena and its walls (the thesis averages "
+        "over the whole 50 x 50 grid, three quarters of which lies outside the arena). "
+        f"From best to worst: {' < '.join(order)}; the thesis' ordering "
+        f"{'holds' if arena.get('template_lt_geometric_lt_blob') else 'does not hold'} "
+        "on the means here, and holds run by run in "
+        f"{fmt(arena.get('runs_template_lt_geometric_lt_blob'), 2)} of the runs.",
+        "",
+        md_table(["mode", "mean +/- std over runs", "runs below the empty map"], rows),
+        "",
+    ]
+
+
+def _fsm_section(results: Mapping[str, Any]) -> list[str]:
+    """How the FSM's episodes ended (6.5.3), summed and per run."""
+    tot = results.get("fsm_outcomes")
+    if not tot:
+        return []
+    ends = tot["fwd2_ends"]
+    after = tot["abort_after"]
+    return [
+        "## The FSM's outcomes (6.5.3)",
+        "",
+        "FWD_2 ends in HIT_2 when a second whisker touches and in ABORT when a "
+        "whisker's strain passes the safety threshold; the thesis' robot reached HIT_2 "
+        'normally and aborted "in some cases" (6.5.5.2). Summed over '
+        f"{tot['runs']} runs: {ends['hit_2']} FWD_2 runs ended in HIT_2 and "
+        f"{ends['abort']} in ABORT; all aborts: {tot['abort']} ({after['FWD_1']} in FWD_1, "
+        f"{after['FWD_2']} in FWD_2, {after['TURN']} while turning). The surface-angle "
+        f"templates gave an angle at {tot.get('hit_2_with_surface_angle', '-')} of the "
+        f"{tot['hit_2']} HIT_2s.",
+        "",
+        md_table(
+            ["run", "HIT_1", "HIT_2", "ABORT", "of which in FWD_2", "TURN", "BACK steps"],
+            [
+                [
+                    r["run"],
+                    r["fsm"]["hit_1"],
+                    r["fsm"]["hit_2"],
+                    r["fsm"]["abort"],
+                    r["fsm"]["abort_after"]["FWD_2"],
+                    r["fsm"]["turn"],
+                    r["fsm"]["back_steps"],
+                ]
+                for r in results["per_run"]
+                if "fsm" in r
+            ],
+        ),
+        "",
+    ]

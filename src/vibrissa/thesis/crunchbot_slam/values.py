@@ -10,3 +10,6 @@ THESIS: dict[str, Any] = {
     "map_error": {"blob": 0.40, "geometric": 0.39, "template": 0.37, "random": 0.47},
     "radial_distance_error_mm": {"w1": 5.68, "w2": 2.78, "w3": 1.82, "w4": 4.37, "combined": 4.98},
 }
+
+#: The SLAM map's side (m): 50 x 50 cells of 50 mm, double the arena (6.5.3).
+MAP_SIZE_M = 2.5
