@@ -6,16 +6,20 @@ strain passes the safety threshold (ABORT); the robot then reverses in 0.5 s ste
 0.05 m/s (BACK) and turns on the spot at 0.3 rad/s (TURN) by an angle drawn from a
 mixture of two Gaussians, then goes forward again.
 
-Two behaviours the thesis leaves open are settings, identified on the simulated robot
-from what the thesis reports (ABORT ends FWD_2 only "in some cases", the robot follows
-walls; ``scripts/identify_crunchbot_fsm.py``, ``docs/runs/identify_crunchbot_fsm.json``):
-whether BACK repeats its step while a whisker still touches ("then BACK to escape";
-``back_until_clear``, at most ``max_back_steps`` steps), and whether the strain is
-watched during TURN as "within each FSM step" (``monitor_turn``: an over-strain stops the
-turn and the FSM goes to ABORT, then BACK), and what "until a second whisker makes
-contact" counts (``two_in_contact``: two whiskers touching in a FWD_2 step is a second
-contact even if both touched at HIT_1, as when a wall meets two whiskers at once; off:
-only a whisker that did not touch at HIT_1 counts).
+What the thesis leaves open is a setting, identified on the simulated robot from what
+the thesis reports (ABORT ends FWD_2 only "in some cases"; the angle training's drives
+into a wall; ``scripts/identify_crunchbot_fsm.py``,
+``docs/runs/identify_crunchbot_fsm.json``): the strain threshold (``strain_limit``); what
+"until a second whisker makes contact" counts (``two_in_contact``: two whiskers touching
+in a FWD_2 step is a second contact even if both touched at HIT_1, as when a wall meets
+two whiskers at once; off: only a whisker that did not touch at HIT_1 counts); whether
+BACK repeats its step while a whisker still touches ("then BACK to escape";
+``back_until_clear``, at most ``max_back_steps`` steps); and whether the strain is
+watched during TURN (``monitor_turn``: an over-strain stops the turn and the FSM goes to
+ABORT, then BACK). TURN is unwatched by default, as the thesis reads: "each FWD_1, FWD_2
+and BACK step ... lasts for 0.5 s ... within each 0.5 s FSM step, the whisker strains
+are monitored", and TURN is no 0.5 s step; watched, a whisker left pressed on an
+obstacle after BACK stops every turn at once, and the robot can stay stuck there.
 
 :func:`transition` maps ``(state, observation) -> (next state, motor command)``: the
 observation is what the robot sensed while it carried out ``state``'s command, and the
@@ -91,7 +95,7 @@ class FsmSettings:
     strain_limit: float = 0.7
     back_until_clear: bool = True
     max_back_steps: int = 4
-    monitor_turn: bool = True
+    monitor_turn: bool = False
     two_in_contact: bool = True
     turn_components: tuple[tuple[float, float, float], ...] = (
         (0.5, 0.14 * math.pi, 0.0),
