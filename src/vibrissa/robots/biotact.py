@@ -40,7 +40,18 @@ from vibrissa.whisker.rod import RodModel
 from vibrissa.whisker.simulate import SurfaceContact, Trajectory
 from vibrissa.whisker.surfaces import Surface
 
-__all__ = ["G1Head"]
+__all__ = ["G1_CONTACT_SIGNAL_SCALE", "G1Head"]
+
+#: RCP's contact-signal scale on the G1 (``RCPControl.signal_scale``, see
+#: :data:`vibrissa.robots.whisking.CONTACT_SIGNAL_SCALE`). Identified by
+#: scripts/identify_rcp.py (docs/runs/identify_rcp.json, ``g1_chosen``): SCRATCHbot's
+#: scale (3.0, from figure 3.9's outcomes) makes the G1's loop run away on these longer
+#: whiskers (z pinned at 1 by the whiskers' own ringing, RCP7 and RCP9 rows that never
+#: reach the surface at 15 mm), against 6.4, where RCP whisks touch and are classified,
+#: and 3.4.2 (no biphasic whisk at sigma_z <= 0.9, tau_z T_w/4). The G1 takes the scale
+#: nearest SCRATCHbot's at which every row touches in every whisk and no whisk is
+#: biphasic under RCP7 and RCP9 (grid 0.5-3: 0.5, 1, 1.5 and 2 hold; 2.25 and above fail).
+G1_CONTACT_SIGNAL_SCALE = 2.0
 
 
 @dataclass(frozen=True)

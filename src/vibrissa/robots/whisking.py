@@ -13,7 +13,10 @@ housing with a motor driven by a whisking pattern generator (WPG). Modelled here
   oscillator's phase: the commanded angle is
   ``retracted + (1 - z)(theta_osc - retracted)``. ``x`` is the Hall sensor's ``x``
   output as a fraction of its calibrated half range (+/-1 at full scale: 5 % and
-  95 % of the supply, 3.2.3), so ``sigma_z`` is the gain on a full-scale deflection.
+  95 % of the supply, 3.2.3) times :data:`CONTACT_SIGNAL_SCALE`: the thesis gives
+  neither the signal's units nor its scale, so the factor was identified from figure
+  3.9's two outcomes on this whisker in closed loop (``scripts/identify_rcp.py``;
+  :func:`whisk_contacts` counts them).
 * **Contact-induced asymmetry** (2.2.2, an option): a side's protraction amplitude is
   multiplied by ``1 + cia_gain * z_other``, the largest gating variable of the other
   sides (contact on one side protracts the other side further).
@@ -66,6 +69,8 @@ __all__ = [
     "WhiskingResult",
     "FIGURE_3_9_SETTINGS",
     "Figure39Panel",
+    "CONTACT_DIP_FRACTION",
+    "CONTACT_SIGNAL_SCALE",
     "count_contacts",
     "check_pole_placement",
     "figure_3_9",
@@ -75,11 +80,25 @@ __all__ = [
     "pole_whisker",
     "rcp_gating",
     "run_whisking",
+    "whisk_contacts",
 ]
 
 #: Full scale of the normalised deflection: the Hall output spans 5-95 % of its
 #: supply (3.2.3), i.e. +/-0.45 V_DD about the rest output.
 HALF_RANGE_FRACTION = 0.45
+
+#: Scale of the contact signal of eq. 3.2: ``pi`` is this times the largest filtered
+#: ``x`` deflection as a fraction of the Hall half range. Identified from figure 3.9's
+#: outcomes by scripts/identify_rcp.py (docs/runs/identify_rcp.json): on the simulated
+#: SCRATCHbot whisker whisking into a pole in closed loop, sigma_z 0.7 with tau_z T_w/4
+#: must give one contact per whisk and sigma_z 2 with tau_z T_w/10 the biphasic whisk
+#: (:func:`whisk_contacts`).
+CONTACT_SIGNAL_SCALE = 3.0
+
+#: :func:`whisk_contacts`' ``dip_deg`` as a fraction of the whisk amplitude: a withdrawal
+#: of the housing by 5 % of the amplitude (0.6 deg of SCRATCHbot's 12 deg) separates two
+#: contacts.
+CONTACT_DIP_FRACTION = 0.05
 
 
 def _gate_step(z_prev: float, pi_n: float, decay: float, sigma_z: float) -> float:
@@ -273,6 +292,9 @@ class RCPControl:
         fraction of this side's gating variable (>= 0; 0: off).
     cutoff_hz, order
         The contact filter (thesis: 50 Hz, third order).
+    signal_scale
+        The contact signal ``pi`` per unit of the filtered deflection (a fraction of
+        the Hall half range); default :data:`CONTACT_SIGNAL_SCALE`, the identified one.
     """
 
     sigma_z: float = 0.0
@@ -280,12 +302,14 @@ class RCPControl:
     cia_gain: float = 0.0
     cutoff_hz: float = 50.0
     order: int = 3
+    signal_scale: float = CONTACT_SIGNAL_SCALE
 
     def __post_init__(self) -> None:
         non_negative("sigma_z", self.sigma_z)
         positive("tau_z_periods", self.tau_z_periods)
         non_negative("cia_gain", self.cia_gain)
         positive("cutoff_hz", self.cutoff_hz)
+        positive("signal_scale", self.signal_scale)
 
     @property
     def active(self) -> bool:
@@ -580,7 +604,7 @@ def run_whisking(
         for s in range(n_sides):
             members = [i for i, wh in enumerate(whiskers) if wh.side == s]
             for n in range(n_ctrl + 1):
-                pis[s, n] = filters[s].step(defl[members, n])
+                pis[s, n] = ctrl.signal_scale * filters[s].step(defl[members, n])
         return WhiskingResult(
             time_s, tan_x, force, angle, ctime, command, pis, zs, defl, dt, gains, tan_y
         )
@@ -601,7 +625,7 @@ def run_whisking(
             defl[w, n + 1] = tan_x[w, k1] / full_tan[w]
         for s in range(n_sides):
             members = [i for i, wh in enumerate(whiskers) if wh.side == s]
-            pis[s, n + 1] = filters[s].step(defl[members, n + 1])
+            pis[s, n + 1] = ctrl.signal_scale * filters[s].step(defl[members, n + 1])
             zs[s, n + 1] = _gate_step(zs[s, n], pis[s, n + 1], decays[s], ctrl.sigma_z)
     return WhiskingResult(
         time_s, tan_x, force, angle, ctime, command, pis, zs, defl, dt, gains, tan_y
@@ -767,3 +791,70 @@ def count_contacts(signal: np.ndarray, threshold: float, release: float | None =
         elif on and v < lo:
             on = False
     return n
+
+
+def whisk_contacts(
+    time_s: np.ndarray,
+    angle_deg: np.ndarray,
+    in_contact: np.ndarray,
+    frequency_hz: float,
+    dip_deg: float,
+    phase_rad: float = 0.0,
+) -> np.ndarray:
+    """Contacts per whisk of a closed-loop run, as figure 3.9 counts them.
+
+    Figure 3.9 (b): the whisker "quickly detached from the simulated obstacle ...
+    and protraction begins again within a single whisk, leading to a biphasic whisk
+    profile and two distinct contacts"; (a): protraction is suppressed during the
+    contact and the whisker stays on the obstacle, one contact per whisk. On a
+    physical whisker the tip may also bounce off the pole at impact while the
+    housing keeps protracting; that is one contact. So two runs of contact are
+    distinct contacts only if, between them, the housing withdrew (its angle fell at
+    least ``dip_deg`` below its angle at the end of the first run) and protraction
+    resumed (the angle rose again by at least ``dip_deg / 2`` from its lowest point
+    before the second run began); otherwise they are one contact. A whisk with two
+    or more contacts is biphasic. Each contact belongs to the whisk in which it
+    starts; whisk ``k`` spans oscillator phases ``[2 pi k, 2 pi (k + 1))``.
+
+    Parameters
+    ----------
+    time_s : array_like, shape (n,)
+        Sample times (s), increasing.
+    angle_deg : array_like, shape (n,)
+        The housing's angle at those times.
+    in_contact : array_like of bool, shape (n,)
+        Whether the whisker touches the object (e.g. contact force > 0).
+    frequency_hz : float
+        The whisk frequency.
+    dip_deg : float
+        How far the housing must withdraw to separate two contacts (> 0).
+    phase_rad : float
+        The oscillator's phase at ``t = 0``.
+
+    Returns
+    -------
+    ndarray of int, shape (n_whisks,)
+        Contacts in each whole or partial whisk covered by ``time_s``.
+    """
+    t = finite_array("time_s", time_s)
+    a = finite_array("angle_deg", angle_deg)
+    on = np.asarray(in_contact, dtype=bool)
+    if not (t.ndim == 1 and a.shape == t.shape and on.shape == t.shape and t.size > 0):
+        raise ValueError("time_s, angle_deg and in_contact must be 1-D of the same length")
+    f = positive("frequency_hz", frequency_hz)
+    dip = positive("dip_deg", dip_deg)
+    whisk = np.floor((2 * math.pi * f * t + finite("phase_rad", phase_rad)) / (2 * math.pi))
+    whisk = (whisk - whisk[0]).astype(int)
+    edges = np.diff(np.concatenate([[0], on.astype(np.int8), [0]]))
+    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    counts = np.zeros(int(whisk[-1]) + 1, dtype=int)
+    for i, st in enumerate(starts):
+        if i > 0:
+            gap = a[ends[i - 1] - 1 : st + 1]
+            low = int(np.argmin(gap))
+            withdrew = gap[0] - gap[low] >= dip
+            resumed = gap[low:].max() - gap[low] >= dip / 2
+            if not (withdrew and resumed):
+                continue
+        counts[whisk[st]] += 1
+    return counts

@@ -7,6 +7,7 @@ import pytest
 
 from vibrissa.thesis.biotact_g1.evaluation import (
     FWHM_PER_SIGMA,
+    evaluate_g1_sessions,
     g1_classifiers,
     hit_rate_curves,
     whisk_statistics,
@@ -14,8 +15,10 @@ from vibrissa.thesis.biotact_g1.evaluation import (
 from vibrissa.thesis.biotact_g1.protocol import BiotactProtocol
 
 
-def _dataset(n_whisks: int = 4, separable: bool = True, seed: int = 0):
-    p = BiotactProtocol(textures=("plastic", "p180"), distances_mm=(5.0, 15.0), n_whisks=n_whisks)
+def _dataset(n_whisks: int = 4, separable: bool = True, seed: int = 0, n_seeds: int = 1):
+    p = BiotactProtocol(
+        textures=("plastic", "p180"), distances_mm=(5.0, 15.0), n_whisks=n_whisks, n_seeds=n_seeds
+    )
     rng = np.random.default_rng(seed)
     specs = p.trials()
     n, m = len(specs), p.n_samples
@@ -82,3 +85,29 @@ def test_naive_bayes_alone_with_robust_bins():
     for curves in res["hit_rate"].values():
         assert list(curves) == ["naive_bayes"]
         assert curves["naive_bayes"]["joint"][:2] == [1.0, 1.0]
+
+
+def test_sessions_give_the_mean_and_the_spread_of_every_figure():
+    ds = _dataset(n_whisks=4, n_seeds=3)
+    # the last session carries no class information: its hit rates fall to chance
+    last = np.asarray(ds["session_seed"].values) == 2
+    ds["signal"].values[last] = 2.5 + 0.01 * np.random.default_rng(5).standard_normal(
+        ds["signal"].values[last].shape
+    )
+    res = evaluate_g1_sessions(ds)
+    assert res["meta"]["n_seeds"] == 3 and res["meta"]["seeds"] == [0, 1, 2]
+    assert res["meta"]["n_trials"] == 3 * 3 * 4 * 4
+    leaf = res["spread"]["hit_rate"]["rcp7"]["naive_bayes"]["joint"][0]
+    assert leaf["n"] == 3 and leaf["values"][:2] == [1.0, 1.0] and leaf["values"][2] < 1.0
+    assert res["hit_rate"]["rcp7"]["naive_bayes"]["joint"][0] == pytest.approx(leaf["mean"])
+    assert res["hit_rate"]["rcp7"]["naive_bayes"]["joint"][3] is None  # nothing to validate
+    # the ledger's keys: numbers are the means over the sessions
+    chk = res["checks"]
+    for key in ("rcp7_nb_joint_mean_1_2", "unmodulated_nb_joint_mean_1_2"):
+        assert chk[key] == pytest.approx(res["spread"]["checks"][key]["mean"])
+    # a boolean holds only if it holds in every session; its fraction beside it
+    frac = chk["rcp7_beats_unmodulated_nb_joint_1_2_whisks_fraction"]
+    per = res["spread"]["checks"]["rcp7_beats_unmodulated_nb_joint_1_2_whisks"]["values"]
+    assert frac == pytest.approx(np.mean(per))
+    assert chk["rcp7_beats_unmodulated_nb_joint_1_2_whisks"] == (frac == 1.0)
+    assert set(res["spread"]["whisks"]["rcp9"]) >= {"peak_spread", "contact_time_s"}

@@ -67,5 +67,5 @@ def test_bad_input_fails_with_one_line_before_any_simulation(tmp_path, args, mes
 def test_listed_with_its_trials_and_options():
     res = runner.invoke(app, ["reproduce", "--list", "--json"])
     entry = {e["name"]: e for e in json.loads(res.stdout)["experiments"]}["biotact-g1"]
-    assert entry["trials"] == {"quick": 24, "full": 324}
-    assert {"--distances", "--whisk-frequency"} <= set(entry["options"])
+    assert entry["trials"] == {"quick": 24, "full": 5 * 324}  # 5 sessions (quick: 1)
+    assert {"--distances", "--whisk-frequency", "--n-seeds"} <= set(entry["options"])

@@ -110,3 +110,17 @@ def test_generation_resumes_class_by_class_to_the_same_bytes(tiny, tmp_path):
     validate_dataset(ds)
     direct = tiny.simulate_trials(range(tiny.n_trials))
     np.testing.assert_array_equal(ds["signal"].values, direct["signal"])
+
+
+def test_a_session_of_a_multi_seed_run_is_the_single_session_of_its_seed():
+    kw = dict(textures=("p180",), distances_mm=(15.0,), n_whisks=2, strategies=("unmodulated",))
+    two = BiotactProtocol(n_seeds=2, seed=3, **kw)
+    assert two.n_trials == 4 and [s.session_seed for s in two.trials()] == [3, 3, 4, 4]
+    alone = BiotactProtocol(seed=4, **kw)
+    np.testing.assert_array_equal(
+        two.simulate_trials([2, 3])["signal"], alone.simulate_trials([0, 1])["signal"]
+    )
+    ds = two.build_dataset(two.simulate_trials(range(4)))
+    assert list(ds["session_seed"].values) == [3, 3, 4, 4]
+    with pytest.raises(ValueError, match="n_seeds must be a positive integer"):
+        BiotactProtocol(n_seeds=0, **kw)

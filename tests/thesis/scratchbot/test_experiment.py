@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 
+import pytest
 from typer.testing import CliRunner
 
 from vibrissa.cli import app
@@ -47,10 +48,21 @@ def test_json_contract_and_the_relations_of_6_3(tmp_path):
     for r in (70.0, 100.0, 130.0):
         durs = [by[(r, f)]["contact_duration_s"]["mean"] for f in (2.0, 4.0, 6.0)]
         assert durs[0] > durs[1] > durs[2], r
+    # over the 5 sessions (seeds 0-4): true only if it held in every one, and the fraction
     assert s["relations"] == {
         "peak_falls_with_distance": True,
         "duration_falls_with_frequency": True,
+        "peak_falls_with_distance_fraction": 1.0,
+        "duration_falls_with_frequency_fraction": 1.0,
     }
+    saved = json.loads((out / "results.json").read_text())
+    assert saved["meta"]["n_seeds"] == 5 and saved["meta"]["seeds"] == [0, 1, 2, 3, 4]
+    assert saved["meta"]["options"] == {"n_seeds": 5}
+    leaf = saved["spread"]["conditions"][0]["peak_deflection_v"]["mean"]
+    assert leaf["n"] == 5 and len(leaf["values"]) == 5
+    assert leaf["mean"] == pytest.approx(saved["conditions"][0]["peak_deflection_v"]["mean"])
+    assert leaf["min"] <= leaf["mean"] <= leaf["max"] and leaf["std"] > 0  # the noise differs
+    assert saved["spread"]["relations"]["peak_falls_with_distance"]["values"] == [1.0] * 5
     # the closed loop on the physical whisker: RCP presses less on the pole (3.2.4) and
     # shortens the contact (6.4: "RCP tends to reduce ... the duration of contact")
     cl = s["closed_loop"]["settings"]
@@ -60,6 +72,9 @@ def test_json_contract_and_the_relations_of_6_3(tmp_path):
         (2.0, 0.1),
     ]
     assert cl[0]["max_z"] == 0.0 and all(0 < c["max_z"] <= 1 for c in cl[1:])
+    # figure 3.9's outcomes on the physical whisker: one contact per whisk, then biphasic
+    assert cl[1]["figure_3_9_contacts"] == [1] * 4 and cl[1]["biphasic_whisks"] == 0
+    assert cl[2]["biphasic_whisks"] == 4
     assert cl[0]["peak_deflection_v"] > cl[1]["peak_deflection_v"] > cl[2]["peak_deflection_v"]
     assert cl[0]["contact_time_per_whisk_s"] > cl[2]["contact_time_per_whisk_s"] > 0
     md = (out / "report.md").read_text()

@@ -49,6 +49,8 @@ def test_the_pole_touches_the_turned_whisker_at_the_radial_distance(angle):
         ({"rcp_whisk_frequency_hz": 0.0}, "frequency_hz"),
         ({"rcp_radial_distance_mm": 0.2}, "radial_distance_mm"),
         ({"rcp_whisks": 0}, "rcp_whisks"),
+        ({"n_seeds": 0}, "n_seeds"),
+        ({"contact_signal_scale": 0.0}, "contact_signal_scale"),
     ],
 )
 def test_bad_input_is_refused_in_one_line_before_any_simulation(kwargs, match, monkeypatch):
@@ -67,9 +69,9 @@ def test_one_condition_keeps_each_whisk_with_its_own_samples():
     p = ScratchbotProtocol(radial_distances_mm=(100.0,), whisk_frequencies_hz=(4.0,), n_whisks=2)
     res = p.simulate_condition(0)
     fs = p.sensor.sample_rate_hz
-    assert res["signal"].shape == (2, 2, int(WINDOW_S * fs))
+    assert res["signal"].shape == (1, 2, 2, int(WINDOW_S * fs))  # one session
     per = int(fs / 4.0)
-    x = res["signal"][:, 0]
+    x = res["signal"][0, :, 0]
     # outside its whisk the window is at rest; inside it the pole deflects the whisker
     assert np.all(x[:, per:] == 2.5)
     assert np.all(np.abs(x[:, :per] - 2.5).max(axis=1) > 0.5)
@@ -77,3 +79,23 @@ def test_one_condition_keeps_each_whisk_with_its_own_samples():
     # the in-air reference is what was subtracted
     whisk1 = res["raw_v"][per : 2 * per] - res["air_v"][per : 2 * per] + 2.5
     np.testing.assert_allclose(x[0, :per], whisk1)
+
+
+def test_sessions_differ_in_the_sensor_noise_only():
+    kw = dict(radial_distances_mm=(100.0,), whisk_frequencies_hz=(4.0,), n_whisks=2)
+    three = ScratchbotProtocol(seed=2, n_seeds=3, **kw)
+    assert three.n_trials == 3 * 2
+    res = three.simulate_condition(0)
+    assert res["signal"].shape[0] == 3
+    # a session is the single session of its seed
+    alone = ScratchbotProtocol(seed=3, **kw).simulate_condition(0)
+    np.testing.assert_array_equal(res["signal"][1], alone["signal"][0])
+    first = ScratchbotProtocol(seed=2, **kw).simulate_condition(0)
+    np.testing.assert_array_equal(res["raw_v"], first["raw_v"])
+    diff = np.abs(res["signal"][0] - res["signal"][2])
+    assert 0 < diff.max() < 0.1  # noise, not another whisk
+    ds = three.build_dataset([res])
+    assert list(ds["session_seed"].values) == [2, 2, 3, 3, 4, 4]
+    assert list(ds["whisk"].values) == [1, 2] * 3
+    with pytest.raises(ValueError, match="n_seeds must be a positive integer"):
+        ScratchbotProtocol(n_seeds=0)

@@ -19,7 +19,9 @@ Two classifiers (6.4.2-6.4.3):
   errors over its 12 templates (on the raw signals: 6.4.3 names no filter).
 
 The dataset holds whole whisks (from full retraction), so every whisk is aligned
-to the pattern generator's phase, as on the robot.
+to the pattern generator's phase, as on the robot. A dataset of several sessions
+(``session_seed`` per trial) is evaluated session by session and every figure given as
+the mean over the sessions with its spread (:func:`evaluate_g1_sessions`).
 """
 
 from __future__ import annotations
@@ -31,11 +33,15 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from vibrissa.evaluate.spread import SPREAD_KEY, seed_spread, spread_leaf
+
 __all__ = [
     "CLASSIFIERS",
     "FWHM_PER_SIGMA",
     "TASKS",
     "evaluate_g1",
+    "evaluate_g1_sessions",
+    "session_seeds",
     "g1_classifiers",
     "hit_rate_curves",
     "whisk_statistics",
@@ -261,3 +267,77 @@ def evaluate_g1(ds: xr.Dataset, *, progress: Callable | None = None) -> dict[str
         "whisks": whisk_statistics(ds),
         "checks": _checks(res["hit_rate"]),
     }
+
+
+#: Sections the same in every session (descriptive): from the first.
+_SHARED = ("meta", "parameters", "classifiers")
+#: The boolean checks: true only if true in every session; ``<name>_fraction`` beside.
+_BOOLEAN_CHECKS = ("rcp7_beats_unmodulated_nb_joint_1_2_whisks",)
+
+
+def session_seeds(ds: xr.Dataset) -> list[int]:
+    """The seeds of the sessions in ``ds`` (one, the dataset's own, without ``session_seed``)."""
+    if "session_seed" not in ds.coords and "session_seed" not in ds:
+        return [int(ds.attrs.get("seed", 0))]
+    return sorted({int(v) for v in np.asarray(ds["session_seed"].values)})
+
+
+def evaluate_g1_sessions(ds: xr.Dataset, *, progress: Callable | None = None) -> dict[str, Any]:
+    """Evaluate every session of ``ds``; each figure the mean over sessions, with its spread.
+
+    Each session (the trials of one ``session_seed``) is evaluated by :func:`evaluate_g1`;
+    :func:`vibrissa.evaluate.spread.seed_spread` gives every number's mean over the
+    sessions (the results' figures: hit rates, whisk statistics, checks) and its spread
+    (under ``spread``, with the per-session values). A boolean check is true only if it
+    holds in every session; ``checks.<name>_fraction`` is the fraction of sessions where
+    it holds (0/1 per session under ``spread.checks.<name>``).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A G1 dataset of one or more sessions.
+    progress : callable, optional
+        ``progress(done, total, name)`` after each session.
+
+    Returns
+    -------
+    dict
+        The sections of :func:`evaluate_g1` (means), ``meta.n_seeds``, ``meta.seeds`` and
+        ``spread``.
+    """
+    seeds = session_seeds(ds)
+    per: list[dict[str, Any]] = []
+    for i, q in enumerate(seeds):
+        sub = (
+            ds
+            if len(seeds) == 1
+            else ds.isel(trial=np.flatnonzero(np.asarray(ds["session_seed"].values) == q))
+        )
+        per.append(evaluate_g1(sub))
+        if progress:
+            progress(i + 1, len(seeds), f"session {q}")
+    varying = [{k: v for k, v in r.items() if k not in _SHARED} for r in per]
+    mean, spread = seed_spread(varying)
+    spread = dict(spread or {})
+    checks = dict(mean["checks"])
+    check_spread = dict(spread.get("checks") or {})
+    for key in _BOOLEAN_CHECKS:
+        vals = [r["checks"].get(key) for r in per]
+        known = [bool(v) for v in vals if v is not None]
+        checks[key] = all(known) if known else None
+        checks[f"{key}_fraction"] = float(np.mean(known)) if known else None
+        check_spread[key] = spread_leaf([None if v is None else float(bool(v)) for v in vals])
+    spread["checks"] = check_spread
+    out = {k: per[0][k] for k in _SHARED}
+    out["meta"] = {
+        **per[0]["meta"],
+        "n_trials": int(ds.sizes["trial"]),
+        "n_seeds": len(seeds),
+        "seeds": seeds,
+        "seed_statistic": "each number is the mean over the sessions; its spread "
+        "(mean, std, min, max, n, per-session values) under 'spread'",
+    }
+    out.update({k: v for k, v in mean.items() if k != "checks"})
+    out["checks"] = checks
+    out[SPREAD_KEY] = spread
+    return out

@@ -23,6 +23,11 @@ from vibrissa.reproduce.registry import Evaluation, Experiment, Option, register
 from vibrissa.thesis.biotact_g1.values import CLASSIFIER_TITLES
 
 
+def default_n_seeds(quick: bool) -> int:
+    """Sessions of a run without ``--n-seeds``: 5, or 1 for ``--quick``."""
+    return 1 if quick else 5
+
+
 @register
 class BiotactG1(Experiment):
     """Thesis 6.4 (see the module docstring)."""
@@ -45,13 +50,23 @@ class BiotactG1(Experiment):
             numbers=True,
         ),
         Option("whisk_frequency", "", "Whisk frequency, Hz (default 2).", numbers=True),
+        Option(
+            "n_seeds",
+            0,
+            "Sessions, with seeds seed..seed+n-1; every figure is the mean over them "
+            "with its spread (default 0: 5 for the full run, 1 for --quick).",
+            minimum=0,
+        ),
     )
 
     def protocol(self, quick: bool, seed: int) -> SimulationProtocol:
-        """The G1 session of :func:`~vibrissa.thesis.biotact_g1.protocol.biotact_protocol`."""
+        """The G1 sessions of :func:`~vibrissa.thesis.biotact_g1.protocol.biotact_protocol`.
+
+        5 sessions (``quick``: 1), seeds ``seed ..``.
+        """
         from vibrissa.thesis.biotact_g1.protocol import biotact_protocol
 
-        return biotact_protocol(quick=quick, seed=seed)
+        return biotact_protocol(quick=quick, seed=seed, n_seeds=default_n_seeds(quick))
 
     def protocol_for(
         self, quick: bool, seed: int, options: Mapping[str, Any]
@@ -74,6 +89,7 @@ class BiotactG1(Experiment):
                 seed=seed,
                 distances_mm=dists or None,
                 whisk_frequency_hz=freq[0] if freq else None,
+                n_seeds=int(options.get("n_seeds") or 0) or default_n_seeds(quick),
             )
         except ValueError as exc:
             raise ValueError(
@@ -96,9 +112,9 @@ class BiotactG1(Experiment):
         workers: int | None = None,
     ) -> Evaluation:
         """Evaluate the G1 session ``ds``: hit rates, whisk statistics, the thesis' claims."""
-        from vibrissa.thesis.biotact_g1.evaluation import evaluate_g1
+        from vibrissa.thesis.biotact_g1.evaluation import evaluate_g1_sessions
 
-        return Evaluation(evaluate_g1(ds, progress=progress))
+        return Evaluation(evaluate_g1_sessions(ds, progress=progress))
 
     def write_outputs(
         self,
@@ -119,8 +135,13 @@ class BiotactG1(Experiment):
         fig_dir = Path(out_dir) / "figures"
         hit = results["hit_rate"]
         out = {}
+        sp = (results.get("spread") or {}).get("hit_rate") or {}
         for c, title in CLASSIFIER_TITLES.items():
-            fig = hit_rate_figure({s: v[c] for s, v in hit.items()}, title)
+            fig = hit_rate_figure(
+                {s: v[c] for s, v in hit.items()},
+                title,
+                {s: (sp.get(s) or {}).get(c) for s in hit},
+            )
             out[f"hit_rate_{c}"] = save_figure(fig, fig_dir / f"hit_rate_{c}.png")
         if dataset is not None:
             out.update(_trajectory_figures(dataset, fig_dir))

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from typing import Any
 
 from matplotlib.figure import Figure
 
@@ -10,14 +11,18 @@ __all__ = ["hit_rate_figure"]
 
 
 def hit_rate_figure(
-    hit_rate: Mapping[str, Mapping[str, Sequence[float | None]]], title: str
+    hit_rate: Mapping[str, Mapping[str, Sequence[float | None]]],
+    title: str,
+    spread: Mapping[str, Any] | None = None,
 ) -> Figure:
     """Figures 6.6 / 6.7: hit rate against training whisks.
 
     One panel per task (joint, texture, distance), one line per control strategy.
 
     ``hit_rate[strategy][task]`` lists one rate per number of training whisks (1, 2,
-    ...); ``None`` (no validation whisk left) is not drawn.
+    ...); ``None`` (no validation whisk left) is not drawn. ``spread[strategy][task]``
+    (optional, the same shape; leaves of :func:`vibrissa.evaluate.spread.spread_leaf`)
+    adds the standard deviation over the sessions as error bars.
     """
     styles = ("-", "--", ":", "-.")
     tasks = ("joint", "texture", "distance")
@@ -27,13 +32,21 @@ def hit_rate_figure(
         for k, (strategy, curves) in enumerate(hit_rate.items()):
             rates = curves[task]
             n = [i + 1 for i, r in enumerate(rates) if r is not None]
-            ax.plot(
+            leaves = ((spread or {}).get(strategy) or {}).get(task) or [None] * len(rates)
+            err = [
+                (leaf or {}).get("std") or 0.0
+                for leaf, r in zip(leaves, rates, strict=False)
+                if r is not None
+            ]
+            ax.errorbar(
                 n,
                 [r for r in rates if r is not None],
-                styles[k % len(styles)],
+                yerr=err if len(err) == len(n) and any(err) else None,
+                fmt=styles[k % len(styles)],
                 marker="o",
                 ms=3,
                 color="k",
+                capsize=2,
                 label=strategy,
             )
         ax.set(xlabel="training whisks", title=f"({letter}) {task}", ylim=(0, 1.05))

@@ -29,6 +29,11 @@ of a class, from the class's own random stream:
 Where each whisker's tip meets its row's sheet is drawn once per class (uniform
 over the 8 x 2 mm tile).
 
+With ``n_seeds`` > 1 the whole session is repeated with seeds ``seed .. seed + n_seeds
+- 1`` (sheets, tip placements, amplitudes, noise all drawn anew); trials carry their
+session's seed (``session_seed``), and a session's whisks are byte for byte those of a
+one-session run with that seed.
+
 Textures (the thesis: "a smooth plastic surface and two grades of commercial
 abrasive sandpaper (3M silicon carbide 'Wetordry Tri-M-ite')", grades not given):
 ``plastic`` (below) and FEPA P600 and P180 (:data:`vibrissa.whisker.TEXTURES`),
@@ -55,7 +60,7 @@ from vibrissa._validate import finite, in_range, non_negative, positive
 from vibrissa.data.dataset import signal_coords
 from vibrissa.experiments.contract import ChunkedTrials
 from vibrissa.experiments.streams import SURFACES, TRIALS, stream
-from vibrissa.robots.biotact import G1Head
+from vibrissa.robots.biotact import G1_CONTACT_SIGNAL_SCALE, G1Head
 from vibrissa.robots.whisking import RCPControl, VaryingWhiskPattern, WhiskPattern, run_whisking
 from vibrissa.thesis.biotact_g1.values import STRATEGIES
 from vibrissa.whisker.geometry import preset
@@ -87,13 +92,14 @@ SIDES = ("left", "right")
 
 @dataclass(frozen=True)
 class BiotactTrialSpec:
-    """One whisk: ``strategy``, ``texture``, ``distance_mm`` and ``whisk`` (1-based)."""
+    """One whisk: its class, ``whisk`` (1-based) and the seed of its session."""
 
     index: int
     strategy: str
     texture: str
     distance_mm: float
     whisk: int
+    session_seed: int = 0
 
 
 def _sensor() -> HallSettings:
@@ -132,7 +138,14 @@ class BiotactProtocol(ChunkedTrials):
     sensor : HallSettings
         The Hall sensors' set-up (2 kHz); the control loop runs at its rate.
     seed : int
-        Seed of the session.
+        Seed of the (first) session.
+    n_seeds : int
+        Sessions: the whole session is repeated with seeds ``seed .. seed + n_seeds - 1``
+        (sheets, tip placements, whisk amplitudes and sensor noise all drawn anew); a
+        session's whisks are those of a run with ``seed`` its seed and ``n_seeds = 1``.
+    contact_signal_scale : float
+        RCP's contact signal per unit of filtered deflection
+        (:data:`vibrissa.robots.biotact.G1_CONTACT_SIGNAL_SCALE`, see there).
     """
 
     textures: tuple[str, ...] = ("plastic", "p600", "p180")
@@ -148,6 +161,8 @@ class BiotactProtocol(ChunkedTrials):
     motor_bandwidth_hz: float = 20.0
     sensor: HallSettings = field(default_factory=_sensor)
     seed: int = 0
+    n_seeds: int = 1
+    contact_signal_scale: float = G1_CONTACT_SIGNAL_SCALE
     name: str = "biotact-g1"
 
     def __post_init__(self) -> None:
@@ -189,24 +204,39 @@ class BiotactProtocol(ChunkedTrials):
             or self.seed < 0
         ):
             raise ValueError(f"seed must be a non-negative integer, got {self.seed!r}")
+        if (
+            isinstance(self.n_seeds, bool)
+            or not isinstance(self.n_seeds, int | np.integer)
+            or self.n_seeds < 1
+        ):
+            raise ValueError(f"n_seeds must be a positive integer, got {self.n_seeds!r}")
+        positive("contact_signal_scale", self.contact_signal_scale)
 
     # ------------------------------------------------------------------ trials
     label_names = ("texture", "distance_mm")
 
     def trials(self) -> list[BiotactTrialSpec]:
-        """Every whisk in canonical order: strategy, texture, distance, whisk."""
+        """Every whisk in canonical order: session, strategy, texture, distance, whisk."""
         specs: list[BiotactTrialSpec] = []
-        for s in self.strategies:
-            for t in self.textures:
-                for d in self.distances_mm:
-                    for k in range(1, self.n_whisks + 1):
-                        specs.append(BiotactTrialSpec(len(specs), s, t, float(d), k))
+        for q in range(self.n_seeds):
+            for s in self.strategies:
+                for t in self.textures:
+                    for d in self.distances_mm:
+                        for k in range(1, self.n_whisks + 1):
+                            specs.append(
+                                BiotactTrialSpec(len(specs), s, t, float(d), k, self.seed + q)
+                            )
         return specs
+
+    @property
+    def classes_per_session(self) -> int:
+        """Runs (strategy, texture, distance) of one session."""
+        return len(self.strategies) * len(self.textures) * len(self.distances_mm)
 
     @property
     def n_trials(self) -> int:
         """Total number of whisks."""
-        return len(self.strategies) * len(self.textures) * len(self.distances_mm) * self.n_whisks
+        return self.n_seeds * self.classes_per_session * self.n_whisks
 
     @property
     def n_channels(self) -> int:
@@ -295,14 +325,17 @@ class BiotactProtocol(ChunkedTrials):
         """
         spec = self.trials()[c * self.n_whisks]
         n_rec = self.n_whisks if n_whisks is None else int(n_whisks)
-        rng = np.random.default_rng(stream(self.seed, TRIALS, c))
+        # the session's own seed and the class's index within its session: a session of
+        # a multi-seed run is the single session of that seed
+        seed = spec.session_seed
+        rng = np.random.default_rng(stream(seed, TRIALS, c % self.classes_per_session))
         head, f = self.head, self.whisk_frequency_hz
         models = [_model(L, self.n_elements) for L in head.lengths_mm]
         halls = [_hall(self.sensor, L, self.n_elements) for L in head.lengths_mm]
         friction = G1_TEXTURES[spec.texture].friction
         setups = []
         for side in range(2):
-            sheet = _sheet(spec.texture, self.seed, side)
+            sheet = _sheet(spec.texture, seed, side)
             tile = np.array(sheet.heights_m.shape) * sheet.spacing_m * 1e3
             for i in range(head.n_whiskers):
                 offset = rng.uniform(0.0, 1.0, 2) * tile
@@ -326,7 +359,11 @@ class BiotactProtocol(ChunkedTrials):
             for side_amps in amps
         ]
         sigma = STRATEGIES[spec.strategy]
-        ctrl = RCPControl(sigma, self.tau_z_periods) if sigma > 0 else None
+        ctrl = (
+            RCPControl(sigma, self.tau_z_periods, signal_scale=self.contact_signal_scale)
+            if sigma > 0
+            else None
+        )
         fs = self.sensor.sample_rate_hz
         # a stiff moment (a tip catching on grains) can defeat the solver at dt_s: the
         # run is then made again with half the step, and once more with a quarter
@@ -400,6 +437,7 @@ class BiotactProtocol(ChunkedTrials):
             "whisk": np.array([s.whisk for s in specs], dtype=np.int64),
             "saturated": np.asarray(results["saturated"], dtype=bool),
             "dt_s": np.asarray(results["dt_s"], dtype=float),
+            "session_seed": np.array([s.session_seed for s in specs], dtype=np.int64),
         }
         coords = signal_coords(
             len(specs),

@@ -46,6 +46,26 @@ def strategies_text(names: list[str] | tuple[str, ...]) -> str:
     )
 
 
+def _node(tree: Any, *path: Any) -> Any:
+    """The spread tree's node at ``path`` (None where missing)."""
+    for key in path:
+        if isinstance(tree, dict):
+            tree = tree.get(key)
+        elif isinstance(tree, list) and isinstance(key, int) and 0 <= key < len(tree):
+            tree = tree[key]
+        else:
+            return None
+    return tree
+
+
+def _pm(value: Any, leaf: Any, digits: int = 3) -> str:
+    """``value +/- std`` over the sessions (``value`` alone with one session or no spread)."""
+    if value is None:
+        return "-"
+    std = leaf.get("std") if isinstance(leaf, dict) else None
+    return fmt(value, digits) if std is None else f"{fmt(value, digits)} +/- {fmt(std, digits)}"
+
+
 def _discussion(ws: Mapping[str, Any], chk: Mapping[str, Any]) -> list[str]:
     """What this run says about 6.4.5's reading of RCP, computed from its numbers."""
     if "unmodulated" not in ws or "rcp7" not in ws:
@@ -89,6 +109,18 @@ def markdown_g1(results: Mapping[str, Any], figures: Mapping[str, Path]) -> str:
     lengths = head.get("lengths_mm") or (80.0, 112.0, 158.0)  # the thesis' (3.4)
     chk = results["checks"]
     n_max = max(len(v) for s in hit.values() for c in s.values() for v in c.values())
+    spread = results.get("spread") or {}
+
+    def check_pm(key: str) -> str:
+        return _pm(chk[key], _node(spread, "checks", key))
+
+    def first_perfect(strategy: str, value: Any) -> str:
+        vals = (_node(spread, "checks", "first_perfect_nb_joint", strategy) or {}).get("values")
+        if not vals or len(vals) < 2:
+            return f"{strategy}: {value if value is not None else 'never'}"
+        per = ", ".join("never" if v is None else f"{v:g}" for v in vals)
+        return f"{strategy}: {per} (per session)"
+
     out = [
         "The BIOTACT G1 (thesis 3.4, 6.4): a cone-shaped head with two bilaterally "
         f"symmetric rows of {_number(len(lengths))} whiskers "
@@ -113,26 +145,42 @@ def markdown_g1(results: Mapping[str, Any], figures: Mapping[str, Path]) -> str:
                     "n/a"
                     if chk.get("rcp7_beats_unmodulated_nb_joint_1_2_whisks") is None
                     else f"{'yes' if chk['rcp7_beats_unmodulated_nb_joint_1_2_whisks'] else 'no'}: "
-                    f"mean {fmt(chk['rcp7_nb_joint_mean_1_2'], 3)} against "
-                    f"{fmt(chk['unmodulated_nb_joint_mean_1_2'], 3)}",
+                    f"mean {check_pm('rcp7_nb_joint_mean_1_2')} against "
+                    f"{check_pm('unmodulated_nb_joint_mean_1_2')}",
                 ],
                 [
                     "RCP7 reaches 100 % after seven training whisks",
                     "n/a"
                     if chk.get("rcp7_nb_joint_at_7") is None
-                    else f"{fmt(100 * chk['rcp7_nb_joint_at_7'], 1)} % after seven",
+                    else f"{fmt(100 * chk['rcp7_nb_joint_at_7'], 1)} % after seven"
+                    + (
+                        ""
+                        if _node(spread, "checks", "rcp7_nb_joint_at_7", "std") is None
+                        else f" (std {fmt(100 * spread['checks']['rcp7_nb_joint_at_7']['std'], 1)})"
+                    ),
                 ],
                 [
                     "first number of training whisks at 100 % (9-class, naive Bayes)",
-                    ", ".join(
-                        f"{s}: {v if v is not None else 'never'}"
-                        for s, v in chk["first_perfect_nb_joint"].items()
+                    "; ".join(
+                        first_perfect(s, v) for s, v in chk["first_perfect_nb_joint"].items()
                     ),
                 ],
             ],
         ),
         "",
     ]
+    spread = results.get("spread") or {}
+    n_seeds = int(meta.get("n_seeds", 1))
+    if n_seeds > 1:
+        out += [
+            f"Every figure below is the mean over {n_seeds} sessions (seeds "
+            f"{', '.join(str(q) for q in meta.get('seeds', []))}: sheets, tip placements, "
+            "whisk amplitudes and sensor noise drawn anew) +/- the standard deviation "
+            "over the sessions; RCP7 beats unmodulated naive Bayes after 1-2 whisks in "
+            f"{fmt(100 * (chk.get('rcp7_beats_unmodulated_nb_joint_1_2_whisks_fraction') or 0), 0)}"
+            " % of the sessions.",
+            "",
+        ]
     for c, title in CLASSIFIER_TITLES.items():
         out += [f"## Hit rate: {title}", ""]
         rows = []
@@ -140,7 +188,10 @@ def markdown_g1(results: Mapping[str, Any], figures: Mapping[str, Path]) -> str:
             for s, curves in hit.items():
                 rows.append(
                     [task, s]
-                    + [fmt(r, 3) if r is not None else "-" for r in curves[c][task]]
+                    + [
+                        _pm(r, _node(spread, "hit_rate", s, c, task, i))
+                        for i, r in enumerate(curves[c][task])
+                    ]
                     + [THESIS[(c, task)] if s == next(iter(hit)) else ""]
                 )
         out += [
@@ -194,11 +245,11 @@ def markdown_g1(results: Mapping[str, Any], figures: Mapping[str, Path]) -> str:
             [
                 [
                     s,
-                    fmt(v["contact_time_s"], 3),
-                    fmt(v["peak_deflection_v"], 3),
-                    fmt(v["peak_spread"], 3),
-                    fmt(v["max_z"], 2),
-                    v["saturated_whisks"],
+                    _pm(v["contact_time_s"], _node(spread, "whisks", s, "contact_time_s")),
+                    _pm(v["peak_deflection_v"], _node(spread, "whisks", s, "peak_deflection_v")),
+                    _pm(v["peak_spread"], _node(spread, "whisks", s, "peak_spread")),
+                    _pm(v["max_z"], _node(spread, "whisks", s, "max_z"), 2),
+                    fmt(v["saturated_whisks"], 1),
                 ]
                 for s, v in ws.items()
             ],
@@ -240,6 +291,11 @@ def markdown_g1(results: Mapping[str, Any], figures: Mapping[str, Path]) -> str:
         f"(std {proto.get('amplitude_jitter_deg', '?')} deg per side and whisk, an "
         "assumption) and the sensors' noise; where each tip meets the sheet is drawn "
         "once per class.",
+        "- RCP's contact signal (eq. 3.2): the largest low-passed x deflection of a "
+        "row, as a fraction of the Hall half range, times "
+        f"{fmt(proto.get('contact_signal_scale'), 2)} (the thesis gives neither its "
+        "units nor its scale; chosen by scripts/identify_rcp.py, see "
+        "docs/runs/identify_rcp.json).",
         "- Naive Bayes: 'Gaussian of width 5 intervals' read as a full width at half "
         "maximum of 5 bins (sigma 2.12 bins); bins span each channel's whole training "
         "range (6.4.2). Templates: the class mean of each channel over the training "

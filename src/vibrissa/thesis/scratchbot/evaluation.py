@@ -1,7 +1,9 @@
 """SCRATCHbot's evaluation (thesis 6.3).
 
 Features per condition, the chapter-4 classifiers on odd/even whisks, the relations of
-figure 6.5, the closed-loop RCP runs and figure 3.9's numbers.
+figure 6.5, the closed-loop RCP runs and figure 3.9's numbers; over several sessions
+(seeds), each figure as the mean over the sessions with its spread
+(:func:`evaluate_scratchbot_sessions`).
 """
 
 from __future__ import annotations
@@ -15,8 +17,21 @@ import xarray as xr
 
 from vibrissa.classify import FeatureRegressionClassifier, TimeTemplateClassifier, contact_features
 from vibrissa.data import as_arrays
+from vibrissa.evaluate.spread import SPREAD_KEY, seed_spread, spread_leaf
 
-__all__ = ["THRESHOLD_V", "closed_loop_summary", "evaluate_scratchbot"]
+__all__ = [
+    "RELATIONS",
+    "THRESHOLD_V",
+    "closed_loop_summary",
+    "evaluate_scratchbot",
+    "evaluate_scratchbot_sessions",
+    "session_seeds",
+]
+
+#: The relations of figure 6.5 (booleans per session).
+RELATIONS = ("peak_falls_with_distance", "duration_falls_with_frequency")
+#: Sections the same in every session (deterministic or descriptive): from the first.
+_SHARED = ("meta", "parameters", "figure_3_9", "closed_loop")
 
 #: Chapter-4 feature threshold gamma (V, 4.3.4).
 THRESHOLD_V = 0.05
@@ -60,6 +75,14 @@ def closed_loop_summary(ds: xr.Dataset, half_range_fraction: float) -> dict[str,
                 "contacts_per_whisk": _episodes(force, dt) / n_whisks,
                 "contact_time_per_whisk_s": float(np.count_nonzero(force > 0) * dt / n_whisks),
                 "max_z": float(ds["rcp_gating"].values[i].max()),
+                **(
+                    {
+                        "figure_3_9_contacts": [int(v) for v in ds["rcp_contacts"].values[i]],
+                        "biphasic_whisks": int(np.sum(ds["rcp_contacts"].values[i] >= 2)),
+                    }
+                    if "rcp_contacts" in ds
+                    else {}
+                ),
             }
         )
     return {
@@ -192,3 +215,78 @@ def evaluate_scratchbot(
         "figure_3_9": {k: dict(v) for k, v in figure_3_9.items()},
         "closed_loop": closed_loop,
     }
+
+
+def session_seeds(ds: xr.Dataset) -> list[int]:
+    """The seeds of the sessions in ``ds`` (one, the dataset's own, without ``session_seed``)."""
+    if "session_seed" not in ds.coords and "session_seed" not in ds:
+        return [int(ds.attrs.get("seed", 0))]
+    return sorted({int(v) for v in np.asarray(ds["session_seed"].values)})
+
+
+def evaluate_scratchbot_sessions(
+    ds: xr.Dataset,
+    *,
+    figure_3_9: Mapping[str, Mapping[str, Any]],
+    half_range_fraction: float,
+    progress: Callable | None = None,
+) -> dict[str, Any]:
+    """Evaluate every session of ``ds``; each figure the mean over sessions, with its spread.
+
+    Each session (trials of one ``session_seed``) is evaluated by
+    :func:`evaluate_scratchbot`; :func:`vibrissa.evaluate.spread.seed_spread` gives the
+    mean of every number over the sessions (the results' figures) and its spread (under
+    ``spread``). A relation of figure 6.5 is true only if it holds in every session;
+    ``relations.<name>_fraction`` is the fraction of sessions where it holds (its
+    per-session 0/1 values under ``spread.relations.<name>``).
+
+    Parameters
+    ----------
+    ds, figure_3_9, half_range_fraction
+        As for :func:`evaluate_scratchbot`.
+    progress : callable, optional
+        ``progress(done, total, name)`` after each session.
+
+    Returns
+    -------
+    dict
+        The sections of :func:`evaluate_scratchbot` (means), ``meta.n_seeds``,
+        ``meta.seeds`` and ``spread``.
+    """
+    seeds = session_seeds(ds)
+    per: list[dict[str, Any]] = []
+    for i, q in enumerate(seeds):
+        sub = (
+            ds
+            if len(seeds) == 1
+            else ds.isel(trial=np.flatnonzero(np.asarray(ds["session_seed"].values) == q))
+        )
+        per.append(
+            evaluate_scratchbot(sub, figure_3_9=figure_3_9, half_range_fraction=half_range_fraction)
+        )
+        if progress:
+            progress(i + 1, len(seeds), f"session {q}")
+    varying = [{k: v for k, v in r.items() if k not in _SHARED} for r in per]
+    mean, spread = seed_spread(varying)
+    spread = dict(spread or {})
+    relations: dict[str, Any] = {}
+    rel_spread: dict[str, Any] = {}
+    for key in RELATIONS:
+        held = [bool(r["relations"][key]) for r in per]
+        relations[key] = all(held)
+        relations[f"{key}_fraction"] = float(np.mean(held))
+        rel_spread[key] = spread_leaf([1.0 if h else 0.0 for h in held])
+    spread["relations"] = rel_spread
+    out = {k: per[0][k] for k in _SHARED}
+    out["meta"] = {
+        **per[0]["meta"],
+        "n_trials": int(ds.sizes["trial"]),
+        "n_seeds": len(seeds),
+        "seeds": seeds,
+        "seed_statistic": "each number is the mean over the sessions; its spread "
+        "(mean, std, min, max, n, per-session values) under 'spread'",
+    }
+    out.update({k: v for k, v in mean.items() if k != "relations"})
+    out["relations"] = relations
+    out[SPREAD_KEY] = spread
+    return out

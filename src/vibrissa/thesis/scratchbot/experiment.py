@@ -6,7 +6,9 @@ peak deflection and the contact duration of every whisk (the chapter-4 features,
 4.3.4: peak magnitude and the supra-0.05 V run about the peak); the chapter-4
 feature and template classifiers trained on the odd whisks and tested on the
 even ones. The report also draws figure 3.9 (rapid cessation of protraction
-with two gains, :func:`vibrissa.robots.whisking.figure_3_9`).
+with two gains, :func:`vibrissa.robots.whisking.figure_3_9`). ``--n-seeds`` sessions
+(default 5, seeds ``seed .. seed + n - 1``): every figure is the mean over them, with
+its spread under the results' ``spread``.
 """
 
 from __future__ import annotations
@@ -18,8 +20,11 @@ from typing import Any
 import xarray as xr
 
 from vibrissa.experiments.contract import SimulationProtocol
-from vibrissa.reproduce.registry import Evaluation, Experiment, register
+from vibrissa.reproduce.registry import Evaluation, Experiment, Option, register
 from vibrissa.thesis.scratchbot.protocol import scratchbot_protocol
+
+#: Sessions of a run unless ``--n-seeds`` says otherwise.
+DEFAULT_N_SEEDS = 5
 
 
 @register
@@ -35,9 +40,26 @@ class Scratchbot(Experiment):
         "(figure 6.5); RCP gating (figure 3.9)"
     )
 
+    options = (
+        Option(
+            "n_seeds",
+            DEFAULT_N_SEEDS,
+            "Sessions, with seeds seed..seed+n-1; every figure is the mean over them "
+            "with its spread (default 5; they differ only in the sensor noise).",
+        ),
+    )
+
     def protocol(self, quick: bool, seed: int) -> SimulationProtocol:
-        """SCRATCHbot's grid with 12 whisks per condition (``quick``: 4)."""
-        return scratchbot_protocol(quick=quick, seed=seed)
+        """SCRATCHbot's grid with 12 whisks per condition (``quick``: 4), in 5 sessions."""
+        return scratchbot_protocol(quick=quick, seed=seed, n_seeds=DEFAULT_N_SEEDS)
+
+    def protocol_for(
+        self, quick: bool, seed: int, options: Mapping[str, Any]
+    ) -> SimulationProtocol:
+        """SCRATCHbot's grid in ``--n-seeds`` sessions."""
+        return scratchbot_protocol(
+            quick=quick, seed=seed, n_seeds=int(options.get("n_seeds") or DEFAULT_N_SEEDS)
+        )
 
     def evaluate(
         self,
@@ -50,10 +72,10 @@ class Scratchbot(Experiment):
     ) -> Evaluation:
         """Evaluate ``ds`` and simulate figure 3.9's panels (kept as artifacts)."""
         from vibrissa.robots.whisking import HALF_RANGE_FRACTION, figure_3_9
-        from vibrissa.thesis.scratchbot.evaluation import evaluate_scratchbot
+        from vibrissa.thesis.scratchbot.evaluation import evaluate_scratchbot_sessions
 
         panels = figure_3_9()
-        results = evaluate_scratchbot(
+        results = evaluate_scratchbot_sessions(
             ds,
             figure_3_9={k: p.summary() for k, p in panels.items()},
             half_range_fraction=HALF_RANGE_FRACTION,

@@ -17,6 +17,11 @@ Each condition is one continuous run of ``n_whisks + 1`` whisks; the first whisk
 whisker's first mode (7.6 Hz) makes the in-air deflection larger than a light
 contact. Each whisk is one trial: the whisk's own samples (from full retraction
 to full retraction), the rest of a 0.5 s window held at the sensor's rest output.
+
+With ``n_seeds`` > 1 the grid is recorded in that many sessions, with seeds ``seed ..
+seed + n_seeds - 1``. The whisker, the pole and the pattern generator are
+deterministic here, so a session differs from another only in the sensor's noise: each
+condition is simulated once and read with each session's noise stream.
 """
 
 from __future__ import annotations
@@ -40,12 +45,15 @@ from vibrissa._validate import in_range, non_negative, positive
 from vibrissa.experiments.contract import SelfGenerating
 from vibrissa.experiments.streams import stream
 from vibrissa.robots.whisking import (
+    CONTACT_DIP_FRACTION,
+    CONTACT_SIGNAL_SCALE,
     RCPControl,
     WhiskerSetup,
     WhiskPattern,
     check_pole_placement,
     pole_whisker,
     run_whisking,
+    whisk_contacts,
 )
 from vibrissa.whisker.geometry import PRESETS, preset
 from vibrissa.whisker.hall import HallSettings
@@ -88,6 +96,11 @@ class ScratchbotProtocol(SelfGenerating):
         The Hall sensor set-up (1 kHz, SCRATCHbot's calibration).
     seed
         Seed of the sensor noise.
+    n_seeds
+        Sessions (seeds ``seed .. seed + n_seeds - 1``; see the module's note).
+    contact_signal_scale
+        RCP's contact signal per unit of filtered deflection (``RCPControl.signal_scale``;
+        default the identified :data:`vibrissa.robots.whisking.CONTACT_SIGNAL_SCALE`).
     rcp_settings, rcp_radial_distance_mm, rcp_whisk_frequency_hz, rcp_whisks
         The closed-loop comparison beside the grid: ``rcp_whisks`` whisks into the pole
         at one distance and frequency under each (``sigma_z``, ``tau_z`` in whisk
@@ -111,6 +124,8 @@ class ScratchbotProtocol(SelfGenerating):
     motor_bandwidth_hz: float = 20.0
     sensor: HallSettings = dataclasses.field(default_factory=HallSettings)
     seed: int = 0
+    n_seeds: int = 1
+    contact_signal_scale: float = CONTACT_SIGNAL_SCALE
     rcp_settings: tuple[tuple[float, float], ...] = ((0.0, 0.25), (0.7, 0.25), (2.0, 0.1))
     rcp_radial_distance_mm: float = 100.0
     rcp_whisk_frequency_hz: float = 2.0
@@ -166,6 +181,9 @@ class ScratchbotProtocol(SelfGenerating):
             raise ValueError(f"rcp_whisks must be a positive integer, got {self.rcp_whisks!r}")
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise ValueError(f"seed must be a non-negative integer, got {self.seed!r}")
+        if isinstance(self.n_seeds, bool) or not isinstance(self.n_seeds, int) or self.n_seeds < 1:
+            raise ValueError(f"n_seeds must be a positive integer, got {self.n_seeds!r}")
+        positive("contact_signal_scale", self.contact_signal_scale)
         if not isinstance(self.sensor, HallSettings):
             raise TypeError(f"sensor must be a HallSettings, got {type(self.sensor).__name__}")
 
@@ -185,8 +203,8 @@ class ScratchbotProtocol(SelfGenerating):
 
     @property
     def n_trials(self) -> int:
-        """Whisks kept over all conditions."""
-        return len(self.conditions()) * self.n_whisks
+        """Whisks kept over all conditions and sessions."""
+        return self.n_seeds * len(self.conditions()) * self.n_whisks
 
     def to_dict(self) -> dict[str, Any]:
         """Every parameter as plain values."""
@@ -199,14 +217,18 @@ class ScratchbotProtocol(SelfGenerating):
 
     # ------------------------------------------------------------------ simulation
     def simulate_condition(self, index: int) -> dict[str, np.ndarray]:
-        """Simulate condition ``index``: per whisk trial windows and the whole run."""
+        """Simulate condition ``index``: per whisk trial windows and the whole run.
+
+        ``signal`` holds every session's windows, (n_seeds, n_whisks, 2, window); the
+        whole run's arrays are the first session's.
+        """
         cond = self.conditions()[index]
         r, f = cond["radial_distance_mm"], cond["whisk_frequency_hz"]
         g = preset(self.whisker)
         model = RodModel(g, self.n_elements)
         sensor = self.sensor.calibrate(g, self.n_elements)
         pattern = WhiskPattern(f, self.amplitude_deg, self.retracted_deg)
-        ctrl = RCPControl(self.sigma_z, self.tau_z_periods)
+        ctrl = RCPControl(self.sigma_z, self.tau_z_periods, signal_scale=self.contact_signal_scale)
         duration = (self.n_whisks + 1) / f
         common = dict(
             control_rate_hz=self.sensor.sample_rate_hz,
@@ -227,20 +249,26 @@ class ScratchbotProtocol(SelfGenerating):
         air = run_whisking(
             [WhiskerSetup(model, hall_gain_v=sensor.gain_v)], pattern, None, duration, **common
         )
-        rng = np.random.default_rng(stream(self.seed, 1000 + index))
         rate = 1.0 / self.dt_s
         tan = np.column_stack([touch.tan_x[0], np.zeros_like(touch.tan_x[0])])
-        volts = sensor.read(tan, rate, rng)
         ref = sensor.read(np.column_stack([air.tan_x[0], np.zeros_like(air.tan_x[0])]), rate)
-        resid = volts - ref + sensor.offset_v
         fs = self.sensor.sample_rate_hz
         nwin = int(round(WINDOW_S * fs))
         per = int(round(fs / f))
-        sig = np.full((self.n_whisks, 2, nwin), sensor.offset_v)
-        for k in range(self.n_whisks):
-            a = (k + 1) * per
-            seg = resid[a : a + per]
-            sig[k, :, : seg.shape[0]] = seg.T
+        sig = np.full((self.n_seeds, self.n_whisks, 2, nwin), sensor.offset_v)
+        sats = np.zeros(self.n_seeds)
+        volts = ref
+        for q in reversed(range(self.n_seeds)):  # the first session's volts kept last
+            rng = np.random.default_rng(stream(self.seed + q, 1000 + index))
+            volts = sensor.read(tan, rate, rng)
+            resid = volts - ref + sensor.offset_v
+            for k in range(self.n_whisks):
+                a = (k + 1) * per
+                seg = resid[a : a + per]
+                sig[q, k, :, : seg.shape[0]] = seg.T
+            sats[q] = np.mean(
+                (volts[:, 0] <= sensor.v_min + 1e-9) | (volts[:, 0] >= sensor.v_max - 1e-9)
+            )
         step = int(round(rate / fs))
         return {
             "signal": sig,
@@ -248,23 +276,15 @@ class ScratchbotProtocol(SelfGenerating):
             "air_v": ref[:, 0],
             "angle_deg": touch.angle_deg[0, ::step][: volts.shape[0]],
             "force_n": touch.contact_force_n[0, ::step][: volts.shape[0]],
-            "saturated": np.array(
-                [
-                    float(
-                        np.mean(
-                            (volts[:, 0] <= sensor.v_min + 1e-9)
-                            | (volts[:, 0] >= sensor.v_max - 1e-9)
-                        )
-                    )
-                ]
-            ),
+            "saturated": sats,
         }
 
     def simulate_rcp(self, index: int) -> dict[str, np.ndarray]:
         """The closed loop under ``rcp_settings[index]``, at the control samples.
 
         Housing angle (deg), normalised ``x`` deflection, gating ``z`` and the largest
-        contact force of each control period (N).
+        contact force of each control period (N); ``contacts``: the contacts of each whisk
+        as figure 3.9 counts them (:func:`vibrissa.robots.whisking.whisk_contacts`).
         """
         sz, tz = self.rcp_settings[index]
         g = preset(self.whisker)
@@ -282,7 +302,7 @@ class ScratchbotProtocol(SelfGenerating):
                 )
             ],
             WhiskPattern(f, self.amplitude_deg, self.retracted_deg),
-            RCPControl(sz, tz),
+            RCPControl(sz, tz, signal_scale=self.contact_signal_scale),
             self.rcp_whisks / f,
             control_rate_hz=self.sensor.sample_rate_hz,
             dt_s=self.dt_s,
@@ -290,7 +310,15 @@ class ScratchbotProtocol(SelfGenerating):
         )
         spp = int(round(1.0 / (self.sensor.sample_rate_hz * self.dt_s)))
         force = res.contact_force_n[0, 1:].reshape(-1, spp).max(axis=1)
+        contacts = whisk_contacts(
+            res.time_s,
+            res.angle_deg[0],
+            res.contact_force_n[0] > 0,
+            f,
+            CONTACT_DIP_FRACTION * self.amplitude_deg,
+        )[: self.rcp_whisks]
         return {
+            "contacts": contacts.astype(float),
             "angle_deg": res.angle_deg[0, ::spp],
             "deflection": res.deflection[0],
             "gating": res.gating[0],
@@ -323,7 +351,7 @@ class ScratchbotProtocol(SelfGenerating):
         def tick() -> None:
             if progress:
                 n_cond = min(len(done), len(self.conditions()))
-                progress(n_cond * self.n_whisks, self.n_trials)
+                progress(n_cond * self.n_whisks * self.n_seeds, self.n_trials)
 
         if w <= 1:
             for job in jobs:
@@ -349,7 +377,8 @@ class ScratchbotProtocol(SelfGenerating):
         """Assemble the conditions' results into the dataset schema.
 
         Per trial: ``signal`` (V, in-air whisk subtracted, rest 2.5 V), labels,
-        ``whisk`` (1-based within its condition) and ``set`` (1: odd whisks, 2: even).
+        ``whisk`` (1-based within its condition), ``set`` (1: odd whisks, 2: even) and
+        ``session_seed``; trials in order session, condition, whisk.
         The whole runs (raw and in-air volts, housing angle, contact force) are kept
         per condition, padded with NaN to the longest, for the figures; ``rcp``
         (:meth:`simulate_rcp` per setting) as ``rcp_*`` variables.
@@ -358,9 +387,14 @@ class ScratchbotProtocol(SelfGenerating):
 
         fs = self.sensor.sample_rate_hz
         conds = self.conditions()
-        sig = np.concatenate([r["signal"] for r in results])
-        labels = {k: np.repeat([c[k] for c in conds], self.n_whisks) for k in self.label_names}
-        whisk = np.tile(np.arange(1, self.n_whisks + 1), len(conds))
+        n_q = results[0]["signal"].shape[0]
+        sig = np.concatenate([r["signal"][q] for q in range(n_q) for r in results])
+        labels = {
+            k: np.tile(np.repeat([c[k] for c in conds], self.n_whisks), n_q)
+            for k in self.label_names
+        }
+        whisk = np.tile(np.arange(1, self.n_whisks + 1), len(conds) * n_q)
+        session = np.repeat(self.seed + np.arange(n_q), len(conds) * self.n_whisks)
         coords: dict[str, Any] = {
             "trial": np.arange(sig.shape[0]),
             "channel": np.array(["x", "y"]),
@@ -370,7 +404,12 @@ class ScratchbotProtocol(SelfGenerating):
                 {"units": "s", "long_name": "time from the whisk's start"},
             ),
         }
-        per_trial = {**labels, "whisk": whisk, "set": np.where(whisk % 2 == 1, 1, 2)}
+        per_trial = {
+            **labels,
+            "whisk": whisk,
+            "set": np.where(whisk % 2 == 1, 1, 2),
+            "session_seed": session,
+        }
         for name, vals in per_trial.items():
             coords[name] = ("trial", np.asarray(vals), coordinate_attrs(name, vals))
         n_run = max(r["raw_v"].size for r in results)
@@ -386,7 +425,10 @@ class ScratchbotProtocol(SelfGenerating):
         }
         for key, units in (("raw_v", "V"), ("air_v", "V"), ("angle_deg", "deg"), ("force_n", "N")):
             data[f"run_{key}"] = (("condition", "run_time"), padded(key), {"units": units})
-        data["run_saturated"] = (("condition",), np.array([r["saturated"][0] for r in results]))
+        data["run_saturated"] = (
+            ("condition",),
+            np.array([float(np.mean(r["saturated"])) for r in results]),
+        )
         coords["condition"] = np.arange(len(conds))
         coords["run_time"] = ("run_time", np.arange(n_run) / fs, {"units": "s"})
         if rcp:
@@ -401,6 +443,11 @@ class ScratchbotProtocol(SelfGenerating):
                     np.vstack([r[key] for r in rcp]),
                     {"units": units},
                 )
+            data["rcp_contacts"] = (
+                ("rcp_setting", "rcp_whisk"),
+                np.vstack([r["contacts"] for r in rcp]),
+                {"long_name": "contacts per whisk (figure 3.9's count)"},
+            )
             coords["rcp_setting"] = np.arange(len(rcp))
             coords["rcp_sigma_z"] = ("rcp_setting", [float(a) for a, _ in self.rcp_settings])
             coords["rcp_tau_z_periods"] = ("rcp_setting", [float(b) for _, b in self.rcp_settings])

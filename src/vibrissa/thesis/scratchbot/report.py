@@ -24,17 +24,38 @@ def markdown_scratchbot(results: Mapping[str, Any], figures: Mapping[str, Path])
     :func:`~vibrissa.thesis.scratchbot.evaluation.evaluate_scratchbot`.
     """
     rel = results["relations"]
+    spread = results.get("spread") or {}
+    n_seeds = int(results["meta"].get("n_seeds", 1))
+
+    def seeds_range(i: int, key: str) -> str:
+        """Min-max over the sessions of condition ``i``'s mean ``key``."""
+        try:
+            leaf = spread["conditions"][i][key]["mean"]
+        except (KeyError, IndexError, TypeError):
+            return "-"
+        return f"{fmt(leaf['min'], 3)}-{fmt(leaf['max'], 3)}" if leaf.get("n", 0) > 1 else "-"
+
     rows = [
         [
             fmt(c["radial_distance_mm"], 0),
             fmt(c["whisk_frequency_hz"], 0),
             f"{fmt(c['peak_deflection_v']['mean'], 3)} +/- {fmt(c['peak_deflection_v']['std'], 3)}",
+            seeds_range(i, "peak_deflection_v"),
             f"{fmt(c['contact_duration_s']['mean'], 3)} +/- "
             f"{fmt(c['contact_duration_s']['std'], 3)}",
+            seeds_range(i, "contact_duration_s"),
             c["n_whisks"],
         ]
-        for c in results["conditions"]
+        for i, c in enumerate(results["conditions"])
     ]
+
+    def held(key: str, yes: str, no: str) -> str:
+        frac = rel.get(f"{key}_fraction")
+        text = yes if rel[key] else no
+        if frac is None or n_seeds < 2:
+            return text
+        return f"{text} (in {round(frac * n_seeds)} of {n_seeds} sessions)"
+
     proto = results["meta"].get("protocol") or {}
     setup = (
         f" The simulated head: the `{proto.get('whisker', 'scratchbot')}` whisker (3.2.3) "
@@ -58,24 +79,47 @@ def markdown_scratchbot(results: Mapping[str, Any], figures: Mapping[str, Path])
                 [
                     "peak deflection vs radial distance",
                     THESIS["peak_vs_distance"],
-                    "falls at every frequency"
-                    if rel["peak_falls_with_distance"]
-                    else "does NOT fall monotonically at every frequency",
+                    held(
+                        "peak_falls_with_distance",
+                        "falls at every frequency",
+                        "does NOT fall monotonically at every frequency",
+                    ),
                 ],
                 [
                     "contact duration vs whisk speed",
                     THESIS["duration_vs_speed"],
-                    "falls at every distance"
-                    if rel["duration_falls_with_frequency"]
-                    else "does NOT fall monotonically at every distance",
+                    held(
+                        "duration_falls_with_frequency",
+                        "falls at every distance",
+                        "does NOT fall monotonically at every distance",
+                    ),
                 ],
             ],
         ),
         "",
         "## Per condition (mean +/- std over whisks)",
         "",
+        (
+            f"Over {n_seeds} sessions (seeds "
+            f"{', '.join(str(q) for q in results['meta'].get('seeds', []))}): each figure is "
+            "the mean over the sessions of the session's mean (or std) over its whisks, "
+            "with the range of the session means beside it. The simulated whisker, pole and "
+            "whisk are deterministic, so the sessions differ only in the sensor noise."
+            if n_seeds > 1
+            else "One session."
+        ),
+        "",
         md_table(
-            ["R (mm)", "S (Hz)", "peak deflection (V)", "contact duration (s)", "whisks"], rows
+            [
+                "R (mm)",
+                "S (Hz)",
+                "peak deflection (V)",
+                "over sessions",
+                "contact duration (s)",
+                "over sessions",
+                "whisks",
+            ],
+            rows,
         ),
         "",
     ]
@@ -157,14 +201,22 @@ def markdown_scratchbot(results: Mapping[str, Any], figures: Mapping[str, Path])
             f"{cl['radial_distance_mm']:g} mm, {cl['whisk_frequency_hz']:g} Hz, the "
             "housing commanded by the pattern generator and eqs. 3.2-3.3 from the Hall "
             "x deflection (no self-motion cancellation), one control period (1 ms) at a "
-            "time. Minimal impingement (3.2.4): RCP keeps the deflection smaller.",
+            "time. Minimal impingement (3.2.4): RCP keeps the deflection smaller. The "
+            "contact signal's scale in eq. 3.2 was identified so that figure 3.9's two "
+            "outcomes hold here (scripts/identify_rcp.py, docs/runs/identify_rcp.json): "
+            "sigma_z 0.7, tau_z T_w/4 one contact per whisk; sigma_z 2, tau_z T_w/10 the "
+            "biphasic whisk (the housing withdraws, the whisker leaves the pole and the "
+            "protraction resumes within the whisk: two contacts). 'Contact runs' counts "
+            "every run of contact force (bounces at impact merged within 20 ms); "
+            "'figure 3.9 contacts' counts as the figure does, per whisk.",
             "",
             md_table(
                 [
                     "setting",
                     "peak deflection (V)",
                     "max contact force (N)",
-                    "contacts per whisk",
+                    "contact runs per whisk",
+                    "figure 3.9 contacts per whisk",
                     "contact time per whisk (s)",
                     "max z",
                 ],
@@ -174,6 +226,7 @@ def markdown_scratchbot(results: Mapping[str, Any], figures: Mapping[str, Path])
                         fmt(v["peak_deflection_v"], 3),
                         fmt(v["max_contact_force_n"], 3),
                         fmt(v["contacts_per_whisk"]),
+                        ", ".join(str(c) for c in v.get("figure_3_9_contacts", [])) or "-",
                         fmt(v["contact_time_per_whisk_s"], 3),
                         fmt(v["max_z"]),
                     ]
