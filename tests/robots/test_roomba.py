@@ -6,10 +6,14 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from vibrissa.robots.roomba import (
+    CATCH_MIN_S,
     CONDITIONS,
     Roomba,
+    _runs,
     base_motion,
     floor_slide,
     run_floor_trial,
@@ -101,3 +105,68 @@ def test_a_short_trial_is_quiet_until_the_robot_moves():
     assert not keep[:still].any()  # at rest on the floor: only sensor noise
     assert keep[still + 2 :].mean() > 0.8  # dragged over tarmac
     assert res.moving_fraction == pytest.approx(1.0 / 1.5, abs=0.01)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    yaw_deg=st.floats(-90.0, 90.0),
+    tilt_deg=st.floats(5.0, 80.0),
+    omega=st.floats(-2.0, 2.0),
+    forward=st.floats(0.0, 300.0),
+)
+def test_the_floor_slide_is_the_tip_s_motion_over_the_floor_reversed(
+    yaw_deg, tilt_deg, omega, forward
+):
+    """Whatever the mount, the slide is minus the nominal tip's velocity in the whisker frame."""
+    r = Roomba(mount_yaw_deg=yaw_deg, tilt_deg=tilt_deg)
+    t = np.array([0.0, 1e-4])
+    fwd, yaw = np.full(2, forward), np.full(2, omega)
+    x, y = tip_path(r, 200.0, t, fwd, yaw)
+    v_tip = np.array([x[1] - x[0], y[1] - y[0]]) / 1e-4  # robot heading 0 at t = 0
+    psi = math.radians(yaw_deg)
+    d = np.array([-math.cos(psi), -math.sin(psi)])  # from the base toward the tip
+    e = np.array([-math.sin(psi), math.cos(psi)])  # the whisker's y, seen from above
+    along, across = floor_slide(r, 200.0, t, fwd, yaw)
+    assert along[0] == pytest.approx(-v_tip @ d, abs=0.05 + 1e-3 * abs(v_tip).max())
+    assert across[0] == pytest.approx(-v_tip @ e, abs=0.05 + 1e-3 * abs(v_tip).max())
+
+
+def test_pointing_outward_both_turns_slide_the_floor_across_as_mirror_images():
+    r = Roomba(mount_yaw_deg=90.0)
+    t = np.array([0.0, 1.0])
+    ccw = floor_slide(r, 200.0, t, np.zeros(2), np.array([0.5, 0.5]))
+    cw = floor_slide(r, 200.0, t, np.zeros(2), np.array([-0.5, -0.5]))
+    assert ccw[0][0] == pytest.approx(0.0, abs=1e-9) and cw[0][0] == pytest.approx(0.0, abs=1e-9)
+    assert cw[1][0] == pytest.approx(-ccw[1][0]) and ccw[1][0] > 0
+    with pytest.raises(ValueError, match="mount_yaw_deg"):
+        Roomba(mount_yaw_deg=120.0)
+
+
+def test_stick_runs_are_counted_in_samples():
+    mask = np.array([0, 1, 1, 0, 1, 0, 0, 1, 1, 1], dtype=bool)
+    np.testing.assert_array_equal(_runs(mask), [2, 1, 3])
+    assert _runs(np.zeros(4, dtype=bool)).size == 0
+
+
+def _short_trial(floor: str, condition: str, seconds: float = 1.2):
+    g = preset("scratchbot")
+    sensor = HallSettings(sample_rate_hz=2000.0, calibration_mm=(150.0, 30.0)).calibrate(g, 16)
+    return run_floor_trial(
+        Roomba(start_delay_s=(0.0, 0.0)),
+        RodModel(g, 16),
+        sensor,
+        make_floor(floor, 0, 40.0, 40.0),
+        FLOORS[floor],
+        condition,
+        seconds,
+        _rng(5),
+    )
+
+
+def test_the_leading_tip_catches_in_rough_carpet_loops_and_not_on_vinyl():
+    carpet = _short_trial("rough-carpet", "clockwise")
+    assert carpet.catches >= 1 and carpet.catch_fraction >= CATCH_MIN_S / 1.2
+    assert carpet.rail_fraction > 0.0  # the caught whisker drives the sensor to a rail
+    vinyl = _short_trial("vinyl", "clockwise")
+    assert vinyl.catches == 0 and vinyl.catch_fraction == 0.0 and vinyl.rail_fraction == 0.0
+    assert carpet.contact_force_n > 2.0 * vinyl.contact_force_n > 0.0  # jammed into a loop

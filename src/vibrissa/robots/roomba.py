@@ -19,7 +19,29 @@ at ``v + omega r`` and a slide across the bending plane, along ``y``, at
 whisker trails, as when driving forward); clockwise it runs from tip to base (the tip
 leads and is pushed into the floor). The floor translates under the tip without
 rotating: over one window (0.4 s) the robot turns by ~20 deg, and the floors are
-statistically isotropic apart from the carpets' lattice.
+statistically isotropic apart from the carpets' lattice. A whisker turned by
+``mount_yaw_deg`` = psi from straight backward toward the right sees the slide
+``(v + omega r) cos(psi)`` along ``u`` and ``(v + omega r) sin(psi) + omega L cos(tilt)``
+across (:func:`floor_slide`); at psi = 90 deg (pointing outward) the two turning
+directions are mirror images.
+
+**Catches.** With the tip leading, the floor's friction on the tip pushes along the
+whisker toward its base. Quasi-statically, a tip meeting an obstacle flank of slope
+``alpha`` can only ride up it if ``alpha + atan(mu) < 90 deg - theta``, ``theta`` the
+tip's angle to the floor: at 30 deg and mu = 0.6 every flank steeper than ~29 deg
+holds it. Under a 1 mm tip, a quarter of the rough carpet's rigid loop relief
+(``whisker.floors``) is steeper than that along the whisker (up to ~60 deg), against
+~5 % of smooth carpet (mu 0.7), ~2 % of tarmac and none of vinyl. The tip then stays
+caught while the floor drags the whisker, until the whisker bends or twists off the
+loop; trailing, the same friction pulls the tip over the flank. The limit is
+quasi-static, but the catches are not speed-independent: with the wheels at 300 mm/s
+instead of 100 the simulated clockwise rough-carpet trials catch ~30x less often
+(presumably the tip no longer settles into the gaps before the loops; not measured),
+so whether the tip catches depends on a speed the thesis does not give (numbers:
+``scripts/roomba_catches.py``, ``docs/runs/roomba_catches.json``).
+:class:`FloorTrial` counts the catches (stuck for at least :data:`CATCH_MIN_S` on a
+sliding floor), the time at a sensor rail and the contact force;
+``scripts/roomba_catches.py`` measures them per direction and floor.
 
 Everything the sensor records comes from the rod and its contact with the floor's
 height field; the robot contributes only the prescribed slide of the floor.
@@ -40,6 +62,7 @@ from vibrissa.whisker.simulate import SurfaceContact, Trajectory, simulate
 from vibrissa.whisker.surfaces import Surface
 
 __all__ = [
+    "CATCH_MIN_S",
     "CONDITIONS",
     "SETTLE_S",
     "FloorTrial",
@@ -79,6 +102,12 @@ class Roomba:
         the 340 mm body, a little inside it.
     tilt_deg : float
         Angle between the undeflected whisker and the floor (deg).
+    mount_yaw_deg : float
+        Direction the whisker points in seen from above, from straight backward (0)
+        toward the robot's right, i.e. outward from the right-hand rim (90) (deg).
+        0: turning anticlockwise the whisker trails and clockwise its tip leads; 90:
+        both turning directions slide the floor straight across the whisker's
+        bending plane, mirror images of each other.
     preload_mm : float
         How far the floor would cut into the undeflected whisker's tip, along the
         floor's normal (mm): the whisker is set to press on the floor.
@@ -96,6 +125,7 @@ class Roomba:
     start_delay_s: tuple[float, float] = (0.2, 1.2)
     mount_radius_mm: float = 150.0
     tilt_deg: float = 30.0
+    mount_yaw_deg: float = 0.0
     preload_mm: float = 15.0
     spot_speed_mm_s: tuple[float, float] = (100.0, 200.0)
     spot_pitch_mm: tuple[float, float] = (60.0, 150.0)
@@ -111,6 +141,7 @@ class Roomba:
         ):
             positive(name, getattr(self, name))
         in_range("tilt_deg", self.tilt_deg, 1.0, 89.0, "deg")
+        in_range("mount_yaw_deg", self.mount_yaw_deg, -90.0, 90.0, "deg")
         for name in ("start_delay_s", "spot_speed_mm_s", "spot_pitch_mm", "spot_start_radius_mm"):
             lo, hi = getattr(self, name)
             if not (0.0 <= lo <= hi and math.isfinite(hi)):
@@ -182,6 +213,11 @@ def floor_slide(
 ) -> tuple[np.ndarray, np.ndarray]:
     """The floor's slide under the tip in the whisker's frame (see the module doc).
 
+    With the whisker pointing ``mount_yaw_deg`` = psi from straight backward toward the
+    right and reaching ``R = L cos(tilt)`` over the floor, the floor under the nominal
+    tip slides along the whisker at ``(v + omega r) cos(psi)`` and across it at
+    ``(v + omega r) sin(psi) + omega R``.
+
     Returns
     -------
     (along_u_mm_s, across_y_mm_s)
@@ -189,8 +225,10 @@ def floor_slide(
         toward the tip) and along the whisker's ``y`` (mm/s).
     """
     reach = length_mm * math.cos(math.radians(roomba.tilt_deg))
-    along = forward_mm_s + yaw_rad_s * roomba.mount_radius_mm
-    across = yaw_rad_s * reach
+    psi = math.radians(roomba.mount_yaw_deg)
+    rim = forward_mm_s + yaw_rad_s * roomba.mount_radius_mm
+    along = rim * math.cos(psi)
+    across = rim * math.sin(psi) + yaw_rad_s * reach
     return along, across
 
 
@@ -212,6 +250,15 @@ class FloorTrial:
         Fraction of the recording with the base moving.
     saturated : bool
         Whether the sensor output reached either rail.
+    rail_fraction : float
+        Fraction of the samples (either channel) at a rail.
+    catches : int
+        Times the tip caught in the floor: stuck (no contact node slipping) while the
+        floor slides under it, for at least :data:`CATCH_MIN_S`.
+    catch_fraction : float
+        Fraction of the recording the tip spent caught.
+    contact_force_n : float
+        Median normal contact force while the base moves and the whisker touches (N).
     """
 
     signal_v: np.ndarray
@@ -220,10 +267,26 @@ class FloorTrial:
     contact_fraction: float
     moving_fraction: float
     saturated: bool
+    rail_fraction: float = 0.0
+    catches: int = 0
+    catch_fraction: float = 0.0
+    contact_force_n: float = 0.0
 
 
 #: Seconds to press the floor onto the whisker and let it settle before recording.
 SETTLE_S = 0.6
+
+#: Shortest stick of the tip on a sliding floor counted as a catch (s): at the spin
+#: speed the floor slides ~6 mm in 50 ms, more than one carpet loop pitch, so the tip
+#: is held by one loop instead of ticking over it (ordinary stick-slip on the loops
+#: lasts a few ms, 6.5.6.1: catches "can last several hundred milliseconds or more").
+CATCH_MIN_S = 0.05
+
+
+def _runs(mask: np.ndarray) -> np.ndarray:
+    """Lengths (in samples) of the runs of True in a boolean array."""
+    edges = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
+    return np.flatnonzero(edges == -1) - np.flatnonzero(edges == 1)
 
 
 def run_floor_trial(
@@ -296,14 +359,24 @@ def run_floor_trial(
     volts = volts[:n_samples]
     time = np.arange(n_samples) / sensor.sample_rate_hz
     speed = np.hypot(np.interp(time, t_rec, along_rec), np.interp(time, t_rec, across_rec))
-    touching = res.contact_force_n[k0:][: n_samples * step] > 0
+    force = res.contact_force_n[k0:][: n_samples * step]
+    touching = force > 0
+    t_step = np.arange(force.size) * dt_s
+    sliding = np.interp(t_step, time, speed) > 1e-6
+    stuck = _runs(touching & (res.slipping[k0:][: force.size] == 0) & sliding) * dt_s
+    at_rail = (volts <= sensor.v_min) | (volts >= sensor.v_max)
+    pressed = force[touching & sliding]
     return FloorTrial(
         signal_v=np.ascontiguousarray(volts.T),
         time_s=time,
         slide_speed_mm_s=speed,
         contact_fraction=float(np.mean(touching)),
         moving_fraction=float(np.mean(speed > 1e-6)),
-        saturated=bool(np.any(volts <= sensor.v_min) or np.any(volts >= sensor.v_max)),
+        saturated=bool(np.any(at_rail)),
+        rail_fraction=float(np.mean(np.any(at_rail, axis=1))),
+        catches=int(np.sum(stuck >= CATCH_MIN_S - 0.5 * dt_s)),
+        catch_fraction=float(np.sum(stuck[stuck >= CATCH_MIN_S - 0.5 * dt_s]) / T),
+        contact_force_n=float(np.median(pressed)) if pressed.size else 0.0,
     )
 
 
@@ -328,8 +401,9 @@ def tip_path(
     x = np.concatenate([[0.0], np.cumsum(0.5 * (vx[1:] + vx[:-1]) * dt)])
     y = np.concatenate([[0.0], np.cumsum(0.5 * (vy[1:] + vy[:-1]) * dt)])
     reach = length_mm * math.cos(math.radians(roomba.tilt_deg))
-    # the tip at (-reach, -r) in the robot frame, rotated by the heading
-    tx, ty = -reach, -roomba.mount_radius_mm
+    psi = math.radians(roomba.mount_yaw_deg)
+    # the tip at (-reach cos psi, -r - reach sin psi) in the robot frame, turned by the heading
+    tx, ty = -reach * math.cos(psi), -roomba.mount_radius_mm - reach * math.sin(psi)
     return (
         x + tx * np.cos(heading) - ty * np.sin(heading),
         y + tx * np.sin(heading) + ty * np.cos(heading),

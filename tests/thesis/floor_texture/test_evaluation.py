@@ -11,6 +11,8 @@ from vibrissa.thesis.floor_texture.evaluation import (
     confusion_matrix,
     mean_correct,
     run_floor_texture,
+    run_floor_texture_seeds,
+    signal_levels,
 )
 from vibrissa.thesis.floor_texture.report import markdown_floor_texture
 from vibrissa.thesis.floor_texture.values import THESIS
@@ -82,3 +84,38 @@ def test_distinct_spectra_are_told_apart_in_every_condition_and_across():
         assert f[int(np.argmax(np.asarray(spectra[floor])[0][1:])) + 1] == 20 + 40 * k
     text = markdown_floor_texture(res, {}, None)
     assert "table 6.1" in text and "72 %" in text and "100 %" in text
+
+
+def test_sessions_are_evaluated_one_by_one_and_reported_with_their_spread():
+    one = _dataset(n_trials=1)
+    two = xr.concat([one, one], dim="trial")
+    two = two.assign_coords(seed=("trial", [7] * one.sizes["trial"] + [8] * one.sizes["trial"]))
+    res = run_floor_texture_seeds(two)
+    assert res["meta"]["seeds"] == [7, 8] and res["meta"]["n_seeds"] == 2
+    # the claims ledger's paths hold numbers: the means over the sessions
+    for c in ("clockwise", "anticlockwise", "spot"):
+        assert res["mean_correct"][c] == 1.0
+        leaf = res["spread"]["mean_correct"][c]
+        assert leaf["values"] == [1.0, 1.0] and leaf["std"] == 0.0 and leaf["n"] == 2
+    for k in ("cw_on_ccw", "ccw_on_cw"):
+        assert res["cross_condition"][k] == 1.0
+        assert res["spread"]["cross_condition"][k]["n"] == 2
+    assert "templates" not in res["spread"] and "clockwise" in res["templates"]
+    assert res["per_floor_correct"]["clockwise"]["vinyl"] == 1.0
+    text = markdown_floor_texture(res, {}, None)
+    assert "100 ± 0 %" in text and "seeds 7, 8" in text
+    # one session: the same figures as the plain evaluation, no spread to speak of
+    single = run_floor_texture_seeds(one)
+    assert single["mean_correct"] == run_floor_texture(one)["mean_correct"]
+    assert single["meta"]["n_seeds"] == 1
+
+
+def test_signal_levels_weigh_what_the_templates_weigh():
+    t = np.arange(800) / FS
+    quiet = 2.5 + 0.01 * np.sin(2 * np.pi * 100 * t)
+    loud = 2.5 + 0.1 * np.sin(2 * np.pi * 100 * t)
+    X = np.stack([np.vstack([quiet, loud])] * 3)
+    lv = signal_levels(X, FS)
+    assert lv["rms_v"] == pytest.approx([0.01 / np.sqrt(2), 0.1 / np.sqrt(2)], rel=1e-3)
+    assert lv["centroid_hz"] == pytest.approx([100.0, 100.0], abs=1.0)
+    assert signal_levels(np.zeros((0, 2, 800)), FS)["rms_v"] is None

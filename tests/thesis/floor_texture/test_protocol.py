@@ -57,3 +57,25 @@ def test_generation_is_the_same_bytes_whatever_the_chunking(tmp_path):
     assert 0.0 <= float(a["moving_fraction"][0]) <= 1.0
     # a different piece of floor under the same robot: different signals
     assert not np.array_equal(a["signal"].values[0], a["signal"].values[1])
+
+
+def test_each_session_is_the_one_session_protocol_of_its_seed():
+    kw = dict(floors=("vinyl", "tarmac"), conditions=("clockwise",), trials_per_condition=1)
+    p = FloorProtocol(duration_s=0.2, seed=3, n_seeds=2, **kw)
+    assert p.n_trials == 4 == len(p.trials()) and p.seeds == [3, 4]
+    specs = p.trials()
+    assert [(s.session, s.within, s.floor) for s in specs] == [
+        (0, 0, "vinyl"),
+        (0, 1, "tarmac"),
+        (1, 0, "vinyl"),
+        (1, 1, "tarmac"),
+    ]
+    second = p.simulate_trials([3])
+    alone = FloorProtocol(duration_s=0.2, seed=4, **kw).simulate_trials([1])
+    np.testing.assert_array_equal(second["signal"], alone["signal"])
+    assert p.fingerprint() != FloorProtocol(duration_s=0.2, seed=3, **kw).fingerprint()
+    ds = p.build_dataset(p.simulate_trials(range(4)))
+    assert ds["seed"].values.tolist() == [3, 3, 4, 4]
+    assert set(ds.coords) >= {"catches", "catch_fraction", "rail_fraction", "contact_force_n"}
+    with pytest.raises(ValueError, match="n_seeds"):
+        FloorProtocol(n_seeds=0)

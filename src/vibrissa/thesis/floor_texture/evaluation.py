@@ -12,6 +12,11 @@ the comparison of 6.2.3 (Lepora et al. 2010b).
 "Mean correct" is the mean over floors of the fraction of each floor's test windows
 classified correctly, as the thesis' tables compute it (table 6.1: the mean of 97.5,
 67.5, 54 and 67.5 % is 72 %); it is reported as a fraction (0.72).
+
+A dataset of several sessions (coordinate ``seed``, :class:`FloorProtocol` with
+``n_seeds`` > 1) is evaluated session by session (:func:`run_floor_texture_seeds`):
+every figure is the mean over the sessions, and the key ``spread`` holds each figure's
+spread (:func:`vibrissa.evaluate.spread.seed_spread`).
 """
 
 from __future__ import annotations
@@ -25,6 +30,7 @@ import numpy as np
 import xarray as xr
 
 from vibrissa.classify import FrequencyTemplateClassifier, StationaryNaiveBayes
+from vibrissa.evaluate.spread import SPREAD_KEY, seed_spread
 from vibrissa.signal import (
     PACKET_SAMPLES,
     QUIET_VARIANCE_V2,
@@ -42,8 +48,15 @@ __all__ = [
     "condition_windows",
     "floor_classifiers",
     "mean_correct",
+    "per_class_correct",
     "run_floor_texture",
+    "run_floor_texture_seeds",
+    "signal_levels",
 ]
+
+#: Per-trial diagnostics of the simulation summarised per condition and floor, when the
+#: dataset records them (:data:`vibrissa.thesis.floor_texture.protocol.FLOOR_DIAGNOSTICS`).
+_TRIAL_DIAGNOSTICS = ("catches", "catch_fraction", "rail_fraction", "contact_force_n")
 
 
 def confusion_matrix(true: np.ndarray, pred: np.ndarray, n_classes: int) -> np.ndarray:
@@ -61,6 +74,46 @@ def mean_correct(cm: np.ndarray) -> float | None:
     if not ok.any():
         return None
     return float(np.mean(np.diag(cm)[ok] / n[ok]))
+
+
+def per_class_correct(cm: np.ndarray, names: list[str]) -> dict[str, float | None]:
+    """Fraction of each true class's windows classified correctly (``None``: no window)."""
+    cm = np.asarray(cm, dtype=float)
+    n = cm.sum(axis=1)
+    return {f: (float(cm[i, i] / n[i]) if n[i] > 0 else None) for i, f in enumerate(names)}
+
+
+def signal_levels(X: np.ndarray, sample_rate_hz: float) -> dict[str, Any]:
+    """How loud a set of windows is: what a spectral template's squared error weighs.
+
+    Parameters
+    ----------
+    X : ndarray
+        Windows, shape (n, n_channels, n_samples), volts.
+    sample_rate_hz : float
+
+    Returns
+    -------
+    dict
+        ``rms_v``: per channel, the RMS about each window's mean, averaged over windows;
+        ``spectrum_norm``: the mean over windows of the L2 norm of the DC-less magnitude
+        spectrum (both channels); ``centroid_hz``: per channel, the mean spectral
+        centroid. ``None`` values without windows.
+    """
+    X = np.asarray(X, dtype=float)
+    if X.shape[0] == 0:
+        return {"rms_v": None, "spectrum_norm": None, "centroid_hz": None}
+    ac = X - X.mean(axis=-1, keepdims=True)
+    spec = magnitude_spectrum(X)
+    spec[..., 0] = 0.0
+    f = spectrum_frequencies(X.shape[-1], sample_rate_hz)
+    power = spec.sum(axis=-1)
+    centroid = np.divide((spec * f).sum(axis=-1), power, out=np.zeros_like(power), where=power > 0)
+    return {
+        "rms_v": np.sqrt((ac**2).mean(axis=-1)).mean(axis=0).tolist(),
+        "spectrum_norm": float(np.linalg.norm(spec.reshape(spec.shape[0], -1), axis=1).mean()),
+        "centroid_hz": centroid.mean(axis=0).tolist(),
+    }
 
 
 def condition_windows(ds: xr.Dataset, condition: str, floors: list[str]) -> dict[str, Any]:
@@ -169,9 +222,11 @@ def run_floor_texture(
                 cm = confusion_matrix(d["y_test"], _predict(clf, d["X_test"]), len(floors))
                 out[m]["confusion"][c] = cm.tolist()
                 out[m]["mean_correct"][c] = mean_correct(cm)
+                out[m].setdefault("per_floor_correct", {})[c] = per_class_correct(cm, floors)
             else:
                 out[m]["confusion"][c] = None
                 out[m]["mean_correct"][c] = None
+                out[m].setdefault("per_floor_correct", {})[c] = None
             seconds[m] += time.perf_counter() - t0
             done += 1
             if progress:
@@ -188,6 +243,7 @@ def run_floor_texture(
         cm = confusion_matrix(data[dst]["y_test"], _predict(clf, data[dst]["X_test"]), len(floors))
         cross[key] = mean_correct(cm)
         cross[f"{key}_confusion"] = cm.tolist()
+        cross[f"{key}_per_floor"] = per_class_correct(cm, floors)
     templates = {}
     for c in fitted["spectral_template"]:
         d = data[c]
@@ -208,6 +264,20 @@ def run_floor_texture(
                 f: int(np.sum(ds["saturated"].values[sel & (ds["floor"].values == f)]))
                 for f in floors
             }
+    # per condition and floor: how loud the windows are, and how the tip met the floor
+    levels: dict[str, dict[str, Any]] = {}
+    for c in conditions:
+        d = data[c]
+        X = np.concatenate([d["X_train"], d["X_test"]])
+        y = np.concatenate([d["y_train"], d["y_test"]])
+        levels[c] = {}
+        for k, f in enumerate(floors):
+            entry = signal_levels(X[y == k], fs)
+            sel = (ds["condition"].values == c) & (ds["floor"].values == f)
+            for name in _TRIAL_DIAGNOSTICS:
+                if name in ds.coords and sel.any():
+                    entry[name] = float(np.mean(ds[name].values[sel]))
+            levels[c][f] = entry
     return {
         "meta": {
             "evaluation": "6.2: quiet packets dropped, 800-sample windows, odd train / even "
@@ -229,11 +299,75 @@ def run_floor_texture(
         },
         "confusion": out["spectral_template"]["confusion"],
         "mean_correct": out["spectral_template"]["mean_correct"],
+        "per_floor_correct": out["spectral_template"]["per_floor_correct"],
         "cross_condition": cross,
         "naive_bayes": out["naive_bayes"],
         "spectral_nearest": out["spectral_nearest"],
         "windows": {c: data[c]["windows"] for c in conditions},
         "packets": {c: data[c]["packets"] for c in conditions},
         "saturated_trials": saturated,
+        "levels": levels,
         "templates": templates,
+    }
+
+
+#: Result keys left out of the spread tree: the templates' spectra (averaged, but a
+#: spread per frequency bin would only bloat the file) and the run's description.
+_NO_SPREAD = ("meta", "parameters", "templates")
+
+
+def run_floor_texture_seeds(
+    ds: xr.Dataset, *, progress: Callable[[int, int, str], None] | None = None
+) -> dict[str, Any]:
+    """Evaluate each session of a dataset and give every figure as mean and spread.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        As for :func:`run_floor_texture`; a coordinate ``seed`` (one value per session)
+        splits it into sessions (without one: a single session).
+    progress : callable, optional
+        ``progress(done, total, description)`` over all sessions.
+
+    Returns
+    -------
+    dict
+        The keys of :func:`run_floor_texture`, every number the mean over the sessions
+        (confusion matrices as mean counts), plus ``spread`` (per number: ``mean``,
+        ``std``, ``min``, ``max``, ``n``, ``values`` in seed order); ``meta`` gains
+        ``seeds`` and ``n_seeds``.
+    """
+    if "seed" in ds.coords:
+        seeds = sorted({int(v) for v in ds["seed"].values.tolist()})
+    else:
+        seeds = []
+    parts = (
+        [ds.isel(trial=np.flatnonzero(ds["seed"].values == s)) for s in seeds]
+        if len(seeds) > 1
+        else [ds]
+    )
+    per_seed = []
+    for k, part in enumerate(parts):
+
+        def step(done: int, total: int, desc: str, k: int = k) -> None:
+            if progress:
+                progress(k * total + done, len(parts) * total, desc)
+
+        per_seed.append(run_floor_texture(part, progress=step))
+    figures = [{k: v for k, v in r.items() if k not in _NO_SPREAD} for r in per_seed]
+    mean, spread = seed_spread(figures)
+    templates, _ = seed_spread([r["templates"] for r in per_seed])
+    first = per_seed[0]
+    meta = {
+        **first["meta"],
+        "n_trials": int(ds.sizes["trial"]),
+        "seeds": seeds or [int(ds.attrs.get("seed", 0))],
+        "n_seeds": len(parts),
+    }
+    return {
+        "meta": meta,
+        "parameters": first["parameters"],
+        **mean,
+        "templates": templates,
+        SPREAD_KEY: spread or {},
     }

@@ -4,7 +4,9 @@ A SCRATCHbot whisker dragged over rough carpet, vinyl, smooth carpet and tarmac
 while the base turns clockwise, anticlockwise or runs its 'spot' spiral; 4 trials of
 16 s at 2 kHz per floor and condition; quiet packets dropped, 800-sample windows,
 odd train / even test; spectral templates (tables 6.1-6.3), the cross-condition test
-and stationary naive Bayes.
+and stationary naive Bayes. The session is repeated with ``--n-seeds`` seeds (seed ..
+seed + n - 1; ``--quick`` at most :data:`QUICK_MAX_SEEDS`) and every figure is the mean
+over them with its spread (results key ``spread``).
 """
 
 from __future__ import annotations
@@ -19,6 +21,14 @@ import xarray as xr
 from vibrissa.experiments.contract import SimulationProtocol
 from vibrissa.reproduce.registry import Evaluation, Experiment, Option, register
 from vibrissa.whisker.floors import floor_names
+
+#: Sessions of a ``--quick`` run at most (each quick session takes ~35 s on 2 cores).
+QUICK_MAX_SEEDS = 2
+
+
+def sessions(quick: bool, n_seeds: int) -> int:
+    """Sessions a run simulates: ``n_seeds``, at most :data:`QUICK_MAX_SEEDS` if ``quick``."""
+    return min(int(n_seeds), QUICK_MAX_SEEDS) if quick else int(n_seeds)
 
 
 @register
@@ -41,10 +51,19 @@ class FloorTexture(Experiment):
             choices=tuple(floor_names()),
             item="floor texture",
         ),
+        Option(
+            "n_seeds",
+            5,
+            "Sessions, with seeds seed .. seed+n-1: each figure is their mean, with its "
+            f"spread (--quick: at most {QUICK_MAX_SEEDS}).",
+        ),
     )
 
     def protocol(self, quick: bool, seed: int) -> SimulationProtocol:
-        """The Roomba session over all four floors (``quick``: fewer, shorter trials)."""
+        """One Roomba session over all four floors (``quick``: fewer, shorter trials).
+
+        One session: ``vibrissa reproduce --list`` counts the trials of one seed.
+        """
         from vibrissa.thesis.floor_texture.protocol import floor_protocol
 
         return floor_protocol(quick=quick, seed=seed)
@@ -52,12 +71,15 @@ class FloorTexture(Experiment):
     def protocol_for(
         self, quick: bool, seed: int, options: Mapping[str, Any]
     ) -> SimulationProtocol:
-        """The Roomba session over the floors chosen with ``--floors``."""
+        """The Roomba sessions over the floors chosen with ``--floors``, ``--n-seeds`` of them."""
         from vibrissa.thesis.floor_texture.protocol import floor_protocol
 
         chosen = set(options.get("floors") or floor_names())
         return floor_protocol(
-            quick=quick, seed=seed, floors=tuple(f for f in floor_names() if f in chosen)
+            quick=quick,
+            seed=seed,
+            floors=tuple(f for f in floor_names() if f in chosen),
+            n_seeds=sessions(quick, options.get("n_seeds", 1)),
         )
 
     def evaluate(
@@ -69,11 +91,11 @@ class FloorTexture(Experiment):
         options: Mapping[str, Any],
         workers: int | None = None,
     ) -> Evaluation:
-        """Run spectral templates, the cross-condition test and naive Bayes on ``ds``."""
+        """Spectral templates, the cross-condition test and naive Bayes, session by session."""
         # a few fits on a few hundred windows: this process (``workers`` is not used)
-        from vibrissa.thesis.floor_texture.evaluation import run_floor_texture
+        from vibrissa.thesis.floor_texture.evaluation import run_floor_texture_seeds
 
-        return Evaluation(run_floor_texture(ds, seed=seed, progress=progress))
+        return Evaluation(run_floor_texture_seeds(ds, progress=progress))
 
     def write_outputs(
         self,
@@ -112,9 +134,22 @@ class FloorTexture(Experiment):
         return markdown_floor_texture(results, figures, baseline)
 
     def summary(self, results: Mapping[str, Any]) -> dict[str, Any]:
-        """Confusion matrices, mean correct, both cross-condition scores and naive Bayes'."""
+        """Confusion matrices, mean correct, both cross-condition scores and naive Bayes'.
+
+        Means over the sessions; ``std`` holds the standard deviations of the mean-correct
+        and cross-condition figures (``None`` with one session).
+        """
         cross = results["cross_condition"]
+        spread = results.get("spread") or {}
+
+        def std(*path: str) -> float | None:
+            node: Any = spread
+            for p in path:
+                node = node.get(p) if isinstance(node, Mapping) else None
+            return node.get("std") if isinstance(node, Mapping) else None
+
         return {
+            "n_seeds": results["meta"].get("n_seeds", 1),
             "confusion": results["confusion"],
             "mean_correct": results["mean_correct"],
             "cross_condition": {
@@ -122,29 +157,39 @@ class FloorTexture(Experiment):
                 "ccw_on_cw": cross.get("ccw_on_cw"),
             },
             "naive_bayes": {"mean_correct": results["naive_bayes"]["mean_correct"]},
+            "std": {
+                "mean_correct": {c: std("mean_correct", c) for c in results["mean_correct"]},
+                "cross_condition": {
+                    k: std("cross_condition", k) for k in ("cw_on_ccw", "ccw_on_cw")
+                },
+            },
         }
 
     def console_table(self, summary: Mapping[str, Any]) -> Any:
         """Mean correct per condition (templates, thesis, naive Bayes), cross-condition."""
         from rich.table import Table
 
-        from vibrissa.thesis.floor_texture.report import percent
+        from vibrissa.thesis.floor_texture.report import percent, percent_pm
         from vibrissa.thesis.floor_texture.values import THESIS
 
-        table = Table(title="Mean correct (thesis 6.2)")
+        n = summary.get("n_seeds", 1)
+        std = summary.get("std", {})
+        table = Table(title=f"Mean correct (thesis 6.2), mean ± std over {n} seed(s)")
         for col in ("condition", "spectral templates", "thesis", "naive Bayes"):
             table.add_column(col, justify="left" if col == "condition" else "right")
         for c, v in summary["mean_correct"].items():
             table.add_row(
                 c,
-                percent(v),
+                percent_pm(v, std.get("mean_correct", {}).get(c)),
                 percent(THESIS["mean_correct"].get(c)),
                 percent(summary["naive_bayes"]["mean_correct"].get(c)),
             )
         cross = summary["cross_condition"]
+        cstd = std.get("cross_condition", {})
         table.add_row(
             "cw on ccw / ccw on cw",
-            f"{percent(cross['cw_on_ccw'])} / {percent(cross['ccw_on_cw'])}",
+            f"{percent_pm(cross['cw_on_ccw'], cstd.get('cw_on_ccw'))} / "
+            f"{percent_pm(cross['ccw_on_cw'], cstd.get('ccw_on_cw'))}",
             percent(THESIS["cross_condition"]),
             "",
         )

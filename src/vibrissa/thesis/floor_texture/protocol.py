@@ -2,7 +2,10 @@
 
 Four floors x three movement conditions (clockwise, anticlockwise, 'spot') x 4
 trials of 16 s recorded at 2 kHz (6.2.1: "Each 16-second trial was then repeated 4
-times for each of the behavioural conditions"). :class:`FloorProtocol` plugs into
+times for each of the behavioural conditions"). With ``n_seeds`` > 1 the whole session
+is repeated with the seeds ``seed`` .. ``seed + n_seeds - 1`` (coordinate ``seed`` of
+each trial): session ``k`` is exactly the one-session protocol of seed ``seed + k``
+(its own floor sheets, robot motion and sensor noise). :class:`FloorProtocol` plugs into
 :func:`vibrissa.experiments.generate.generate` with its own
 :meth:`~FloorProtocol.simulate_trials` and :meth:`~FloorProtocol.build_dataset`: the
 same chunked, resumable, seeded generation as the XY-robot protocols.
@@ -34,8 +37,18 @@ from vibrissa.whisker.rod import RodModel
 
 __all__ = ["FLOOR_DIAGNOSTICS", "FloorProtocol", "FloorTrialSpec", "floor_protocol", "tip_paths"]
 
-#: Per-trial quantities recorded besides the signal.
-FLOOR_DIAGNOSTICS = ("contact_fraction", "moving_fraction", "saturated")
+#: Per-trial quantities recorded besides the signal (see
+#: :class:`vibrissa.robots.roomba.FloorTrial`).
+FLOOR_DIAGNOSTICS = (
+    "contact_fraction",
+    "moving_fraction",
+    "saturated",
+    "rail_fraction",
+    "catches",
+    "catch_fraction",
+    "contact_force_n",
+)
+_INTEGER_DIAGNOSTICS = {"saturated": bool, "catches": np.int64}
 
 #: Stream keys of the floors' sheets start here, clear of the chapter-5 textures'.
 _FLOOR_STREAM_BASE = 100
@@ -43,12 +56,18 @@ _FLOOR_STREAM_BASE = 100
 
 @dataclass(frozen=True)
 class FloorTrialSpec:
-    """One trial: ``floor``, ``condition`` and its repetition ``trial`` (1-based)."""
+    """One trial: ``floor``, ``condition``, its repetition ``trial`` (1-based), ``session``.
+
+    ``session`` counts the sessions from 0 (seed ``seed + session``); ``within`` is the
+    trial's index inside its session (its random stream's key).
+    """
 
     index: int
     floor: str
     condition: str
     trial: int
+    session: int = 0
+    within: int = 0
 
 
 def _sensor() -> HallSettings:
@@ -83,7 +102,9 @@ class FloorProtocol(ChunkedTrials):
     roomba : Roomba
         The base and the mounting.
     seed : int
-        Seed of everything random in the session.
+        Seed of everything random in the (first) session.
+    n_seeds : int
+        Sessions: the session repeated with seeds ``seed`` .. ``seed + n_seeds - 1``.
     """
 
     floors: tuple[str, ...] = tuple(FLOORS)
@@ -96,6 +117,7 @@ class FloorProtocol(ChunkedTrials):
     sensor: HallSettings = field(default_factory=_sensor)
     roomba: Roomba = field(default_factory=Roomba)
     seed: int = 0
+    n_seeds: int = 1
     name: str = "floor-texture"
 
     def __post_init__(self) -> None:
@@ -133,6 +155,12 @@ class FloorProtocol(ChunkedTrials):
             or self.seed < 0
         ):
             raise ValueError(f"seed must be a non-negative integer, got {self.seed!r}")
+        if (
+            isinstance(self.n_seeds, bool)
+            or not isinstance(self.n_seeds, int | np.integer)
+            or self.n_seeds < 1
+        ):
+            raise ValueError(f"n_seeds must be a positive integer, got {self.n_seeds!r}")
 
     # ------------------------------------------------------------------ trials
     label_names = ("floor", "condition")
@@ -141,18 +169,26 @@ class FloorProtocol(ChunkedTrials):
     chunk_size = 4
 
     def trials(self) -> list[FloorTrialSpec]:
-        """Every trial, in canonical order: condition, then floor, then repetition."""
+        """Every trial, in canonical order: session, condition, floor, repetition."""
         specs: list[FloorTrialSpec] = []
-        for c in self.conditions:
-            for f in self.floors:
-                for k in range(1, self.trials_per_condition + 1):
-                    specs.append(FloorTrialSpec(len(specs), f, c, k))
+        for s in range(self.n_seeds):
+            within = 0
+            for c in self.conditions:
+                for f in self.floors:
+                    for k in range(1, self.trials_per_condition + 1):
+                        specs.append(FloorTrialSpec(len(specs), f, c, k, s, within))
+                        within += 1
         return specs
 
     @property
+    def seeds(self) -> list[int]:
+        """The sessions' seeds."""
+        return [int(self.seed) + s for s in range(self.n_seeds)]
+
+    @property
     def n_trials(self) -> int:
-        """Total number of trials."""
-        return len(self.conditions) * len(self.floors) * self.trials_per_condition
+        """Total number of trials (all sessions)."""
+        return self.n_seeds * len(self.conditions) * len(self.floors) * self.trials_per_condition
 
     @property
     def n_samples(self) -> int:
@@ -177,8 +213,9 @@ class FloorProtocol(ChunkedTrials):
     def simulate_trials(self, indices: Sequence[int] | np.ndarray) -> dict[str, np.ndarray]:
         """Simulate the trials ``indices``.
 
-        Each draws from its own stream ``(TRIALS, index)`` of the seed, so the bytes do not
-        depend on chunking.
+        Each draws from its own stream ``(TRIALS, within)`` of its session's seed, so the
+        bytes do not depend on chunking, and session ``k`` is the one-session protocol of
+        seed ``seed + k``.
 
         Returns
         -------
@@ -193,20 +230,22 @@ class FloorProtocol(ChunkedTrials):
         out: dict[str, np.ndarray] = {
             "index": idx,
             "signal": np.empty((idx.size, 2, self.n_samples)),
-            "contact_fraction": np.empty(idx.size),
-            "moving_fraction": np.empty(idx.size),
-            "saturated": np.empty(idx.size, dtype=bool),
+            **{
+                name: np.empty(idx.size, dtype=_INTEGER_DIAGNOSTICS.get(name, float))
+                for name in FLOOR_DIAGNOSTICS
+            },
         }
         model = _model(self.whisker, self.n_elements)
         sensor = _hall(self.sensor, self.whisker, self.n_elements)
         for k, i in enumerate(idx):
             spec = specs[int(i)]
-            rng = np.random.default_rng(stream(self.seed, TRIALS, int(i)))
+            seed = int(self.seed) + spec.session
+            rng = np.random.default_rng(stream(seed, TRIALS, spec.within))
             res = run_floor_trial(
                 self.roomba,
                 model,
                 sensor,
-                _sheet(spec.floor, self.seed),
+                _sheet(spec.floor, seed),
                 floor_spec(spec.floor),
                 spec.condition,
                 self.duration_s,
@@ -214,9 +253,8 @@ class FloorProtocol(ChunkedTrials):
                 dt_s=self.dt_s,
             )
             out["signal"][k] = res.signal_v
-            out["contact_fraction"][k] = res.contact_fraction
-            out["moving_fraction"][k] = res.moving_fraction
-            out["saturated"][k] = res.saturated
+            for name in FLOOR_DIAGNOSTICS:
+                out[name][k] = getattr(res, name)
         return out
 
     def seconds_per_trial(self) -> float:
@@ -250,6 +288,7 @@ class FloorProtocol(ChunkedTrials):
             "floor": np.array([s.floor for s in specs]),
             "condition": np.array([s.condition for s in specs]),
             "run": np.array([s.trial for s in specs], dtype=np.int64),
+            "seed": np.array([self.seed + s.session for s in specs], dtype=np.int64),
             **{name: results[name] for name in FLOOR_DIAGNOSTICS},
         }
         coords = signal_coords(
@@ -307,8 +346,8 @@ def _sheet(floor: str, seed: int):
 def floor_protocol(quick: bool = False, **overrides: Any) -> FloorProtocol:
     """The Roomba protocol (``quick``: a small one); ``overrides`` replace fields.
 
-    ``quick``: 2 trials of 4 s per floor and condition (24 trials) instead of 4 of 16 s
-    (48). ``overrides`` replace fields (``None`` ignored).
+    ``quick``: 2 trials of 4 s per floor and condition (24 trials a session) instead of 4
+    of 16 s (48). ``overrides`` replace fields (``None`` ignored), e.g. ``n_seeds``.
     """
     changes = {k: v for k, v in overrides.items() if v is not None}
     if quick:
@@ -332,10 +371,12 @@ def tip_paths(ds: xr.Dataset) -> dict[str, dict[str, np.ndarray]]:
     length = float(json.loads(ds.attrs["whisker"])["length_mm"])
     fs = float(ds.attrs["sample_rate_hz"])
     paths: dict[str, dict[str, np.ndarray]] = {}
+    # the first session (its trials come first, so a trial's index is its stream key)
+    first = int(params["seed"])
     for i, c in enumerate(ds["condition"].values.tolist()):
-        if c in paths:
+        if c in paths or ("seed" in ds.coords and int(ds["seed"].values[i]) != first):
             continue
-        rng = np.random.default_rng(stream(int(params["seed"]), TRIALS, i))
+        rng = np.random.default_rng(stream(first, TRIALS, i))
         t, fwd, yaw = base_motion(roomba, c, float(params["duration_s"]), rng)
         x, y = tip_path(roomba, length, t, fwd, yaw)
         keep = active_packets(ds["signal"].values[i])
