@@ -57,3 +57,20 @@ def test_bad_inputs_are_refused() -> None:
         random_map_error(gt, np.random.default_rng(0), n_maps=0)
     with pytest.raises(ValueError, match="size must be a positive odd integer"):
         gaussian_kernel(4)
+
+
+def test_arena_mask_and_masked_error() -> None:
+    from vibrissa.slam.error import arena_mask
+
+    mask = arena_mask(50, 0.05, 0.6, 1.25)
+    inside = mask[:, 25]
+    # the arena (25 cells) and its one-cell wall ring on each side
+    assert inside.sum() == 27 and inside[11] and inside[37] and not inside[10]
+    gt = np.zeros((50, 50))
+    m = np.where(mask, 1.0, 0.0)
+    assert map_error(m, gt, mask) == 1.0
+    assert map_error(m, gt) == pytest.approx(mask.mean())
+    with pytest.raises(ValueError, match="boolean"):
+        map_error(m, gt, mask.astype(int))
+    with pytest.raises(ValueError, match="no cell"):
+        map_error(m, gt, np.zeros((50, 50), bool))

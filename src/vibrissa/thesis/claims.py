@@ -1135,7 +1135,12 @@ CLAIMS: tuple[Claim, ...] = (
         },
         All((Compare("cw_on_ccw", "<", "ccw"), Compare("ccw_on_cw", "<", "cw"))),
         "{cw_on_ccw:.0%} / {ccw_on_cw:.0%} vs {ccw:.0%} / {cw:.0%}",
-        "templates transfer across directions ({cw_on_ccw:.0%} / {ccw_on_cw:.0%})",
+        "templates transfer one way ({cw_on_ccw:.0%} / {ccw_on_cw:.0%}): our whisker points "
+        "back, so turning clockwise its tip leads and every textured floor is louder (rough "
+        "carpet 9.6x); quiet anticlockwise windows fall on quieter floors' clockwise "
+        "templates, loud clockwise ones still find their own. The carpet-loop catches are "
+        "not the cause (docs/runs/roomba_catches.json: 3x the speed removes them, the "
+        "asymmetry stays; a mirror-symmetric mount makes it symmetric)",
     ),
     Claim(
         "scratchbot-peak-falls-with-distance",
@@ -1175,7 +1180,10 @@ CLAIMS: tuple[Claim, ...] = (
         Compare("rcp7", ">", "unmodulated"),
         "naive Bayes joint hit rate after 1-2 whisks: RCP7 {rcp7:.2f}, unmodulated "
         "{unmodulated:.2f}",
-        "RCP7 does not help after few whisks ({rcp7:.2f} vs {unmodulated:.2f})",
+        "RCP7 does not help after few whisks ({rcp7:.2f} vs {unmodulated:.2f}) with eq. "
+        "3.2's contact scale identified on the physical whisker (docs/runs/identify_rcp.json): "
+        "RCP whisks vary more within a class than unmodulated ones (peak std/mean in the "
+        "run's report), the opposite of the thesis' explanation",
     ),
     Claim(
         "rcp7-perfect-after-7",

@@ -308,7 +308,8 @@ def sum_outcomes(per_run: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
 
     def add(a: Any, b: Any) -> Any:
         if isinstance(a, Mapping):
-            return {k: add(a[k], b.get(k, 0)) for k in a}
+            other = b if isinstance(b, Mapping) else {}
+            return {k: add(a[k], other.get(k, 0)) for k in a}
         return a + b
 
     total: dict[str, Any] = {}
