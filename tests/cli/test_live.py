@@ -163,7 +163,15 @@ def test_sigint_flushes_what_was_read_and_exits_130(files):
     cmd = [sys.executable, "-c", "from vibrissa.cli import main; main()", "live"]
     cmd += ["--pipeline", str(d / "p.vtp"), "--input", f"udp://127.0.0.1:{port}"]
     cmd += ["--out", str(d / "o.jsonl")]
-    proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True, env={**os.environ, "CI": "1"})
+    # a child inherits an ignored SIGINT (a job started in the background of a shell) and
+    # Python then installs no KeyboardInterrupt: give it the default disposition
+    proc = subprocess.Popen(
+        cmd,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "CI": "1"},
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
     assert proc.stderr is not None
     first = proc.stderr.readline()
     assert first.startswith("live: reading udp://")
@@ -179,7 +187,10 @@ def test_sigint_flushes_what_was_read_and_exits_130(files):
             break
         time.sleep(0.05)
     proc.send_signal(signal.SIGINT)
-    rest = proc.stderr.read()
+    try:
+        _, rest = proc.communicate(timeout=60)
+    finally:
+        proc.kill()
     assert proc.wait(10) == 130
     # The signal may arrive before the last datagrams are read (a loaded machine): what
     # matters is that everything read is flushed and counted, and the contact is kept.
