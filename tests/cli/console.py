@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import time
@@ -21,6 +22,10 @@ def console_script() -> str:
     return found
 
 
+def _default_sigint() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def interrupt_once_a_shard_exists(args: list[str], parts: Path, sig: int) -> tuple[int, str]:
     """Run ``vibrissa ARGS`` and send ``sig`` once a shard is in ``parts``.
 
@@ -35,6 +40,9 @@ def interrupt_once_a_shard_exists(args: list[str], parts: Path, sig: int) -> tup
         stderr=subprocess.PIPE,
         text=True,
         env={**os.environ, "CI": "1"},
+        # a job started in a shell's background inherits an ignored SIGINT, and Python
+        # then installs no KeyboardInterrupt: give the child the default disposition
+        preexec_fn=_default_sigint,
     )
     deadline = time.monotonic() + 300
     while not any(parts.glob("chunk-*.npz")):

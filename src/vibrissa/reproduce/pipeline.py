@@ -281,7 +281,13 @@ def run_experiment(
         },
         **evaluation_meta,
     }
-    envelope = {"meta": meta, **{k: v for k, v in results.items() if k != "meta"}}
+    # meta, then what was measured (parameters) and with what (classifiers), then the rest
+    first = [k for k in ("parameters", "classifiers") if k in results]
+    envelope = {
+        "meta": meta,
+        **{k: results[k] for k in first},
+        **{k: v for k, v in results.items() if k != "meta" and k not in first},
+    }
     from vibrissa.evaluate.report_common import write_json
 
     # the results are saved before the reports are drawn: a failing figure loses nothing
