@@ -33,13 +33,14 @@ import itertools
 import json
 import math
 import os
-import subprocess
 import sys
 import tempfile
 from concurrent.futures import ProcessPoolExecutor
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
+
+from vibrissa.reproduce.provenance import git_commit
 
 STRAIN_LIMITS = (0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9)
 #: FWD_2 steps of an approach at most (60 mm at 0.02 m/s, beyond the 2 s recordings).
@@ -243,15 +244,6 @@ def _resume(path: Path, fn: Any, jobs: list[tuple], key: Any, workers: int) -> l
     return [r for r in done if key(r) in wanted]
 
 
-def _commit() -> str | None:
-    try:
-        return subprocess.run(
-            ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=True
-        ).stdout.strip()
-    except (OSError, subprocess.SubprocessError):
-        return None
-
-
 def main(argv: list[str] | None = None) -> int:
     """Run the approaches, then the runs at the chosen threshold (resumable); write the JSON."""
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -291,7 +283,7 @@ def main(argv: list[str] | None = None) -> int:
     out = {
         "meta": {
             "command": "python scripts/identify_crunchbot_fsm.py " + " ".join(argv or sys.argv[1:]),
-            "commit": _commit(),
+            "commit": git_commit(),
             "vibrissa_version": importlib.metadata.version("vibrissa"),
             "date": datetime.now(UTC).date().isoformat(),
             "dataset": None,

@@ -38,7 +38,6 @@ import argparse
 import json
 import math
 import os
-import subprocess
 import sys
 import tempfile
 from concurrent.futures import ProcessPoolExecutor
@@ -48,6 +47,7 @@ from typing import Any
 
 import numpy as np
 
+from vibrissa.reproduce.provenance import git_commit
 from vibrissa.robots.whisking import CONTACT_DIP_FRACTION
 
 #: Candidate scales: a log grid from half to 32 times the half-range fraction; 2.25 is
@@ -290,22 +290,6 @@ def choose_g1(out: dict[str, Any]) -> dict[str, Any] | None:
     }
 
 
-def _commit() -> str | None:
-    try:
-        head = subprocess.run(
-            ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=True
-        ).stdout.strip()
-        dirty = subprocess.run(
-            ["git", "status", "--porcelain", "--untracked-files=no"],
-            capture_output=True,
-            text=True,
-            check=True,
-        ).stdout.strip()
-    except (OSError, subprocess.SubprocessError):
-        return None
-    return head + ("+" if dirty else "")
-
-
 def main(argv: list[str] | None = None) -> int:
     """Run the grid and write the JSON record."""
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -365,7 +349,7 @@ def main(argv: list[str] | None = None) -> int:
         "meta": {
             "command": ".venv/bin/python scripts/identify_rcp.py --json "
             "docs/runs/identify_rcp.json",
-            "commit": _commit(),
+            "commit": git_commit(),
             "vibrissa_version": __version__,
             "date": datetime.now(UTC).isoformat(timespec="seconds"),
             "whisker": p.whisker,
