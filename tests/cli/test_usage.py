@@ -82,3 +82,28 @@ def test_a_bare_command_group_still_shows_its_help():
     res = runner.invoke(app, ["whisker"])
     assert "Usage: vibrissa whisker" in res.output and "presets" in res.output
     assert "error:" not in res.output
+
+
+def _every_command(group, path=()):
+    """Paths of every command of the click group, sub-groups included."""
+    import click
+
+    for name, cmd in group.commands.items():
+        if isinstance(cmd, click.Group):
+            yield from _every_command(cmd, (*path, name))
+        else:
+            yield (*path, name)
+
+
+def test_help_shows_a_flag_as_a_flag_on_every_command():
+    # typer 0.2x labelled each flag with a type, "--version <bool>", as if it took a value
+    import typer.main
+
+    root = typer.main.get_command(app)
+    paths = [(), *_every_command(root)]
+    assert len(paths) > 10
+    for path in paths:
+        out = runner.invoke(app, [*path, "--help"], env={"COLUMNS": "200"})
+        assert out.exit_code == 0, (path, out.output)
+        assert "<bool>" not in out.output, path
+        assert "--help" in out.output

@@ -22,7 +22,9 @@ from vibrissa.cli import (
     run,
     whisker,
 )
-from vibrissa.cli._usage import OneLineUsageErrors
+from vibrissa.cli._usage import OneLineUsageErrors, flags_show_no_type
+
+flags_show_no_type()
 
 app = typer.Typer(
     name="vibrissa",

@@ -158,3 +158,31 @@ def count_option(option: str, value: int | None, minimum: int = 1) -> int | None
         kind = "non-negative" if minimum == 0 else "positive"
         raise ValueError(f"{option}: expected a {kind} integer, got {value}")
     return value
+
+
+def print_table(table: Any, stderr: bool = False) -> None:
+    """Print a rich table so that no cell is ever cut short.
+
+    Outside a terminal (a pipe, a file, a CI log) rich would lay the table out at 80
+    columns and end long cells such as classifier names with an ellipsis; there the
+    console is as wide as the table needs. In a terminal, a cell folds onto further lines
+    but never inside a word, and a table that cannot fit even then is printed at its
+    least width and left to the terminal to wrap.
+    """
+    from rich.console import Console
+
+    for column in table.columns:
+        # a name is never split inside a word, nor ended with an ellipsis
+        words = [w for cell in column.cells if isinstance(cell, str) for w in cell.split()]
+        longest = max((len(w) for w in words), default=0)
+        column.min_width = max(column.min_width or 0, longest)
+        column.overflow = "fold"
+    console = Console(stderr=stderr, highlight=False)
+    need = Console(width=100_000).measure(table)
+    if not console.is_terminal:
+        console = Console(stderr=stderr, highlight=False, width=max(need.maximum, 20))
+    elif need.minimum > console.width:
+        # narrower than the table's least width: rich would cut columns off; the lines
+        # are printed whole and the terminal wraps them
+        console = Console(stderr=stderr, highlight=False, width=need.minimum)
+    console.print(table)

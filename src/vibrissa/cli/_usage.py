@@ -20,7 +20,7 @@ import typer
 from typer._click import exceptions as click_errors
 from typer.core import TyperGroup
 
-__all__ = ["OneLineUsageErrors", "usage_message"]
+__all__ = ["OneLineUsageErrors", "flags_show_no_type", "usage_message"]
 
 #: pydantic error types (typer converts values with pydantic) -> what was expected.
 _EXPECTED = {
@@ -154,3 +154,24 @@ class OneLineUsageErrors(TyperGroup):
     def invoke(self, ctx: Any) -> Any:
         with _one_line():
             return super().invoke(ctx)
+
+
+def flags_show_no_type() -> None:
+    """Show a flag in ``--help`` as a flag, without a value type.
+
+    Recent typer (0.2x) labels every option's type in the help, flags included
+    (``--version <bool>``), which reads as if the flag took a value. A flag's type label
+    is dropped here; every other option keeps its own. Safe to call more than once, and
+    a no-op on a typer without that hook.
+    """
+    from typer.core import TyperOption
+
+    shown = getattr(TyperOption, "display_type_rich", None)
+    if shown is None or getattr(shown, "flags_untyped", False):
+        return
+
+    def display_type_rich(self: Any, ctx: Any) -> str | None:
+        return None if getattr(self, "is_flag", False) else shown(self, ctx)
+
+    display_type_rich.flags_untyped = True  # type: ignore[attr-defined]
+    TyperOption.display_type_rich = display_type_rich  # type: ignore[method-assign]

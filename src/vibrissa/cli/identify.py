@@ -6,7 +6,7 @@ import sys
 
 import typer
 
-from vibrissa.cli._common import echo_json, user_errors
+from vibrissa.cli._common import echo_json, print_table, user_errors
 
 
 def _fmt(x: float | None, unit: str) -> str:
@@ -80,5 +80,5 @@ def register(app: typer.Typer) -> None:
                 o.tolerance,
                 "[green]yes[/green]" if o.within else "[red]no[/red]",
             )
-        Console().print(table)
+        print_table(table)
         Console().print(f"{sum(o.within for o in obs)} of {len(obs)} observables within tolerance")

@@ -16,7 +16,13 @@ from typing import Any
 import typer
 
 from vibrissa._atomic import check_writable
-from vibrissa.cli._common import count_option, echo_json, option_renamer, user_errors
+from vibrissa.cli._common import (
+    count_option,
+    echo_json,
+    option_renamer,
+    print_table,
+    user_errors,
+)
 from vibrissa.cli._interrupt import interruptible
 from vibrissa.cli.generate import work_statement
 from vibrissa.reproduce import Experiment, experiments
@@ -180,7 +186,7 @@ def _run(
         return
     table = exp.console_table(summary)
     if table is not None:
-        Console().print(table)
+        print_table(table)
     typer.echo(f"report: {out / 'report.md'} and {out / 'report.html'}")
 
 

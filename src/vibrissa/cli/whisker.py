@@ -29,7 +29,13 @@ import numpy as np
 import typer
 
 from vibrissa._validate import finite, in_range, non_negative, positive
-from vibrissa.cli._common import echo_json, option_renamer, solver_limits, user_errors
+from vibrissa.cli._common import (
+    echo_json,
+    option_renamer,
+    print_table,
+    solver_limits,
+    user_errors,
+)
 
 DEFAULT_PRESET = "xy-robot"
 
@@ -262,7 +268,7 @@ def _print_table(title: str, rows: dict[str, Any]) -> None:
     table.add_column("value")
     for key, value in rows.items():
         table.add_row(key, _fmt(value))
-    _console().print(table)
+    print_table(table)
 
 
 # --------------------------------------------------------------------------- commands
@@ -306,7 +312,7 @@ def presets_cmd(json_out: JsonOpt = False) -> None:
             _fmt(d["follicle_stiffness_nm_per_rad"]),
         )
     con = _console()
-    con.print(table)
+    print_table(table)
     for d in items:
         con.print(f"[bold]{d['name']}[/bold]: {d['source']}")
 
