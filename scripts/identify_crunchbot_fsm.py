@@ -61,32 +61,46 @@ def circuits(xy: Any, centre: float) -> float:
     return float((ang[-1] - ang[0]) / (2 * math.pi))
 
 
-def _one(job: tuple[float, bool, bool, bool, int, float]) -> dict[str, Any]:
+def truth_run(seed: int, seconds: float, **kw: Any) -> dict[str, Any]:
+    """One truth-mode run in the ``slam`` arena (no classifiers, floor whiskers off).
+
+    ``kw`` goes to :func:`~vibrissa.robots.crunchbot.robot.run_crunchbot` (``settings``,
+    ``layout``). Returns the FSM's outcome counts, the circuits of the arena, the
+    physics' failures and the wall time.
+    """
     import numpy as np
 
     from vibrissa.robots.crunchbot import fsm
     from vibrissa.robots.crunchbot.arena import get_arena
     from vibrissa.robots.crunchbot.robot import run_crunchbot
 
-    limit, back, turn, two, seed, seconds = job
-    settings = fsm.FsmSettings(
-        strain_limit=limit, back_until_clear=back, monitor_turn=turn, two_in_contact=two
-    )
     arena = get_arena("slam")
     stats: dict[str, Any] = {}
-    rec = run_crunchbot(arena, seconds, seed, None, floor="off", settings=settings, stats=stats)
+    rec = run_crunchbot(arena, seconds, seed, None, floor="off", stats=stats, **kw)
     pose = np.asarray(rec.pose)
     return {
-        "strain_limit": limit,
-        "back_until_clear": back,
-        "monitor_turn": turn,
-        "two_in_contact": two,
         "seed": seed,
         "seconds": seconds,
         "counts": fsm.outcome_counts(rec.log.state),
         "circuits": circuits(pose[:, :2], arena.size_m / 2),
         "failures": stats.get("failures", 0),
         "wall_s": round(rec.wall_seconds, 2),
+    }
+
+
+def _one(job: tuple[float, bool, bool, bool, int, float]) -> dict[str, Any]:
+    from vibrissa.robots.crunchbot import fsm
+
+    limit, back, turn, two, seed, seconds = job
+    settings = fsm.FsmSettings(
+        strain_limit=limit, back_until_clear=back, monitor_turn=turn, two_in_contact=two
+    )
+    return {
+        "strain_limit": limit,
+        "back_until_clear": back,
+        "monitor_turn": turn,
+        "two_in_contact": two,
+        **truth_run(seed, seconds, settings=settings),
     }
 
 

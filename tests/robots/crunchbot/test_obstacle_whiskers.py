@@ -9,7 +9,7 @@ from vibrissa.robots.crunchbot import obstacle_whiskers as ow
 from vibrissa.robots.crunchbot.arena import PRESETS, Arena, Obstacle, Pose
 from vibrissa.robots.crunchbot.body import plan_motion
 from vibrissa.robots.crunchbot.fsm import MotorCommand
-from vibrissa.robots.crunchbot.synthetic import whisker_contacts
+from vibrissa.robots.crunchbot.synthetic import CRUNCHBOT_LAYOUT, whisker_contacts
 
 OPEN = Arena("open", 1.25, Pose(0.6, 0.6, 0.0))
 
@@ -53,10 +53,10 @@ def test_a_wall_met_head_on_touches_when_the_ray_oracle_says() -> None:
 
 
 def test_the_contact_arc_of_a_contact_near_the_tip_on_a_corner_is_near_135_mm() -> None:
-    # w3 (base 0.15 m at +0.17 rad, pointing +0.25 rad) passes 135 mm along through the
-    # upper-left corner of a block below-right of it, 5 mm ahead of the robot
-    base = 0.15 * np.array([np.cos(0.17), np.sin(0.17)])
-    corner = np.array([0.3, 0.6]) + base + 0.135 * np.array([np.cos(0.25), np.sin(0.25)])
+    # w3 (the inner left whisker) passes 135 mm along through the upper-left corner of a
+    # block below-right of it, 5 mm ahead of the robot
+    base, phi = CRUNCHBOT_LAYOUT.base_m[2], CRUNCHBOT_LAYOUT.angle_rad[2]
+    corner = np.array([0.3, 0.6]) + base + 0.135 * np.array([np.cos(phi), np.sin(phi)])
     arena = Arena(
         "corner",
         1.25,
@@ -70,8 +70,9 @@ def test_the_contact_arc_of_a_contact_near_the_tip_on_a_corner_is_near_135_mm() 
 
 
 def test_turning_into_a_wall_bends_the_whisker_away_from_the_turn() -> None:
-    # the wall on the robot's left; w4 (pointing +0.8 rad) just short of it
-    y = 1.25 - 0.15 * np.sin(0.5) - 0.139 * np.sin(0.8) - 0.003
+    # the wall on the robot's left; w4 (the outer left whisker) just short of it
+    base, phi = CRUNCHBOT_LAYOUT.base_m[3], CRUNCHBOT_LAYOUT.angle_rad[3]
+    y = 1.25 - base[1] - 0.139 * np.sin(phi) - 0.003
     start = np.array([0.6, y, 0.0])
     w, _, sig = _drive(OPEN, start, MotorCommand(0.0, 0.3, 0.5))
     assert sig.contact[:, 3].any()

@@ -12,6 +12,7 @@ from vibrissa.robots.crunchbot.fsm import STATES
 from vibrissa.robots.crunchbot.synthetic import (
     CRUNCHBOT_LAYOUT,
     cast_rays,
+    front_array_layout,
     synthetic_log,
     whisker_contacts,
 )
@@ -34,6 +35,32 @@ def test_rays_stop_at_the_first_segment_within_their_length() -> None:
         slanted, np.zeros((1, 2)), np.array([[math.sqrt(0.5), math.sqrt(0.5)]]), np.array([1.0])
     )
     assert d[0] == pytest.approx(math.sqrt(0.5))
+
+
+def test_the_front_array_sits_side_by_side_at_its_pitch_and_splays_outward() -> None:
+    lay = front_array_layout(0.03, 0.3)
+    assert np.diff(lay.base_m[:, 1]) == pytest.approx([0.03, 0.03, 0.03])
+    assert np.hypot(*lay.base_m.T) == pytest.approx(np.full(4, 0.15))
+    assert lay.angle_rad == pytest.approx([-0.3, -0.1, 0.1, 0.3])
+    # right to left, mirror-symmetric about the heading
+    assert lay.base_m[::-1, 1] == pytest.approx(-lay.base_m[:, 1])
+    assert front_array_layout(0.02, 0.0).angle_rad == pytest.approx(np.zeros(4))
+
+
+@pytest.mark.parametrize(
+    ("pitch", "splay", "message"),
+    [
+        (0.0, 0.3, "pitch_m"),
+        (0.03, -0.1, "splay_rad"),
+        (0.2, 0.3, "front arc"),
+        (0.03, math.nan, "splay_rad"),
+    ],
+)
+def test_a_front_array_that_cannot_exist_is_refused(
+    pitch: float, splay: float, message: str
+) -> None:
+    with pytest.raises(ValueError, match=message):
+        front_array_layout(pitch, splay)
 
 
 def test_a_whisker_facing_a_wall_touches_at_the_gap() -> None:

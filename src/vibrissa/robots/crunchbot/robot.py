@@ -52,7 +52,7 @@ from vibrissa.robots.crunchbot.obstacle_whiskers import ObstacleWhiskers
 from vibrissa.robots.crunchbot.record import CLASSIFIERS, RunRecord
 from vibrissa.robots.crunchbot.synthetic import CRUNCHBOT_LAYOUT, FLOOR_WHISKERS_M
 from vibrissa.slam.filter import apply_motion
-from vibrissa.slam.log import SensorLog
+from vibrissa.slam.log import SensorLog, WhiskerLayout
 
 __all__ = ["FLOOR_MODES", "FLOOR_WINDOW_S", "RealtimeClassifiers", "run_crunchbot"]
 
@@ -259,6 +259,7 @@ def run_crunchbot(
     cell_m: float = 0.05,
     floor_factory: Callable[[Arena, float, int], Any] | None = None,
     stats: dict | None = None,
+    layout: WhiskerLayout = CRUNCHBOT_LAYOUT,
 ) -> RunRecord:
     """Run the simulated CrunchBot for ``seconds`` of robot time.
 
@@ -293,6 +294,9 @@ def run_crunchbot(
         If given, filled with counts: ``steps``, ``physics_steps`` (any whisker ran the
         physics), ``physics_whisker_steps``, ``touch_steps``, ``failures`` (steps where
         a whisker's physics gave up and it met nothing).
+    layout
+        Where the obstacle whiskers sit (default the identified
+        :data:`~vibrissa.robots.crunchbot.synthetic.CRUNCHBOT_LAYOUT`).
 
     Raises
     ------
@@ -308,7 +312,7 @@ def run_crunchbot(
     rng_fsm, rng_odo, rng_noise, rng_floor = (
         np.random.default_rng(q) for q in np.random.SeedSequence(seed).spawn(4)
     )
-    whiskers = ObstacleWhiskers(arena, sample_rate_hz, CRUNCHBOT_LAYOUT)
+    whiskers = ObstacleWhiskers(arena, sample_rate_hz, layout)
     offset = whiskers.sensor.offset_v
     floor_sim = None
     if floor != "off":
@@ -318,7 +322,7 @@ def run_crunchbot(
     floor_clf = classifiers.floor if classifiers is not None and floor != "off" else None
     textures = tuple(floor_clf.classes_) if floor_clf is not None else ()
     window_n = int(round(FLOOR_WINDOW_S * sample_rate_hz))
-    W = CRUNCHBOT_LAYOUT.n_whiskers
+    W = layout.n_whiskers
     loop = _Loop()
     floor_bg = _FloorInBackground(
         loop, floor_sim, floor_clf, W, window_n, FLOOR_WINDOW_S if floor == "window" else None
@@ -427,6 +431,7 @@ def run_crunchbot(
         cell_m,
         floor_clf is not None,
         time.perf_counter() - wall0,
+        layout,
     )
 
 
@@ -466,12 +471,13 @@ def _record(
     cell_m: float,
     with_floor: bool,
     wall_s: float,
+    layout: WhiskerLayout,
 ) -> RunRecord:
     r = loop.rows
     offset = arena.map_offset_m(map_size_m, cell_m)
     true_pose = np.vstack([*r["pose"], pose]) + np.array([offset, offset, 0.0])
     log = SensorLog(
-        layout=CRUNCHBOT_LAYOUT,
+        layout=layout,
         state=np.array(r["state"]),
         odometry=np.array(r["odo"]),
         contact=np.array(r["contact"]),

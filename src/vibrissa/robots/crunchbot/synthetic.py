@@ -26,15 +26,52 @@ from vibrissa.robots.crunchbot.record import N_OBSTACLE_WHISKERS, RunRecord
 from vibrissa.slam.filter import apply_motion, noisy_increment
 from vibrissa.slam.log import SensorLog, WhiskerLayout
 
-#: Four forward whiskers on the Create's front edge (ours: the thesis gives no layout;
-#: RC25 whiskers are 160 mm long, 140 mm outside the follicle, 6.5.4).
-CRUNCHBOT_LAYOUT = WhiskerLayout(
-    base_m=0.15
-    * np.stack([np.cos([-0.5, -0.17, 0.17, 0.5]), np.sin([-0.5, -0.17, 0.17, 0.5])], axis=1),
-    angle_rad=np.array([-0.8, -0.25, 0.25, 0.8]),
-    length_m=np.full(4, 0.14),
-    body_radius_m=ROBOT_RADIUS_M,
-)
+
+def front_array_layout(
+    pitch_m: float, splay_rad: float, radius_m: float = 0.15, length_m: float = 0.14
+) -> WhiskerLayout:
+    """Four forward whiskers side by side on the Create's front edge.
+
+    The bases sit on the front arc of radius ``radius_m`` at lateral offsets
+    ``-3/2, -1/2, 1/2, 3/2`` times ``pitch_m`` (right to left); the outer two point
+    ``splay_rad`` outward from straight ahead, the inner two a third of that.
+
+    Parameters
+    ----------
+    pitch_m
+        Distance between neighbouring bases across the robot (m).
+    splay_rad
+        Direction of the outer whiskers from straight ahead (rad, >= 0).
+    radius_m
+        The arc the bases sit on (m, the body's front edge less the follicle housing).
+    length_m
+        Each whisker's length outside the follicle (m).
+    """
+    v.positive("pitch_m", pitch_m)
+    v.non_negative("splay_rad", splay_rad)
+    v.positive("radius_m", radius_m)
+    v.positive("length_m", length_m)
+    y = pitch_m * np.array([-1.5, -0.5, 0.5, 1.5])
+    if np.abs(y).max() >= radius_m:
+        raise ValueError(f"pitch_m {pitch_m} puts the outer bases off the {radius_m} m front arc")
+    return WhiskerLayout(
+        base_m=np.stack([np.sqrt(radius_m**2 - y**2), y], axis=1),
+        angle_rad=splay_rad * np.array([-1.0, -1.0 / 3.0, 1.0 / 3.0, 1.0]),
+        length_m=np.full(4, length_m),
+        body_radius_m=ROBOT_RADIUS_M,
+    )
+
+
+#: Pitch of the four obstacle whiskers (m) and splay of the outer two (rad): the thesis
+#: gives no layout; identified from its stated outcome that FWD_2 ends in HIT_2 and only
+#: "in some cases" in ABORT (6.5.5.2) as the widest layout at which every run does so
+#: (``scripts/identify_crunchbot_layout.py``, ``docs/runs/identify_crunchbot_layout.json``).
+#: Side by side at 30 mm, whisker units about as wide as their follicle housings.
+CRUNCHBOT_PITCH_M = 0.03
+CRUNCHBOT_SPLAY_RAD = 0.3
+#: Four forward whiskers on the Create's front edge (:func:`front_array_layout`; RC25
+#: whiskers are 160 mm long, 140 mm outside the follicle, 6.5.4).
+CRUNCHBOT_LAYOUT = front_array_layout(CRUNCHBOT_PITCH_M, CRUNCHBOT_SPLAY_RAD)
 #: Where the two outer, downward whiskers brush the floor (robot frame; ours).
 FLOOR_WHISKERS_M = np.array([[0.12, 0.16], [0.12, -0.16]])
 

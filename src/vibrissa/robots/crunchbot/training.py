@@ -41,7 +41,7 @@ from vibrissa.robots.crunchbot import fsm
 from vibrissa.robots.crunchbot.arena import Arena, Obstacle, Pose
 from vibrissa.robots.crunchbot.body import plan_motion
 from vibrissa.robots.crunchbot.floor_whiskers import collect_floor_training
-from vibrissa.robots.crunchbot.obstacle_whiskers import ObstacleWhiskers
+from vibrissa.robots.crunchbot.obstacle_whiskers import CORNER_RADIUS_MM, ObstacleWhiskers
 from vibrissa.robots.crunchbot.robot import RealtimeClassifiers, deflection_volts
 from vibrissa.robots.crunchbot.synthetic import CRUNCHBOT_LAYOUT
 
@@ -110,14 +110,24 @@ def collect_radial_training(
     lay = CRUNCHBOT_LAYOUT
     out: dict[int, tuple[np.ndarray, np.ndarray]] = {}
     for w in whiskers:
+        if abs(float(lay.angle_rad[w])) < 0.02:
+            raise ValueError(
+                f"whisker {w} points along the heading: a forward drive brings no corner "
+                "onto its shaft"
+            )
         d = np.array([math.cos(lay.angle_rad[w]), math.sin(lay.angle_rad[w])])
         feats, dists = [], []
         for r in RADIAL_POINTS_M:
             for _ in range(contacts_per_point):
                 left = lay.angle_rad[w] > 0
                 side = np.array([-d[1], d[0]]) * (1.0 if left else -1.0)
-                gap = 1.5e-3 + rng.uniform(0.0, 0.5e-3)  # clear of the shaft at the start
-                corner = _START[:2] + lay.base_m[w] + r * d - gap * side
+                # clear of the shaft at the start; driving forward closes the gap at
+                # sin(phi) per metre while the corner slides cos(phi) toward the base, so
+                # it starts that much further out and touches at r
+                clear = rng.uniform(0.3e-3, 0.6e-3)
+                gap = CORNER_RADIUS_MM * 1e-3 + clear
+                ahead = clear / math.tan(abs(float(lay.angle_rad[w])))
+                corner = _START[:2] + lay.base_m[w] + (r + ahead) * d - gap * side
                 arena = Arena(
                     "radial", _ARENA_M, Pose(*_START), obstacles=(_block_at(corner, left),)
                 )
