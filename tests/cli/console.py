@@ -55,3 +55,22 @@ def interrupt_once_a_shard_exists(args: list[str], parts: Path, sig: int) -> tup
     out, err = proc.communicate(timeout=120)
     assert out == ""
     return proc.returncode, err
+
+
+def interrupt_after(args: list[str], seconds: float, sig: int) -> tuple[int, str]:
+    """Run ``vibrissa ARGS``, send ``sig`` after ``seconds``; exit status and stderr."""
+    proc = subprocess.Popen(
+        [console_script(), *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "CI": "1"},
+        preexec_fn=_default_sigint,
+    )
+    time.sleep(seconds)
+    if proc.poll() is not None:
+        _, err = proc.communicate()
+        pytest.fail(f"finished before the signal (status {proc.returncode}): {err}")
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=120)
+    return proc.returncode, err

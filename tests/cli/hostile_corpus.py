@@ -401,8 +401,10 @@ def _cases() -> list[Case]:
     add([*rc, "--arena", "file.txt"], "--arena", "file.txt")
     for value in ("0", "-3", "abc"):
         add([*rc, "--particles", value], "--particles")
-    for value in ("-1", "0", "nan", "inf", "abc"):
+    for value in ("-1", "0", "nan", "inf", "abc", "0.001", "1e300"):
         add(["run", "crunchbot", "--out", "o", "--seconds", value], "--seconds")
+    add([*rc, "--particles", "1000000000000"], "--particles")
+    add([*rc, "--seed", "18446744073709551616"], "--seed")
     add([*rc, "--mode", "bogus"], "--mode")
     add([*rc, "--seed", "-1"], "--seed")
     add("run crunchbot --seconds 5 --out file.txt", "file.txt", "file.txt")

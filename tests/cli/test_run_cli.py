@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import json
+import signal
 
+import pytest
+from console import interrupt_after
 from PIL import Image
 from typer.testing import CliRunner
 
@@ -55,3 +58,36 @@ def test_run_crunchbot_refuses_a_bad_arena_file_before_any_work(tmp_path):
     lines = res.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: --arena") and "'shag'" in lines[0]
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--seconds", "0.001"], "--seconds must be between 0.5 (one FSM step)"),
+        (["--seconds", "1e300"], "--seconds must be between"),
+        (["--seconds", "nan"], "--seconds must be between"),
+        (["--particles", "1000000000000"], "--particles must be an integer from 1 to 10000"),
+        (["--particles", "0"], "--particles must be an integer from 1 to 10000"),
+        (["--seed", "18446744073709551616"], "--seed must be an integer from 0 to 2**63 - 1"),
+    ],
+)
+def test_run_crunchbot_refuses_unbounded_work_before_any(tmp_path, args, message):
+    out = tmp_path / "w"
+    r = runner.invoke(app, ["run", "crunchbot", "--out", str(out), *args])
+    assert r.exit_code == 2, r.output
+    assert message in r.output and len(r.output.strip().splitlines()) == 1
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    ("sig", "after_s"),
+    # while the command line is imported, then while the robot is trained or runs
+    [(signal.SIGINT, 0.3), (signal.SIGINT, 8.0), (signal.SIGTERM, 8.0)],
+)
+def test_run_crunchbot_says_it_was_interrupted_at_any_moment(tmp_path, sig, after_s):
+    code, err = interrupt_after(
+        ["run", "crunchbot", "--out", str(tmp_path / "w"), "--seconds", "60"], after_s, sig
+    )
+    assert code == 128 + sig, err
+    assert err.strip().splitlines()[-1].startswith("interrupted:"), err
+    assert "Traceback" not in err

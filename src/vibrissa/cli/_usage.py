@@ -20,6 +20,8 @@ import typer
 from typer._click import exceptions as click_errors
 from typer.core import TyperGroup
 
+from vibrissa.__main__ import INTERRUPTED
+
 __all__ = ["OneLineUsageErrors", "flags_show_no_type", "usage_message"]
 
 #: pydantic error types (typer converts values with pydantic) -> what was expected.
@@ -144,7 +146,9 @@ class OneLineUsageErrors(TyperGroup):
     """Top-level command group that reports every usage error in one line (exit 2).
 
     Parsing errors of the group's own options surface in :meth:`make_context`, those
-    of every subcommand (and nested group) in :meth:`invoke`.
+    of every subcommand (and nested group) in :meth:`invoke`. A Ctrl-C that no command
+    reported itself (:func:`vibrissa.cli._interrupt.interruptible`) is one line too:
+    typer would turn it into a silent exit 130.
     """
 
     def make_context(self, *args: Any, **kwargs: Any) -> Any:
@@ -152,8 +156,12 @@ class OneLineUsageErrors(TyperGroup):
             return super().make_context(*args, **kwargs)
 
     def invoke(self, ctx: Any) -> Any:
-        with _one_line():
-            return super().invoke(ctx)
+        try:
+            with _one_line():
+                return super().invoke(ctx)
+        except KeyboardInterrupt:
+            print(INTERRUPTED, file=sys.stderr)
+            raise typer.Exit(code=130) from None
 
 
 def flags_show_no_type() -> None:

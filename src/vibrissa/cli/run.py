@@ -9,6 +9,7 @@ import typer
 
 from vibrissa._atomic import check_writable
 from vibrissa.cli._common import echo_json, user_errors
+from vibrissa.cli._interrupt import interruptible
 
 run_app = typer.Typer(
     help="Run one robot and watch it: an animation and an interactive HTML page.",
@@ -60,14 +61,17 @@ def crunchbot_cmd(
         highlight=False,
         soft_wrap=True,
     )
-    with Progress(
-        TextColumn("[bold]{task.description}"),
-        BarColumn(),
-        TextColumn("{task.percentage:>3.0f}%"),
-        TimeElapsedColumn(),
-        console=console,
-        disable=os.environ.get("CI") is not None,
-    ) as bar:
+    with (
+        interruptible(lambda: f"nothing kept in {out}; the run starts again from its beginning"),
+        Progress(
+            TextColumn("[bold]{task.description}"),
+            BarColumn(),
+            TextColumn("{task.percentage:>3.0f}%"),
+            TimeElapsedColumn(),
+            console=console,
+            disable=os.environ.get("CI") is not None,
+        ) as bar,
+    ):
         tasks: dict[str, int] = {}
         labels = {"robot": "running the robot", "slam": "tactile SLAM", "draw": "drawing"}
 

@@ -26,11 +26,14 @@ import numpy as np
 
 from vibrissa._atomic import atomic_path, atomic_write_text
 from vibrissa.robots.crunchbot.arena import Arena, get_arena
+from vibrissa.robots.crunchbot.fsm import FsmSettings
 from vibrissa.robots.crunchbot.record import WHISKER_NAMES, RunRecord
 from vibrissa.slam import Frames, FrameStack, Progress, SensorLog, SlamSettings, run_slam
 from vibrissa.thesis.crunchbot_slam.protocol import default_robot, robot_kind
 
 __all__ = [
+    "MAX_PARTICLES",
+    "MAX_WATCH_SECONDS",
     "SlamFrames",
     "check_watch",
     "slam_frames",
@@ -186,6 +189,12 @@ def write_animation(
         )
     return Path(path)
 
+
+#: Longest run ``vibrissa run crunchbot`` accepts (robot seconds): ten of the thesis'
+#: 6-minute runs, about 8 minutes of wall time on one core.
+MAX_WATCH_SECONDS = 3600.0
+#: Most particles it accepts: each carries a 50 x 50 map (20 kB), so 10 000 hold 200 MB.
+MAX_PARTICLES = 10_000
 
 _PAGE = """<!doctype html>
 <html lang="en"><head><meta charset="utf-8">
@@ -397,22 +406,34 @@ def check_watch(arena: str, seconds: float, seed: int, particles: int, mode: str
     ------
     ValueError
         One line naming the option: an unknown arena or a bad arena file (unknown tile
-        texture, overlapping obstacles, a robot starting inside one), ``seconds <= 0``,
-        ``particles <= 0``, a negative seed, an unknown mode.
+        texture, overlapping obstacles, a robot starting inside one), ``seconds`` shorter
+        than one FSM step or longer than :data:`MAX_WATCH_SECONDS`, ``particles`` outside
+        1 .. :data:`MAX_PARTICLES`, a seed outside 0 .. 2**63 - 1, an unknown mode.
     """
     from vibrissa.slam import MODES
 
+    step_s = FsmSettings().step_s
     if not (
         isinstance(seconds, int | float)
         and not isinstance(seconds, bool)
         and np.isfinite(seconds)
-        and seconds > 0
+        and step_s <= seconds <= MAX_WATCH_SECONDS
     ):
-        raise ValueError(f"--seconds must be a positive number, got {seconds!r}")
-    if isinstance(particles, bool) or not isinstance(particles, int) or particles <= 0:
-        raise ValueError(f"--particles must be a positive integer, got {particles!r}")
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise ValueError(f"--seed must be a non-negative integer, got {seed!r}")
+        raise ValueError(
+            f"--seconds must be between {step_s:g} (one FSM step) and {MAX_WATCH_SECONDS:g} "
+            f"(an hour of robot time, ten of the thesis' runs), got {seconds!r}"
+        )
+    if (
+        isinstance(particles, bool)
+        or not isinstance(particles, int)
+        or not 1 <= particles <= MAX_PARTICLES
+    ):
+        raise ValueError(
+            f"--particles must be an integer from 1 to {MAX_PARTICLES} (each carries its own "
+            f"map; the thesis used 100), got {particles!r}"
+        )
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**63:
+        raise ValueError(f"--seed must be an integer from 0 to 2**63 - 1, got {seed!r}")
     if mode not in MODES:
         raise ValueError(f"--mode: unknown mapping mode {mode!r}; choose one of {', '.join(MODES)}")
     try:
