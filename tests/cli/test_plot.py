@@ -83,3 +83,24 @@ def test_plot_missing_file_exit_2(tmp_path) -> None:
     res = runner.invoke(app, ["plot", str(tmp_path / "nope.nc"), "--out", str(tmp_path)])
     assert res.exit_code == 2
     assert res.stderr.startswith("error:") and "nope.nc" in res.stderr
+
+
+@pytest.mark.parametrize(
+    ("edit", "message"),
+    [
+        (lambda r, s: (np.where(r == 120.0, np.nan, r), s), "radial_distance_mm holds NaN"),
+        (lambda r, s: (r, np.full_like(s, 72.0)), "at least two different speed_mm_s values"),
+    ],
+)
+def test_contours_over_labels_they_cannot_be_drawn_over_are_refused(tmp_path, edit, message):
+    # both gave a blank contour map before
+    ds = _dataset()
+    r, s = edit(ds["radial_distance_mm"].values, ds["speed_mm_s"].values)
+    ds = ds.assign_coords(radial_distance_mm=("trial", r), speed_mm_s=("trial", s))
+    path = tmp_path / "odd.nc"
+    _save(ds, path)
+    out = tmp_path / "figs"
+    res = runner.invoke(app, ["plot", str(path), "--out", str(out), "--kind", "contours"])
+    assert res.exit_code == 2, res.output
+    assert message in res.stderr and len(res.stderr.strip().splitlines()) == 1
+    assert not out.exists()

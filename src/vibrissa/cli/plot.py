@@ -45,6 +45,27 @@ def _check_channel(ds: Any, value: str) -> int | str:
     return channel
 
 
+def check_contour_grid(ds: Any) -> None:
+    """Refuse, in one line, labels a contour map cannot be drawn over.
+
+    A NaN radial distance or speed, or fewer than two different values of either, gave a
+    blank map.
+    """
+    import numpy as np
+
+    for name in ("radial_distance_mm", "speed_mm_s"):
+        if name not in ds.coords and name not in ds.data_vars:
+            continue
+        values = np.asarray(ds[name].values, dtype=float)
+        if not np.isfinite(values).all():
+            raise ValueError(f"dataset: {name} holds NaN or infinite labels; contours need numbers")
+        if np.unique(values).size < 2:
+            raise ValueError(
+                f"dataset: contours need at least two different {name} values, got "
+                f"{np.unique(values).size}"
+            )
+
+
 def plot_dataset(
     ds: Any, out: Path, kind: str = "all", channel: int | str = 0, dpi: int = 110
 ) -> list[Path]:
@@ -97,6 +118,7 @@ def plot_dataset(
             raise ValueError(
                 "contours need the coordinates radial_distance_mm and speed_mm_s (chapter-4 grid)"
             )
+        check_contour_grid(ds)
         axes = vfig.feature_contours(ds, channel=channel)
         written.append(vfig.save_figure(axes[0].figure, out / "contours.png", dpi))
     return written
@@ -127,5 +149,9 @@ def register(app: typer.Typer) -> None:
         except ValueError as exc:
             raise ValueError(f"--out: {exc}") from None
         ds = _load(dataset)
+        if kind in ("contours", "all") and {"radial_distance_mm", "speed_mm_s"} <= (
+            set(ds.coords) | set(ds.data_vars)
+        ):
+            check_contour_grid(ds)
         paths = plot_dataset(ds, out, kind=kind, channel=_check_channel(ds, channel), dpi=dpi)
         echo_json({"written": [str(p) for p in paths]})
