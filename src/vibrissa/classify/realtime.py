@@ -26,6 +26,7 @@ from typing import Literal, Self
 
 import numpy as np
 from scipy import signal as _sig
+from scipy.ndimage import uniform_filter1d
 
 from vibrissa import signal as vsig
 from vibrissa._validate import positive
@@ -320,18 +321,21 @@ class SurfaceAngleTemplates:
 
     def preprocess(self, recording: np.ndarray) -> np.ndarray:
         """Causal low-pass then moving average along time (axis -2) of ``(..., n, ch)``."""
-        # filtered along the last axis of a (..., ch, n) copy: sosfilt and the running
-        # sums then walk contiguous memory (twice as fast as along axis -2)
-        x = np.ascontiguousarray(np.swapaxes(np.asarray(recording, dtype=float), -1, -2))
+        x = np.swapaxes(np.asarray(recording, dtype=float), -1, -2)
+        return np.swapaxes(self._preprocess_channels_first(x), -1, -2)
+
+    def _preprocess_channels_first(self, x: np.ndarray) -> np.ndarray:
+        """:meth:`preprocess` of ``(..., ch, n)``, time last, returned the same way."""
+        # along the last axis of a contiguous copy, sosfilt and the moving average walk
+        # contiguous memory (twice as fast as along axis -2)
+        x = np.ascontiguousarray(x)
         z0 = self._unit_steady_state()
         zi = z0.reshape((z0.shape[0],) + (1,) * (x.ndim - 1) + (2,)) * x[None, ..., :1]
         y, _ = _sig.sosfilt(self._sos, x, axis=-1, zi=zi)
-        # each sample and the k - 1 before it; before the first sample the first is
-        # repeated, the filter's steady state
         k = int(self.smoothing_samples)
-        lead = np.repeat(y[..., :1], k - 1, axis=-1)
-        c = np.cumsum(np.concatenate([np.zeros_like(y[..., :1]), lead, y], axis=-1), axis=-1)
-        return np.swapaxes((c[..., k:] - c[..., :-k]) / k, -1, -2)
+        # uniform_filter1d with origin (k - 1) // 2 averages each sample and the k - 1
+        # before it; "nearest" repeats the first sample, the filter's steady state
+        return uniform_filter1d(y, k, axis=-1, mode="nearest", origin=(k - 1) // 2)
 
     def _unit_steady_state(self) -> np.ndarray:
         """``(sections, 2)``: the low-pass's state at rest under a unit input (made once)."""
@@ -384,7 +388,10 @@ class SurfaceAngleTemplates:
         self.templates_ = templates
         self.sample_rate_hz_ = fs
         self._energy = None
-        self._template_energy()  # made here, not in the first timed call
+        self._templates_cf = None
+        # made here, not in the first timed call
+        self._template_energy()
+        self._channels_first()
         return self
 
     def scores(self, recording: np.ndarray, sample_rate_hz: float | None = None) -> np.ndarray:
@@ -403,12 +410,28 @@ class SurfaceAngleTemplates:
         # sum (T - p)^2 = sum T^2 - 2 T.p + sum p^2, with the templates' running sums of
         # squares made once: one dot product per template, no (templates, samples,
         # channels) difference
-        p = self.preprocess(x[:m]).ravel()
-        # one matrix-vector product over a view of the templates' first m samples (the
-        # robot's loop runs BLAS on one thread, so no idle BLAS workers are woken)
-        cross = self.templates_[:, :m].reshape(self.templates_.shape[0], -1) @ p
-        sq = self._template_energy()[:, m] - 2.0 * cross + np.dot(p, p)
+        p = self._preprocess_channels_first(x[:m].T)  # (ch, m)
+        # per channel one matrix-vector product over a view of the templates' first m
+        # samples, time last (the robot's loop runs BLAS on one thread, so no idle BLAS
+        # workers are woken)
+        t = self._channels_first()
+        cross = np.zeros(t.shape[0])
+        for c in range(t.shape[1]):
+            cross += t[:, c, :m] @ p[c]
+        sq = self._template_energy()[:, m] - 2.0 * cross + float(np.sum(p * p))
         return np.maximum(sq, 0.0) / (m * x.shape[1])
+
+    def _channels_first(self) -> np.ndarray:
+        """The templates as ``(n_angles, n_channels, n_samples)``, time last (made once)."""
+        cached = getattr(self, "_templates_cf", None)
+        if cached is None or cached.shape != (
+            self.templates_.shape[0],
+            self.templates_.shape[2],
+            self.templates_.shape[1],
+        ):
+            cached = np.ascontiguousarray(np.swapaxes(self.templates_, 1, 2))
+            self._templates_cf = cached
+        return cached
 
     def _template_energy(self) -> np.ndarray:
         """``(n_angles, n_samples + 1)``: each template's cumulative sum of squares.

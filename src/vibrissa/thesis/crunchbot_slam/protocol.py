@@ -516,9 +516,9 @@ def hall_run(ds: xr.Dataset) -> dict[str, np.ndarray]:
 
 
 def crunchbot_protocol(quick: bool = False, **overrides: Any) -> CrunchbotProtocol:
-    """The thesis' session (20 runs of 6 minutes) or, ``quick``, 3 runs of 40 s."""
+    """The thesis' session (20 runs of 6 minutes) or, ``quick``, 3 runs of 6 minutes."""
     base: dict[str, Any] = (
-        {"n_runs": 3, "seconds": 40.0, "texture_seconds": 30.0, "quick_training": True}
+        {"n_runs": 3, "seconds": 360.0, "texture_seconds": 30.0, "quick_training": True}
         if quick
         else {}
     )
