@@ -100,8 +100,10 @@ def test_corrupt_cached_dataset_is_regenerated(radial_distance):
     out, first = radial_distance
     cached = Path(first["meta"]["dataset"]["path"])
     cached.write_bytes(cached.read_bytes()[: cached.stat().st_size // 3])  # truncated
-    again = _run(
+    res = runner.invoke(
+        app,
         [
+            "reproduce",
             "radial-distance",
             "--quick",
             "--json",
@@ -112,9 +114,13 @@ def test_corrupt_cached_dataset_is_regenerated(radial_distance):
             "1",
             "--out",
             str(out),
-        ]
+        ],
     )
+    assert res.exit_code == 0, res.output
+    again = json.loads(res.stdout)
     assert again["meta"]["dataset"]["reused"] is False
+    # the statement said "reused" before the file was read; the console corrects it
+    assert "could not be read; it was simulated again" in res.stderr
     # regenerated with the same seed: the same trials, so the same errors
     for key in ("radius_mm", "speed_mm_s"):
         assert again["classifiers"]["template"][key] == first["classifiers"]["template"][key]

@@ -170,6 +170,14 @@ def _run(
                 command=shlex.join(["vibrissa", *sys.argv[1:]]),
                 **opts,
             )
+        said_reused = work.startswith("simulated dataset reused")
+        if said_reused and not (res.get("meta", {}).get("dataset") or {}).get("reused", True):
+            # the cached file could not be read: the pipeline simulated it again
+            console.print(
+                f"{exp.name}: the cached dataset {data} could not be read; it was simulated again",
+                highlight=False,
+                soft_wrap=True,
+            )
     summary = {
         "experiment": exp.name,
         "chapter": exp.chapter,
