@@ -405,6 +405,8 @@ def _cases() -> list[Case]:
         add(["run", "crunchbot", "--out", "o", "--seconds", value], "--seconds")
     add([*rc, "--particles", "1000000000000"], "--particles")
     add([*rc, "--seed", "18446744073709551616"], "--seed")
+    add(["generate", "radial-distance", "--quick", "--out", "g.nc", "--seed", str(2**64)], "--seed")
+    add(["reproduce", "radial-distance", "--quick", "--out", "r", "--seed", str(2**64)], "--seed")
     add([*rc, "--mode", "bogus"], "--mode")
     add([*rc, "--seed", "-1"], "--seed")
     add("run crunchbot --seconds 5 --out file.txt", "file.txt", "file.txt")

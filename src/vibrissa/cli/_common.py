@@ -160,6 +160,27 @@ def count_option(option: str, value: int | None, minimum: int = 1) -> int | None
     return value
 
 
+#: Largest seed a command accepts: datasets store it as a signed 64-bit integer.
+MAX_SEED = 2**63 - 1
+
+
+def seed_option(option: str, value: int) -> int:
+    """Check a seed: a non-negative integer the dataset format can store.
+
+    Raises
+    ------
+    ValueError
+        ``OPTION: expected a non-negative integer ...`` or ``... at most 2**63 - 1`` (a
+        larger seed simulated everything and then failed writing the dataset).
+    """
+    count_option(option, value, minimum=0)
+    if value > MAX_SEED:
+        raise ValueError(
+            f"{option}: expected an integer at most 2**63 - 1 (what a dataset stores), got {value}"
+        )
+    return value
+
+
 def print_table(table: Any, stderr: bool = False) -> None:
     """Print a rich table so that no cell is ever cut short.
 

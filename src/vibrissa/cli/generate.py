@@ -10,7 +10,13 @@ from typing import Any
 
 import typer
 
-from vibrissa.cli._common import count_option, echo_json, option_renamer, user_errors
+from vibrissa.cli._common import (
+    count_option,
+    echo_json,
+    option_renamer,
+    seed_option,
+    user_errors,
+)
 from vibrissa.cli._interrupt import interruptible
 
 _GRID_HELP = "start:stop:step (inclusive), start:stop:#count, or a comma list"
@@ -177,7 +183,7 @@ def register(app: typer.Typer) -> None:
         )
         from vibrissa.experiments.protocols import get_protocol, parse_grid
 
-        count_option("--seed", seed, minimum=0)
+        seed_option("--seed", seed)
         count_option("--workers", workers)
         count_option("--runs", runs)
         count_option("--chunk-size", chunk_size)

@@ -21,6 +21,7 @@ from vibrissa.cli._common import (
     echo_json,
     option_renamer,
     print_table,
+    seed_option,
     user_errors,
 )
 from vibrissa.cli._interrupt import interruptible
@@ -89,7 +90,7 @@ def _run(
     from vibrissa.reproduce import check_job_arguments, dataset_path, run_experiment
     from vibrissa.reproduce.pipeline import check_scheduler
 
-    count_option("--seed", seed, minimum=0)
+    seed_option("--seed", seed)
     count_option("--workers", workers)
     try:
         check_job_arguments(out, seed, workers, scheduler=scheduler)
