@@ -283,7 +283,7 @@ def run_experiment(
     }
     # meta, then what was measured (parameters) and with what (classifiers), then the rest
     first = [k for k in ("parameters", "classifiers") if k in results]
-    envelope = {
+    envelope: dict[str, Any] = {
         "meta": meta,
         **{k: results[k] for k in first},
         **{k: v for k, v in results.items() if k != "meta" and k not in first},
