@@ -2,13 +2,17 @@
 
 ``vibrissa bench physics`` times the standard pole-contact trial with
 :func:`vibrissa.whisker.benchmark.physics_benchmark` and reports its real-time
-factor: simulated seconds per wall-clock second on one core.
+factor: simulated seconds per wall-clock second on one core, the process pinned to one
+CPU (:func:`one_core`) as ``benchmarks/bench_peers.py`` is.
 ``benchmarks/bench_physics.py`` runs the same over time steps and element counts.
 """
 
 from __future__ import annotations
 
+import contextlib
+import os
 import re
+from collections.abc import Iterator
 from typing import Annotated
 
 import typer
@@ -21,6 +25,32 @@ bench_app = typer.Typer(help="Performance benchmarks.", no_args_is_help=True)
 
 #: Parameters of :func:`physics_benchmark` whose errors name them, with their options.
 _OPTIONS = {"duration_s": "--duration-s", "repeats": "--repeats", "n_elements": "--n-elements"}
+
+
+@contextlib.contextmanager
+def one_core() -> Iterator[int | None]:
+    """Run the block on one CPU (Linux), numba and BLAS on one thread; restore after.
+
+    Pinned, the real-time factor varies 3.5 % between processes instead of 12 %
+    (issue 14's measurement), as in ``benchmarks/bench_peers.py``. Yields the CPU, or
+    None where the platform cannot pin.
+    """
+    import numba
+    from threadpoolctl import threadpool_limits
+
+    affinity = os.sched_getaffinity(0) if hasattr(os, "sched_getaffinity") else None
+    threads = numba.get_num_threads()
+    cpu = min(affinity) if affinity else None
+    try:
+        if cpu is not None:
+            os.sched_setaffinity(0, {cpu})
+        numba.set_num_threads(1)
+        with threadpool_limits(limits=1):
+            yield cpu
+    finally:
+        numba.set_num_threads(threads)
+        if affinity:
+            os.sched_setaffinity(0, affinity)
 
 
 @bench_app.command("physics")
@@ -62,7 +92,9 @@ def physics_cmd(
             f"--dt-ms must divide the 0.25 ms output period (4 kHz) evenly, got {dt_ms:g}"
         ) from None
     try:
-        out = physics_benchmark(dt_s, n_elements, duration_s, repeats)
+        with one_core() as cpu:
+            out = physics_benchmark(dt_s, n_elements, duration_s, repeats)
+        out["pinned_cpu"] = cpu
     except ValueError as exc:
         pattern = r"\b(" + "|".join(_OPTIONS) + r")\b"
         raise ValueError(re.sub(pattern, lambda m: _OPTIONS[m.group(1)], str(exc))) from None
@@ -75,7 +107,12 @@ def physics_cmd(
     con.print(f"[bold]physics benchmark[/bold]: {out['scenario']}")
     con.print(
         f"  {out['n_elements']} elements, dt = {out['dt_s'] * 1e3:g} ms, "
-        f"{out['n_steps']} steps, {out['n_samples']} samples"
+        f"{out['n_steps']} steps, {out['n_samples']} samples; "
+        + (
+            f"pinned to CPU {out['pinned_cpu']}, numba and BLAS on one thread"
+            if out["pinned_cpu"] is not None
+            else "not pinned (this platform cannot), numba and BLAS on one thread"
+        )
     )
     con.print(
         f"  real-time factor [bold]{out['real_time_factor']:.1f}[/bold] "
