@@ -82,3 +82,23 @@ def test_chapter5_report_has_a_thesis_before_after_kappa_table():
     assert "thesis / before / this run" in text and "old run" in text
     row = next(ln for ln in text.splitlines() if ln.startswith("| `template_raw`") and "0.30" in ln)
     assert "0.30 / 0.40" in row
+
+
+def test_baselines_that_would_crash_block_or_hang_are_one_line(tmp_path):
+    import os
+
+    deep = tmp_path / "deep.json"
+    deep.write_text("[" * 100_000 + "]" * 100_000)  # RecursionError before
+    odd_meta = tmp_path / "meta.json"
+    odd_meta.write_text(json.dumps({"classifiers": {}, "meta": 5}))  # AttributeError before
+    fifo = tmp_path / "pipe.json"
+    os.mkfifo(fifo)  # read_text blocked forever before
+    for path, message in (
+        (deep, "nested too deep"),
+        (odd_meta, "'meta' that is not an object"),
+        (fifo, "not a regular file"),
+        (tmp_path, "not a regular file"),
+    ):
+        with pytest.raises(ValueError, match=message) as err:
+            load_baseline(path)
+        assert str(err.value).startswith("--baseline:") and "\n" not in str(err.value)

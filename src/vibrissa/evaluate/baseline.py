@@ -14,7 +14,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-__all__ = ["compact_results", "load_baseline"]
+__all__ = ["MAX_BASELINE_BYTES", "compact_results", "load_baseline"]
 
 _STATS = ("mean", "std")
 _PARAMS4 = ("radius_mm", "speed_mm_s")
@@ -49,23 +49,47 @@ def compact_results(results: Mapping[str, Any], label: str) -> dict[str, Any]:
     return out
 
 
+#: Largest baseline read (bytes): a full chapter-4 results.json is about 10 MB.
+MAX_BASELINE_BYTES = 256 * 1024 * 1024
+
+
 def load_baseline(path: str | os.PathLike[str]) -> dict[str, Any]:
     """Read a baseline (full ``results.json`` or compact); label it by its file if unlabelled.
 
     Raises
     ------
     ValueError
-        If the file is missing, not JSON, or has no ``classifiers``.
+        One line naming ``--baseline``: the file is missing, not a regular file (a
+        directory, a FIFO or a device, which would block or never end), larger than
+        :data:`MAX_BASELINE_BYTES`, not JSON, nested too deep to read, or has no
+        ``classifiers`` or a ``meta`` that is not an object.
     """
+    import stat
+
     p = Path(path)
-    if not p.is_file():
-        raise ValueError(f"--baseline: no such file {str(p)!r}")
+    try:
+        st = p.stat()
+    except OSError:
+        raise ValueError(f"--baseline: no such file {str(p)!r}") from None
+    if not stat.S_ISREG(st.st_mode):
+        raise ValueError(f"--baseline: {str(p)!r} is not a regular file")
+    if st.st_size > MAX_BASELINE_BYTES:
+        raise ValueError(
+            f"--baseline: {str(p)!r} is {st.st_size} bytes, more than a results JSON "
+            f"({MAX_BASELINE_BYTES} at most)"
+        )
     try:
         data = json.loads(p.read_text())
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise ValueError(f"--baseline: {str(p)!r} is not a results JSON ({exc})") from None
+    except RecursionError:
+        raise ValueError(
+            f"--baseline: {str(p)!r} is nested too deep to be a results JSON"
+        ) from None
     if not isinstance(data, dict) or not isinstance(data.get("classifiers"), dict):
         raise ValueError(f"--baseline: {str(p)!r} has no 'classifiers' (not a results JSON)")
     meta = data.setdefault("meta", {})
+    if not isinstance(meta, dict):
+        raise ValueError(f"--baseline: {str(p)!r} has a 'meta' that is not an object")
     meta.setdefault("label", str(p))
     return data
