@@ -30,7 +30,8 @@ import pytest
 SRC = Path(__file__).resolve().parents[1] / "src" / "vibrissa"
 SIMULATOR = {"whisker", "robots", "experiments"}
 RECORDING_LAYERS = {"signal", "data", "classify", "evaluate", "slam", "framework"}
-TOP = {"reproduce", "cli"}
+#: The top: orchestration, the command line and its console entry point (``__main__``).
+TOP = {"reproduce", "cli", "__main__"}
 #: Roles of an experiment package's modules that must run on imported recordings.
 RECORDING_ROLES = {"evaluation", "report", "figures", "values"}
 #: Layers that sit below the thesis' experiments and never import them.

@@ -15,11 +15,9 @@ import signal
 import sys
 from types import FrameType
 
-__all__ = ["INTERRUPTED", "main"]
+from vibrissa._signals import INTERRUPTED
 
-
-#: What an interrupted command says when it has nothing more precise to say.
-INTERRUPTED = "interrupted: the command stopped before it finished"
+__all__ = ["main"]
 
 
 class _Terminated(BaseException):

@@ -20,7 +20,7 @@ import typer
 from typer._click import exceptions as click_errors
 from typer.core import TyperGroup
 
-from vibrissa.__main__ import INTERRUPTED
+from vibrissa._signals import INTERRUPTED
 
 __all__ = ["OneLineUsageErrors", "flags_show_no_type", "usage_message"]
 

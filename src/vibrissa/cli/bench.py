@@ -29,26 +29,22 @@ _OPTIONS = {"duration_s": "--duration-s", "repeats": "--repeats", "n_elements": 
 
 @contextlib.contextmanager
 def one_core() -> Iterator[int | None]:
-    """Run the block on one CPU (Linux), numba and BLAS on one thread; restore after.
+    """Run the block on one CPU (Linux) with BLAS on one thread; restore after.
 
     Pinned, the real-time factor varies 3.5 % between processes instead of 12 %
-    (issue 14's measurement), as in ``benchmarks/bench_peers.py``. Yields the CPU, or
-    None where the platform cannot pin.
+    (issue 14's measurement), as in ``benchmarks/bench_peers.py``. The rod's numba
+    kernels are serial. Yields the CPU, or None where the platform cannot pin.
     """
-    import numba
     from threadpoolctl import threadpool_limits
 
     affinity = os.sched_getaffinity(0) if hasattr(os, "sched_getaffinity") else None
-    threads = numba.get_num_threads()
     cpu = min(affinity) if affinity else None
     try:
         if cpu is not None:
             os.sched_setaffinity(0, {cpu})
-        numba.set_num_threads(1)
         with threadpool_limits(limits=1):
             yield cpu
     finally:
-        numba.set_num_threads(threads)
         if affinity:
             os.sched_setaffinity(0, affinity)
 
@@ -109,9 +105,9 @@ def physics_cmd(
         f"  {out['n_elements']} elements, dt = {out['dt_s'] * 1e3:g} ms, "
         f"{out['n_steps']} steps, {out['n_samples']} samples; "
         + (
-            f"pinned to CPU {out['pinned_cpu']}, numba and BLAS on one thread"
+            f"pinned to CPU {out['pinned_cpu']}, BLAS on one thread"
             if out["pinned_cpu"] is not None
-            else "not pinned (this platform cannot), numba and BLAS on one thread"
+            else "not pinned (this platform cannot), BLAS on one thread"
         )
     )
     con.print(
