@@ -8,6 +8,7 @@ import re
 import sys
 from collections.abc import Callable
 from functools import wraps
+from pathlib import Path
 from typing import Any, TypeVar
 
 import numpy as np
@@ -158,6 +159,26 @@ def count_option(option: str, value: int | None, minimum: int = 1) -> int | None
         kind = "non-negative" if minimum == 0 else "positive"
         raise ValueError(f"{option}: expected a {kind} integer, got {value}")
     return value
+
+
+def regular_file(option: str, path: Path) -> Path:
+    """Check a file input before it is opened: it exists, is a regular file, is readable.
+
+    A FIFO would block the command forever, a device (``/dev/zero``) would never end,
+    and a directory gives an error from deep inside a reader.
+
+    Raises
+    ------
+    ValueError
+        ``OPTION: PATH does not exist`` / ``is not a regular file`` / ``is not readable``.
+    """
+    if not path.exists():
+        raise ValueError(f"{option}: {path} does not exist")
+    if not path.is_file():
+        raise ValueError(f"{option}: {path} is not a regular file")
+    if not os.access(path, os.R_OK):
+        raise ValueError(f"{option}: {path} is not readable")
+    return path
 
 
 #: Largest seed a command accepts: datasets store it as a signed 64-bit integer.

@@ -11,7 +11,7 @@ import typer
 from rich.markup import escape
 
 from vibrissa._atomic import check_writable
-from vibrissa.cli._common import echo_json, user_errors
+from vibrissa.cli._common import echo_json, regular_file, user_errors
 
 _IMPORT_HELP = "\n\n".join(
     [
@@ -192,6 +192,9 @@ def register(app: typer.Typer) -> None:
             check_writable(out)
         except ValueError as exc:
             raise ValueError(f"--out: {exc}") from None
+        regular_file("SOURCE", source)
+        if mapping is not None:
+            regular_file("--mapping", mapping)
         raw = dict(load_mapping(mapping).raw) if mapping is not None else {}
         if signal is not None:
             raw["signal"] = signal

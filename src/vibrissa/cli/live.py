@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import sys
 from collections.abc import Iterable, Iterator
 from pathlib import Path
@@ -34,7 +33,7 @@ import typer
 
 from vibrissa._atomic import check_writable
 from vibrissa._validate import non_negative, positive
-from vibrissa.cli._common import user_errors
+from vibrissa.cli._common import regular_file, user_errors
 from vibrissa.cli._interrupt import interruptible
 
 __all__ = ["register"]
@@ -73,15 +72,6 @@ def _trials(text: str | None) -> slice | None:
             f"--trials: expected A:B (trial indices, either may be left out), got {text!r}"
         )
     return slice(int(a) if a.strip() else None, int(b) if b.strip() else None)
-
-
-def _regular_file(option: str, path: Path) -> None:
-    if not path.exists():
-        raise ValueError(f"{option}: {path} does not exist")
-    if not path.is_file():
-        raise ValueError(f"{option}: {path} is not a regular file")
-    if not os.access(path, os.R_OK):
-        raise ValueError(f"{option}: {path} is not readable")
 
 
 def _finite(obj: Any) -> Any:
@@ -223,7 +213,7 @@ def live_cmd(
             if given:
                 raise ValueError(f"{name}: not with --replay (a dataset is played instead)")
     selection = _trials(trials)
-    _regular_file("--pipeline", pipeline)
+    regular_file("--pipeline", pipeline)
     try:
         pipe = TactilePipeline.load(pipeline)
     except (ValueError, TypeError, OSError) as exc:
@@ -241,7 +231,7 @@ def live_cmd(
     log = IssueLog()
     source: Any
     if replay is not None:
-        _regular_file("--replay", replay)
+        regular_file("--replay", replay)
         try:
             source = replay_dataset(
                 replay, 1.0 if play_speed is None else play_speed, trials=selection

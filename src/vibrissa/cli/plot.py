@@ -8,7 +8,7 @@ from typing import Any
 import typer
 
 from vibrissa._atomic import check_writable
-from vibrissa.cli._common import echo_json, user_errors
+from vibrissa.cli._common import echo_json, regular_file, user_errors
 
 KINDS = ("traces", "contours", "all")
 
@@ -19,8 +19,7 @@ def _load(path: Path) -> Any:
     Falls back to :func:`xarray.load_dataset` while :mod:`vibrissa.data` has no
     loader (interim; to be removed once ``vibrissa.data`` ships it).
     """
-    if not path.exists():
-        raise FileNotFoundError(f"dataset file not found: {path}")
+    regular_file("DATASET", path)
     try:
         from vibrissa.data import load_dataset
     except ImportError:
