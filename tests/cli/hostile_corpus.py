@@ -251,8 +251,9 @@ def _cases() -> list[Case]:
     for value in ("0", "1e9", "nan"):
         add(["whisker", "ring", "--tip-deflection-mm", value], "--tip-deflection-mm")
     # whisk (issue 15): frequency <= 0, negative gains, a pole inside the reach at rest
-    for value in ("0", "-2", "nan"):
+    for value in ("0", "-2", "nan", "1e-9"):
         add(["whisker", "whisk", "--frequency-hz", value], "--frequency-hz")
+    add("whisker whisk --control-rate-hz 1e12", "--control-rate-hz")
     for value in ("-0.7", "nan"):
         add(["whisker", "whisk", "--sigma-z", value], "--sigma-z")
     add("whisker whisk --tau-z-periods 0", "--tau-z-periods")
@@ -262,7 +263,7 @@ def _cases() -> list[Case]:
     add("whisker whisk --whisks 0", "--whisks")
     # bench
     add("bench bogus", "bogus")
-    for value in ("0.3", "0", "-1", "nan"):
+    for value in ("0.3", "0", "-1", "nan", "0.0000025"):
         add(["bench", "physics", "--dt-ms", value], "--dt-ms")
     for value in ("0", "1000"):
         add(["bench", "physics", "--n-elements", value], "--n-elements")

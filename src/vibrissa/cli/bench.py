@@ -23,6 +23,8 @@ from vibrissa.whisker.hall import steps_per_sample
 
 bench_app = typer.Typer(help="Performance benchmarks.", no_args_is_help=True)
 
+#: Smallest internal step ``bench physics`` accepts (ms): a step near 0 is unbounded work.
+MIN_DT_MS = 0.001
 #: Parameters of :func:`physics_benchmark` whose errors name them, with their options.
 _OPTIONS = {"duration_s": "--duration-s", "repeats": "--repeats", "n_elements": "--n-elements"}
 
@@ -81,6 +83,11 @@ def physics_cmd(
     trial (MB, tracemalloc).
     """
     dt_s = dt_ms * 1e-3
+    if not dt_ms >= MIN_DT_MS:
+        raise ValueError(
+            f"--dt-ms must be at least {MIN_DT_MS:g} (1 us: 1.5 million steps a trial), "
+            f"got {dt_ms:g}"
+        )
     try:
         steps_per_sample(dt_s, STANDARD["sample_rate_hz"])
     except ValueError:

@@ -666,6 +666,10 @@ def ring_cmd(
 
 #: Most whisks of one ``whisk`` run (each a few thousand steps).
 MAX_WHISKS = 200
+#: Most simulated time of one ``whisk`` run (s), and most control steps in it: a whisk
+#: frequency near 0 or a control rate near infinity asked for unbounded work.
+MAX_WHISK_SECONDS = 60.0
+MAX_CONTROL_STEPS = 6_000_000
 
 _WHISK_NAMES = _renamer(
     {
@@ -772,6 +776,17 @@ def whisk_cmd(
             raise ValueError(f"--whisks must lie in [1, {MAX_WHISKS}], got {whisks}")
         positive("control_rate_hz", control_rate_hz)
         positive("motor bandwidth_hz", motor_bandwidth_hz)
+        if whisks / frequency_hz > MAX_WHISK_SECONDS:
+            raise ValueError(
+                f"--frequency-hz: {whisks} whisks at {frequency_hz:g} Hz last "
+                f"{whisks / frequency_hz:.3g} s; at most {MAX_WHISK_SECONDS:g} s of whisking "
+                "(raise --frequency-hz or lower --whisks)"
+            )
+        if whisks / frequency_hz * control_rate_hz > MAX_CONTROL_STEPS:
+            raise ValueError(
+                f"--control-rate-hz: {control_rate_hz:g} Hz over {whisks / frequency_hz:.3g} s "
+                f"is more than {MAX_CONTROL_STEPS:,} control steps"
+            )
         if pole_at_mm is not None:
             check_pole_placement(pole_at_mm, pole_angle_deg, pattern, pole_radius_mm, g.length_mm)
         model = build_model(g, n_elements)
