@@ -26,15 +26,9 @@ def _default_sigint() -> None:
     signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
-def interrupt_once_a_shard_exists(args: list[str], parts: Path, sig: int) -> tuple[int, str]:
-    """Run ``vibrissa ARGS`` and send ``sig`` once a shard is in ``parts``.
-
-    Returns
-    -------
-    (int, str)
-        The exit status and standard error (standard output must be empty).
-    """
-    proc = subprocess.Popen(
+def _spawn(args: list[str]) -> subprocess.Popen:
+    """``vibrissa ARGS`` as a child whose output is read and who can be interrupted."""
+    return subprocess.Popen(
         [console_script(), *args],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
@@ -44,6 +38,17 @@ def interrupt_once_a_shard_exists(args: list[str], parts: Path, sig: int) -> tup
         # then installs no KeyboardInterrupt: give the child the default disposition
         preexec_fn=_default_sigint,
     )
+
+
+def interrupt_once_a_shard_exists(args: list[str], parts: Path, sig: int) -> tuple[int, str]:
+    """Run ``vibrissa ARGS`` and send ``sig`` once a shard is in ``parts``.
+
+    Returns
+    -------
+    (int, str)
+        The exit status and standard error (standard output must be empty).
+    """
+    proc = _spawn(args)
     deadline = time.monotonic() + 300
     while not any(parts.glob("chunk-*.npz")):
         if proc.poll() is not None or time.monotonic() > deadline:
@@ -59,14 +64,7 @@ def interrupt_once_a_shard_exists(args: list[str], parts: Path, sig: int) -> tup
 
 def interrupt_after(args: list[str], seconds: float, sig: int) -> tuple[int, str]:
     """Run ``vibrissa ARGS``, send ``sig`` after ``seconds``; exit status and stderr."""
-    proc = subprocess.Popen(
-        [console_script(), *args],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env={**os.environ, "CI": "1"},
-        preexec_fn=_default_sigint,
-    )
+    proc = _spawn(args)
     time.sleep(seconds)
     if proc.poll() is not None:
         _, err = proc.communicate()
