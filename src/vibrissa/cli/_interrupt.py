@@ -17,7 +17,7 @@ from types import FrameType
 
 import typer
 
-__all__ = ["interruptible"]
+__all__ = ["interruptible", "uninterrupted"]
 
 
 class _Terminated(BaseException):
@@ -57,3 +57,31 @@ def interruptible(kept: Callable[[], str]) -> Iterator[None]:
             signal.signal(signal.SIGTERM, previous)
     print(f"interrupted: {kept()}", file=sys.stderr)
     raise typer.Exit(code=code)
+
+
+@contextlib.contextmanager
+def uninterrupted() -> Iterator[None]:
+    """Hold SIGINT and SIGTERM back until the block is done, then deliver them.
+
+    For a short step that must happen whole or not at all (a batch pushed through the
+    live pipeline and its events written): an interruption arriving inside it would
+    leave the records counted but never processed. Off the main thread the block runs
+    as is (signals only reach the main thread).
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    held: list[int] = []
+
+    def hold(signum: int, frame: FrameType | None) -> None:
+        held.append(signum)
+
+    before_int = signal.signal(signal.SIGINT, hold)
+    before_term = signal.signal(signal.SIGTERM, hold)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, before_int)
+        signal.signal(signal.SIGTERM, before_term)
+    if held:
+        signal.raise_signal(held[0])

@@ -34,7 +34,7 @@ import typer
 from vibrissa._atomic import check_writable
 from vibrissa._validate import non_negative, positive
 from vibrissa.cli._common import regular_file, user_errors
-from vibrissa.cli._interrupt import interruptible
+from vibrissa.cli._interrupt import interruptible, uninterrupted
 
 __all__ = ["register"]
 
@@ -287,8 +287,9 @@ def live_cmd(
     with interruptible(kept):
         try:
             for t, v in _limited(source, limit):
-                for item in guard.push(t, v):
-                    writer.write(_event(item))
+                with uninterrupted():  # a batch is counted, processed and logged whole
+                    for item in guard.push(t, v):
+                        writer.write(_event(item))
         finally:
             try:
                 for item in guard.flush():

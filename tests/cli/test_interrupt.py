@@ -1,0 +1,47 @@
+"""Signals held back over a step that must happen whole (cli._interrupt.uninterrupted)."""
+
+from __future__ import annotations
+
+import os
+import signal
+
+import pytest
+
+from vibrissa.cli._interrupt import uninterrupted
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_a_signal_inside_the_step_is_delivered_after_it(signum: int) -> None:
+    seen: list[str] = []
+    caught: list[int] = []
+
+    def record(s: int, frame: object) -> None:
+        caught.append(s)
+
+    before = signal.signal(signum, record)
+    try:
+        with uninterrupted():
+            os.kill(os.getpid(), signum)
+            seen.append("the rest of the step ran")
+            assert caught == []
+        assert seen == ["the rest of the step ran"]
+        assert caught == [signum]
+        assert signal.getsignal(signum) is record
+    finally:
+        signal.signal(signum, before)
+
+
+def test_ctrl_c_inside_the_step_raises_keyboard_interrupt_after_it() -> None:
+    done = []
+    with pytest.raises(KeyboardInterrupt):
+        with uninterrupted():
+            os.kill(os.getpid(), signal.SIGINT)
+            done.append(1)
+    assert done == [1]
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+def test_no_signal_no_effect() -> None:
+    with uninterrupted():
+        pass
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
