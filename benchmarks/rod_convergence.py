@@ -1,0 +1,273 @@
+"""Accuracy per unknown of the rod's discretisation options (issue 32, item 1).
+
+Usage::
+
+    .venv/bin/python benchmarks/rod_convergence.py [--out FILE] [--preset NAME]
+
+For each option of the discrete rod (how the shaft's mass is put on the nodes, how
+the bending stiffness is sampled, how the element lengths are graded) and each element
+count it measures, on the linearisation about rest (one bending plane, the follicle's
+spring and inertia included):
+
+- the first three natural frequencies against an independent reference, cubic Hermite
+  beam elements with the exact taper (``benchmarks/bench_peers.py``, 200 elements);
+- the static deflection of the tip and the follicle's rotation under a small force at
+  the tip, against the same Hermite beam's static solution.
+
+The options:
+
+``mass``
+    ``lumped`` (today's default: each segment's truncated-cone mass split half and
+    half onto its two nodes), ``centroid`` (split so that the two point masses keep the
+    segment's centre of mass: the row sums of the consistent matrix) and
+    ``consistent`` (the kinetic energy of the segment with its velocity interpolated
+    linearly between the nodes, integrated exactly over the cone: a tridiagonal mass
+    matrix; the linear analysis only, the dynamics kernels have a diagonal mass).
+``stiffness``
+    ``node`` (today's: ``E I`` at the node over its dual length) or ``cell`` (``E I``
+    averaged over the node's dual cell).
+``grading``
+    ``uniform`` or ``radius`` (element lengths proportional to the square root of the
+    local radius, finer toward the thin tip).
+
+The peak follicle moment of the standard contact needs the dynamics and is measured by
+``benchmarks/bench_peers.py`` on the chosen default.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as _dt
+import functools
+import json
+import math
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import scipy.linalg
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from bench_peers import reference_frequencies_hz
+
+from vibrissa import __version__
+from vibrissa._atomic import atomic_write_text
+from vibrissa.whisker import RodModel, WhiskerGeometry, preset
+from vibrissa.whisker.rod import DEFAULT_N_ELEMENTS
+
+DEFAULT_OUT = Path(__file__).resolve().parent / "results" / "rod_convergence.json"
+#: Element counts tried for every option.
+ELEMENTS = (8, 10, 12, 14, 16, 20, 24, 26, 28, 32, 36, 40)
+#: Hermite elements of the reference (converged well below 1e-6 relative).
+REFERENCE_ELEMENTS = 200
+#: The tolerance issue 32 holds both simulators to, on the first mode (%).
+FIRST_MODE_TOLERANCE_PCT = 0.1
+#: The tip force of the static check (N): small, so the response is linear.
+TIP_FORCE_N = 1e-4
+OPTIONS: tuple[dict[str, str], ...] = (
+    {"mass": "lumped", "stiffness": "node", "grading": "uniform"},
+    {"mass": "lumped", "stiffness": "cell", "grading": "uniform"},
+    {"mass": "lumped", "stiffness": "node", "grading": "radius"},
+    {"mass": "centroid", "stiffness": "node", "grading": "uniform"},
+    {"mass": "centroid", "stiffness": "node", "grading": "radius"},
+    {"mass": "consistent", "stiffness": "node", "grading": "uniform"},
+    {"mass": "consistent", "stiffness": "cell", "grading": "uniform"},
+    {"mass": "consistent", "stiffness": "node", "grading": "radius"},
+)
+
+
+def nodes_m(g: WhiskerGeometry, n_elements: int, grading: str) -> np.ndarray:
+    """Arc lengths (m) of the shaft's nodes, base to tip."""
+    L = g.length_m
+    if grading == "uniform":
+        return np.linspace(0.0, L, n_elements + 1)
+    s = np.linspace(0.0, L, 20001)
+    w = g.radius_m(s) ** -0.5  # element length ~ sqrt(radius)
+    cum = np.concatenate([[0.0], np.cumsum(0.5 * (w[1:] + w[:-1]) * np.diff(s))])
+    return np.interp(np.linspace(0.0, cum[-1], n_elements + 1), cum, s)
+
+
+def plane_matrices(
+    g: WhiskerGeometry, n_elements: int, mass: str, stiffness: str, grading: str
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Stiffness and mass of the free lateral DOFs in one plane, and the nodes' arc lengths.
+
+    The stiffness is the rod kernels' own tangent at rest (``RodModel.stiffness_matrix``)
+    with the nodes, bending constants and masses of the option put in.
+    """
+    model = RodModel(g, n_elements)
+    E = g.youngs_modulus_gpa * 1e9
+    d = g.follicle_depth_mm * 1e-3
+    L = g.length_m
+    s = np.concatenate([[-d], nodes_m(g, n_elements, grading)])
+    n = s.size
+    h = np.diff(s)[1:]
+    x = np.zeros((n, 3))
+    x[:, 2] = s
+    radius = g.radius_m(np.clip(s, 0.0, L))
+    EA = model.EA.copy()
+    mid = g.radius_m(0.5 * (np.clip(s[:-1], 0.0, L) + s[1:]))
+    EA[1:] = E * math.pi * mid[1:] ** 2
+    dual = np.zeros(n)
+    dual[1] = 0.5 * h[0]
+    dual[2 : n - 1] = 0.5 * (h[:-1] + h[1:])
+    EI = E * math.pi * radius**4 / 4.0
+    if stiffness == "cell":
+        xg, wg = np.polynomial.legendre.leggauss(8)
+        for i in range(1, n - 1):
+            a = s[i] - (0.5 * h[i - 2] if i >= 2 else 0.0)
+            b = s[i] + 0.5 * h[i - 1]
+            r = g.radius_m(a + (xg + 1.0) / 2.0 * (b - a))
+            EI[i] = float(np.sum(wg / 2.0 * E * math.pi * r**4 / 4.0))
+    kb = np.zeros(n)
+    kb[1 : n - 1] = EI[1 : n - 1] / (2.0 * dual[1 : n - 1])
+    model.s_rest, model.x_rest, model.radius, model.L0 = s, x, radius, np.diff(s)
+    model.EA, model.EI, model.kb = EA, EI, kb
+    # the segments' mass matrices: velocity interpolated linearly, the cone integrated
+    xg, wg = np.polynomial.legendre.leggauss(6)
+    t = (xg + 1.0) / 2.0
+    shape = np.stack([1.0 - t, t])
+    M = np.zeros((n, n))
+    for e in range(1, n - 1):
+        rho_a = g.density_kg_m3 * math.pi * g.radius_m(s[e] + t * h[e - 1]) ** 2
+        Me = (shape * (wg * h[e - 1] / 2.0 * rho_a)) @ shape.T
+        if mass == "lumped":
+            Me = np.diag(np.full(2, 0.5 * Me.sum()))
+        elif mass == "centroid":
+            Me = np.diag(Me.sum(axis=1))
+        M[e : e + 2, e : e + 2] += Me
+    M[1, 1] += g.follicle_inertia_kg_m2 / d**2
+    K = model.stiffness_matrix()
+    free = np.arange(1, n)
+    K = K[np.ix_(3 * free, 3 * free)]
+    return 0.5 * (K + K.T), M[np.ix_(free, free)], s
+
+
+@functools.cache
+def _reference(g: WhiskerGeometry) -> tuple[np.ndarray, float, float]:
+    tip, rotation = hermite_static(g, REFERENCE_ELEMENTS, TIP_FORCE_N)
+    return reference_frequencies_hz(g, REFERENCE_ELEMENTS, 3), tip, rotation
+
+
+def hermite_static(g: WhiskerGeometry, n_elements: int, force_n: float) -> tuple[float, float]:
+    """Tip deflection (m) and follicle rotation (rad) of the Hermite beam under a tip force."""
+    L = g.length_m
+    E = g.youngs_modulus_gpa * 1e9
+    d = g.follicle_depth_mm * 1e-3
+    h = L / n_elements
+    xg, wg = np.polynomial.legendre.leggauss(6)
+    t = (xg + 1.0) / 2.0
+    B = np.stack([12 * t - 6, h * (6 * t - 4), 6 - 12 * t, h * (6 * t - 2)]) / h**2
+    n_dof = 2 * (n_elements + 1)
+    K = np.zeros((n_dof, n_dof))
+    for e in range(n_elements):
+        ei = wg * h / 2 * E * math.pi * g.radius_m(e * h + t * h) ** 4 / 4
+        K[2 * e : 2 * e + 4, 2 * e : 2 * e + 4] += (B * ei) @ B.T
+    T = np.zeros((n_dof, n_dof - 1))
+    T[0, 0], T[1, 0] = d, 1.0
+    T[2:, 1:] = np.eye(n_dof - 2)
+    K = T.T @ K @ T
+    K[0, 0] += g.follicle_stiffness_nm_per_rad
+    f = np.zeros(n_dof - 1)
+    f[-2] = force_n
+    u = np.linalg.solve(K, f)
+    return float(u[-2]), float(u[0])
+
+
+def measure(g: WhiskerGeometry, option: dict[str, str], n_elements: int) -> dict[str, Any]:
+    """One row: the option, the element count and its errors (%)."""
+    K, M, s = plane_matrices(g, n_elements, **option)
+    mu = scipy.linalg.eigh(M, K, eigvals_only=True)  # M x = mu K x: the large mu exactly
+    f = np.sort(np.sqrt(1.0 / mu[-3:]))[:3] / (2 * math.pi)
+    ref, tip_ref, rot_ref = _reference(g)
+    load = np.zeros(K.shape[0])
+    load[-1] = TIP_FORCE_N
+    u = np.linalg.solve(K, load)
+    rotation = u[0] / (s[1] - s[0])  # node 1 about the pivot, a follicle-depth away
+    errors = 100.0 * (f / ref - 1.0)
+    return {
+        **option,
+        "n_elements": n_elements,
+        "unknowns": 3 * (s.size - 1),
+        "mode_error_pct": [float(e) for e in errors],
+        "tip_deflection_error_pct": float(100.0 * (u[-1] / tip_ref - 1.0)),
+        "follicle_rotation_error_pct": float(100.0 * (rotation / rot_ref - 1.0)),
+    }
+
+
+def run(name: str) -> dict[str, Any]:
+    """Every option at every element count, and the fewest elements each needs."""
+    g = preset(name)
+    ref = _reference(g)[0]
+    rows = [measure(g, opt, n) for opt in OPTIONS for n in ELEMENTS]
+    fewest = []
+    for opt in OPTIONS:
+        mine = [r for r in rows if all(r[k] == v for k, v in opt.items())]
+        ok = [r for r in mine if abs(r["mode_error_pct"][0]) <= FIRST_MODE_TOLERANCE_PCT]
+        fewest.append({**opt, "fewest_elements": min(r["n_elements"] for r in ok) if ok else None})
+    return {
+        "preset": name,
+        "reference": f"cubic Hermite beam, {REFERENCE_ELEMENTS} elements, exact taper",
+        "reference_frequencies_hz": [float(v) for v in ref],
+        "first_mode_tolerance_pct": FIRST_MODE_TOLERANCE_PCT,
+        "default_n_elements": DEFAULT_N_ELEMENTS,
+        "tip_force_n": TIP_FORCE_N,
+        "rows": rows,
+        "fewest_elements_within_tolerance": fewest,
+    }
+
+
+def table(result: dict[str, Any]) -> str:
+    """The fewest elements per option, and each option's errors at those counts."""
+    out = [
+        f"{result['preset']}: fewest elements with |first-mode error| <= "
+        f"{result['first_mode_tolerance_pct']} %",
+        f"{'mass':<11} {'stiffness':<9} {'grading':<8} {'n':>4} {'mode 1 %':>9} "
+        f"{'mode 2 %':>9} {'mode 3 %':>9} {'tip %':>8} {'follicle %':>10}",
+    ]
+    for best in result["fewest_elements_within_tolerance"]:
+        n = best["fewest_elements"]
+        if n is None:
+            out.append(f"{best['mass']:<11} {best['stiffness']:<9} {best['grading']:<8} none")
+            continue
+        (r,) = [
+            r
+            for r in result["rows"]
+            if r["n_elements"] == n
+            and all(r[k] == best[k] for k in ("mass", "stiffness", "grading"))
+        ]
+        m = r["mode_error_pct"]
+        out.append(
+            f"{r['mass']:<11} {r['stiffness']:<9} {r['grading']:<8} {n:>4} {m[0]:>+9.3f} "
+            f"{m[1]:>+9.3f} {m[2]:>+9.3f} {r['tip_deflection_error_pct']:>+8.3f} "
+            f"{r['follicle_rotation_error_pct']:>+10.3f}"
+        )
+    return "\n".join(out)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Measure, print the table and write the JSON."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="JSON file to write")
+    parser.add_argument("--preset", default="xy-robot", help="whisker preset (default xy-robot)")
+    args = parser.parse_args(argv)
+    try:
+        preset(args.preset)
+    except ValueError as exc:
+        parser.error(str(exc))
+    result = run(args.preset)
+    result["meta"] = {
+        "command": " ".join(["python benchmarks/rod_convergence.py", *sys.argv[1:]]),
+        "vibrissa_version": __version__,
+        "created_utc": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
+    }
+    print(table(result))
+    atomic_write_text(args.out, json.dumps(result, indent=1) + "\n")
+    print(f"wrote {args.out}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,49 @@
+"""benchmarks/rod_convergence.py: its rod is the model's own, and its references are right."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from vibrissa.whisker import RodModel, preset
+
+TODAY = {"mass": "lumped", "stiffness": "node", "grading": "uniform"}
+
+
+@pytest.mark.parametrize("n", [12, 28])
+def test_todays_option_is_the_models_own_rod(bench_script, n: int) -> None:
+    rc = bench_script("rod_convergence")
+    g = preset("xy-robot")
+    K, M, _ = rc.plane_matrices(g, n, **TODAY)
+    model = RodModel(g, n)
+    f = np.sort(np.sqrt(np.linalg.eigvals(np.linalg.solve(M, K)).real))[:3] / (2 * np.pi)
+    assert np.allclose(f, model.natural_frequencies_hz[:3], rtol=1e-9)
+
+
+def test_the_static_reference_is_beam_theory_for_a_stiff_follicle(bench_script) -> None:
+    """A uniform cantilever (no taper) on a near-rigid follicle: P L^3 / (3 E I)."""
+    rc = bench_script("rod_convergence")
+    g = preset("xy-robot")
+    from dataclasses import replace
+
+    uniform = replace(g, tip_radius_mm=g.base_radius_mm, follicle_stiffness_nm_per_rad=1e6)
+    tip, rotation = rc.hermite_static(uniform, 50, 1e-4)
+    ei = uniform.bending_stiffness_base_nm2
+    assert tip == pytest.approx(1e-4 * uniform.length_m**3 / (3 * ei), rel=1e-4)
+    assert abs(rotation) < 1e-6 * tip / uniform.length_m
+
+
+def test_consistent_mass_converges_faster_and_the_json_says_so(bench_script, tmp_path) -> None:
+    rc = bench_script("rod_convergence")
+    out = tmp_path / "rc.json"
+    assert rc.main(["--out", str(out)]) == 0
+    res = json.loads(out.read_text())
+    fewest = {
+        (r["mass"], r["stiffness"], r["grading"]): r["fewest_elements"]
+        for r in res["fewest_elements_within_tolerance"]
+    }
+    assert fewest[("consistent", "node", "uniform")] < fewest[("lumped", "node", "uniform")]
+    for r in res["rows"]:
+        assert abs(r["follicle_rotation_error_pct"]) < 1e-6  # statics: moment = force x arm
