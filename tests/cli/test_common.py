@@ -68,7 +68,8 @@ def test_a_full_disk_during_a_command_names_the_output(tmp_path, monkeypatch):
 def test_an_output_directory_named_by_an_existing_file_is_refused_by_name(tmp_path):
     blocker = tmp_path / "figures"
     blocker.write_text("keep")
-    res = runner.invoke(app, ["plot", str(tmp_path / "missing.nc"), "--out", str(blocker)])
+    (tmp_path / "data.nc").write_text("not read: the output is refused first")
+    res = runner.invoke(app, ["plot", str(tmp_path / "data.nc"), "--out", str(blocker)])
     assert res.exit_code == 2
     assert res.stderr == f"error: --out: {blocker} is a file, not a directory\n"
     assert blocker.read_text() == "keep"

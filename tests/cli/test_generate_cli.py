@@ -35,7 +35,8 @@ runner = CliRunner()
         (["angle-texture", "--textures", ""], "--textures: empty list"),
         (["radial-distance", "--speeds", "1:2:#100000000"], "more than 10000 values"),
         (["radial-distance", "--speeds", "50:100:0.0000001"], "more than 10000 values"),
-        (["radial-distance", "--runs", "1000000000"], "assembled in memory"),
+        (["radial-distance", "--runs", "100000"], "assembled in memory"),
+        (["radial-distance", "--runs", "1000000000"], "--runs must lie in [1, 1000000]"),
         (["radial-distance", "--speeds", "100,100,100"], "repeats the value"),
         (
             ["radial-distance", "--quick", "--workers", "0"],

@@ -177,7 +177,7 @@ def test_ragged_crop_flag(tmp_path) -> None:
         (["--axis", "=3"], "--axis '=3'"),
         (["--label", "speed"], "--label 'speed': expected NAME=VALUE"),
         (["--format", "xls"], "--format must be one of auto, mat, csv, npz, got 'xls'"),
-        (["--time-axis", "3"], "--time-axis must be 0 or 1, got 3"),
+        (["--time-axis", "3"], "--time-axis must lie in [0, 1]"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(data_xy, tmp_path, extra, message) -> None:

@@ -147,7 +147,7 @@ def test_out_is_a_file_and_results_survive(tmp_path):
     f = tmp_path / "report-here"
     f.write_text("keep me")
     res = runner.invoke(app, ["reproduce", "angle-texture", "--quick", "--out", str(f)])
-    assert res.exit_code == 2 and "is an existing file" in res.output
+    assert res.exit_code == 2 and "is a file, not a directory" in res.output
     assert f.read_text() == "keep me"
     out = tmp_path / "old"
     out.mkdir()
@@ -155,7 +155,7 @@ def test_out_is_a_file_and_results_survive(tmp_path):
     res = runner.invoke(
         app, ["reproduce", "radial-distance", "--quick", "--n-seeds", "0", "--out", str(out)]
     )
-    assert res.exit_code == 2 and "--n-seeds must be an integer >= 1" in res.output
+    assert res.exit_code == 2 and "--n-seeds: expected a positive integer" in res.output
     assert (out / "results.json").read_text() == '{"earlier": true}'
     assert not (out / "data").exists()
 

@@ -223,10 +223,10 @@ def test_help_mentions_units():
 @pytest.mark.parametrize(
     ("args", "message"),
     [
-        (["info", "--length-mm", "1e300"], "--length-mm must lie in [1.0, 2000.0] mm"),
-        (["info", "--length-mm", "1e20"], "--length-mm must lie in [1.0, 2000.0] mm"),
-        (["info", "--damping-ratio", "0.7"], "--damping-ratio must lie in [0.0, 0.5]"),
-        (["ring", "--duration-s", "1e9"], "--duration-s must lie in [0.0, 600.0] s"),
+        (["info", "--length-mm", "1e300"], "--length-mm must lie in [1, 2000] mm"),
+        (["info", "--length-mm", "1e20"], "--length-mm must lie in [1, 2000] mm"),
+        (["info", "--damping-ratio", "0.7"], "--damping-ratio must lie in [0, 0.5]"),
+        (["ring", "--duration-s", "1e9"], "--duration-s must lie in [0, 600] s"),
     ],
 )
 def test_absurd_whisker_inputs_refused_in_one_line(args, message):
@@ -244,7 +244,6 @@ def test_absurd_whisker_inputs_refused_in_one_line(args, message):
     [
         (["static", "--force-n", "1000", "--at-mm", "100"], "--force-n"),
         (["push", "--at-mm", "150", "--displacement-mm", "200"], "--displacement-mm"),
-        (["push", "--at-mm", "150", "--displacement-mm", "60", "--friction", "1e6"], "--friction"),
         (
             [
                 "ring",

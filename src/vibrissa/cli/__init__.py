@@ -22,6 +22,7 @@ from vibrissa.cli import (
     run,
     whisker,
 )
+from vibrissa.cli._contract import enforce
 from vibrissa.cli._usage import OneLineUsageErrors, flags_show_no_type
 
 flags_show_no_type()
@@ -54,6 +55,7 @@ def _root(
 
 for _module in (whisker, bench, generate, data, plot, reproduce, identify, run, live, pipeline):
     _module.register(app)
+enforce(app)  # every option checked against its row of cli._contract.CONTRACT
 
 
 def main() -> None:

@@ -8,7 +8,8 @@ from pathlib import Path
 import typer
 
 from vibrissa._atomic import check_writable
-from vibrissa.cli._common import echo_json, regular_file, user_errors
+from vibrissa.cli._common import echo_json, user_errors
+from vibrissa.cli._contract import read_structured
 from vibrissa.cli._interrupt import interruptible
 
 run_app = typer.Typer(
@@ -48,7 +49,8 @@ def crunchbot_cmd(
     from vibrissa.thesis.crunchbot_slam.viewer import check_watch, watch_run
 
     if Path(arena).suffix.lower() in (".toml", ".json"):
-        regular_file("--arena", Path(arena))  # a FIFO would block, /dev/zero never end
+        # a FIFO would block, /dev/zero never end, 100,000 brackets overflow the parser
+        read_structured("--arena", Path(arena))
     a = check_watch(arena, seconds, seed, particles, mode)
     try:
         check_writable(out, directory=True)

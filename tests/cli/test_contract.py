@@ -1,0 +1,125 @@
+"""cli._contract: one row per option of every command, and what a row checks."""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+
+import pytest
+import typer.main
+from hypothesis import given
+from hypothesis import strategies as st
+from typer.testing import CliRunner
+
+from vibrissa.cli import app
+from vibrissa.cli._contract import CONTRACT, MAX_TEXT, Spec, read_structured
+
+runner = CliRunner()
+
+
+def _leaves(cmd, path=()):
+    if getattr(cmd, "commands", None):
+        for name, sub in cmd.commands.items():
+            yield from _leaves(sub, (*path, name))
+    else:
+        yield " ".join(path), cmd
+
+
+def test_every_option_of_every_command_has_exactly_one_row() -> None:
+    seen = {}
+    for path, cmd in _leaves(typer.main.get_command(app)):
+        seen[path] = {p.name for p in cmd.params if p.name != "help"}
+    assert set(seen) == set(CONTRACT)
+    for path, names in seen.items():
+        assert names == set(CONTRACT[path]), path
+
+
+def test_help_shows_the_bounds() -> None:
+    res = runner.invoke(app, ["run", "crunchbot", "--help"], env={"COLUMNS": "200"})
+    assert "[> 0 and <= 3600 s]" in res.output and "[1 to 10000]" in res.output
+
+
+@given(st.floats(allow_nan=True, allow_infinity=True))
+def test_a_number_is_accepted_exactly_within_its_bounds(x: float) -> None:
+    spec = Spec("number", 0.5, 3600.0, unit="s")
+    inside = math.isfinite(x) and 0.5 <= x <= 3600.0
+    if inside:
+        spec.check("--seconds", x)
+    else:
+        with pytest.raises(ValueError, match="^--seconds"):
+            spec.check("--seconds", x)
+
+
+@given(st.integers(-(2**80), 2**80))
+def test_a_seed_is_what_a_dataset_stores(n: int) -> None:
+    spec = Spec("seed")
+    if 0 <= n <= 2**63 - 1:
+        spec.check("--seed", n)
+    else:
+        with pytest.raises(ValueError, match="^--seed: expected"):
+            spec.check("--seed", n)
+
+
+def test_an_open_bound_excludes_its_end() -> None:
+    spec = Spec("number", 0.0, 10.0, open_low=True)
+    spec.check("--x", 1e-300)
+    with pytest.raises(ValueError, match="must be positive"):
+        spec.check("--x", 0.0)
+
+
+@given(st.text(max_size=30))
+def test_text_with_control_or_surrogate_characters_is_refused(text: str) -> None:
+    bad = any(ord(c) < 32 or ord(c) == 127 or 0xD800 <= ord(c) < 0xE000 for c in text)
+    if bad:
+        with pytest.raises(ValueError, match="^--signal: contains"):
+            Spec("text").check("--signal", text)
+    else:
+        Spec("text").check("--signal", text)
+    with pytest.raises(ValueError, match="longer than"):
+        Spec("text").check("--signal", "x" * (MAX_TEXT + 1))
+
+
+def test_file_inputs_must_be_regular_readable_files(tmp_path: Path) -> None:
+    fifo = tmp_path / "fifo"
+    os.mkfifo(fifo)
+    for path, why in (
+        (fifo, "not a regular file"),
+        (tmp_path, "not a regular file"),
+        (Path("/dev/zero"), "not a regular file"),
+        (tmp_path / "nope", "does not exist"),
+    ):
+        with pytest.raises(ValueError, match=why):
+            Spec("file").check("--mapping", str(path))
+    Spec("file", stdin=True).check("--input", "-")
+
+
+def test_outputs_do_not_collide(tmp_path: Path) -> None:
+    f = tmp_path / "f"
+    f.write_text("keep")
+    with pytest.raises(ValueError, match="is a file, not a directory"):
+        Spec("output", directory=True).check("--out", str(f))
+    with pytest.raises(ValueError, match="is a directory, not a file"):
+        Spec("output").check("--out", str(tmp_path))
+    assert f.read_text() == "keep"
+
+
+def test_structured_inputs_are_bounded(tmp_path: Path) -> None:
+    deep = tmp_path / "deep.json"
+    deep.write_text("[" * 100_000 + "]" * 100_000)
+    with pytest.raises(ValueError, match="--mapping: .* nested too deep"):
+        read_structured("--mapping", deep)
+    bad = tmp_path / "bad.toml"
+    bad.write_text("= = =")
+    with pytest.raises(ValueError, match="is not TOML"):
+        read_structured("--mapping", bad)
+    good = tmp_path / "ok.json"
+    good.write_text('{"a": [1, 2]}')
+    assert read_structured("--mapping", good) == {"a": [1, 2]}
+
+
+def test_a_bad_value_is_refused_before_the_command_runs(tmp_path: Path) -> None:
+    res = runner.invoke(app, ["run", "crunchbot", "--out", str(tmp_path / "w"), "--seconds", "inf"])
+    assert res.exit_code == 2
+    assert res.stderr == "error: --seconds must be finite, got inf\n"
+    assert not (tmp_path / "w").exists()
