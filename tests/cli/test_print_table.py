@@ -68,3 +68,19 @@ def test_a_table_in_a_narrow_terminal_keeps_every_name_whole(columns: str) -> No
     os.close(main)
     assert proc.wait(timeout=120) == 0
     _whole_names(b"".join(chunks).decode())
+
+
+def test_a_group_prints_its_table_whole_and_its_line(capsys) -> None:
+    """The full chapter-5 run's console summary is a table and a line under it (a rich
+    Group); print_table took only tables and raised AttributeError at the end of the run."""
+    from rich.console import Group
+    from rich.table import Table
+    from rich.text import Text
+
+    from vibrissa.cli._common import print_table
+
+    table = Table("classifier", "kappa")
+    table.add_row("naive_bayes_velocity_robust", "0.91")
+    print_table(Group(table, Text("sequential texture kappa: 0.95")))
+    out = capsys.readouterr().out
+    assert "naive_bayes_velocity_robust" in out and "sequential texture kappa: 0.95" in out

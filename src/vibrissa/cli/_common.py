@@ -209,9 +209,19 @@ def print_table(table: Any, stderr: bool = False) -> None:
     columns and end long cells such as classifier names with an ellipsis; there the
     console is as wide as the table needs. In a terminal, a cell folds onto further lines
     but never inside a word, and a table that cannot fit even then is printed at its
-    least width and left to the terminal to wrap.
+    least width and left to the terminal to wrap. A rich ``Group`` (a table with a line
+    under it, as the full chapter-5 run prints) has each of its tables printed so and
+    anything else as it is.
     """
-    from rich.console import Console
+    from rich.console import Console, Group
+
+    if isinstance(table, Group):
+        for part in table.renderables:
+            if hasattr(part, "columns"):
+                print_table(part, stderr=stderr)
+            else:
+                Console(stderr=stderr, highlight=False, soft_wrap=True).print(part)
+        return
 
     for column in table.columns:
         # a name is never split inside a word, nor ended with an ellipsis
