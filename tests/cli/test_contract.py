@@ -123,3 +123,20 @@ def test_a_bad_value_is_refused_before_the_command_runs(tmp_path: Path) -> None:
     assert res.exit_code == 2
     assert res.stderr == "error: --seconds must be finite, got inf\n"
     assert not (tmp_path / "w").exists()
+
+
+@pytest.mark.parametrize(
+    "name", ["scratchbot", "biotact-g1", "crunchbot-slam", "tactile-framework"]
+)
+def test_a_baseline_is_refused_where_the_report_cannot_show_it(tmp_path: Path, name: str) -> None:
+    """Issue 33, item 5: these reports accepted --baseline and ignored it."""
+    base = tmp_path / "results.json"
+    base.write_text('{"classifiers": {}}')
+    res = runner.invoke(
+        app, ["reproduce", name, "--out", str(tmp_path / "o"), "--baseline", str(base)]
+    )
+    assert res.exit_code == 2
+    assert res.stderr.startswith(f"error: --baseline: the {name} report has no 'before' column")
+    assert not (tmp_path / "o").exists()
+    shown = runner.invoke(app, ["reproduce", name, "--help"], env={"COLUMNS": "300"}).output
+    assert "not for this command" in shown

@@ -107,36 +107,20 @@ def assets() -> Iterator[dict[str, Path]]:
     shutil.rmtree(root, ignore_errors=True)
 
 
-def required(path: str, a: dict[str, Path]) -> dict[str, list[str]]:
-    """Values for a command's required options and arguments (option -> its argv words)."""
-    reqs: dict[str, dict[str, list[str]]] = {
-        "generate": {
-            "protocol": ["radial-distance"],
-            "out": ["-o", "out.nc"],
-            "quick": ["--quick"],
-        },
-        "import": {
-            "source": [str(a["mat"])],
-            "mapping": ["--mapping", str(a["mapping"])],
-            "out": ["-o", "out.nc"],
-        },
-        "plot": {"dataset": [str(a["dataset"])], "out": ["-o", "figs"]},
-        "live": {"pipeline": ["--pipeline", str(a["pipeline"])]},
-        "fit-pipeline": {
-            "out": ["--out", "p.vtp"],
-            "where": ["--where", str(a["dataset"])],
-            "what": ["--what", str(a["dataset"])],
-        },
-        "whisker static": {"force_n": ["--force-n", "0.001"], "at_mm": ["--at-mm", "100"]},
-        "whisker push": {
-            "at_mm": ["--at-mm", "150"],
-            "displacement_mm": ["--displacement-mm", "1"],
-        },
-        "run crunchbot": {"out": ["--out", "watch"]},
-    }
-    if path.startswith("reproduce "):
-        return {"out": ["--out", "rep"], "quick": ["--quick"]}
-    return reqs.get(path, {})
+def _slow_profile() -> Any:
+    """``scripts/fuzz_cli_slow.py`` (the slow profile) as a module: its required options."""
+    import importlib.util
+
+    path = Path(__file__).resolve().parents[2] / "scripts" / "fuzz_cli_slow.py"
+    spec = importlib.util.spec_from_file_location("fuzz_cli_slow", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+#: The slow profile's valid values for each command's required options.
+required = _slow_profile().required
 
 
 @functools.cache
@@ -178,6 +162,8 @@ def hostile(spec: Spec, a: dict[str, Path]) -> tuple[str, ...]:
         return INTEGERS + NUMBERS[:4]
     if spec.kind == "file":
         return files
+    if spec.kind == "refused":
+        return (str(a["empty"]),)
     if spec.kind == "output":
         return (str(a["dir"]) if not spec.directory else str(a["empty"]), f"{a['empty']}/x", "")
     return TEXTS + files[:3] + (str(a["deep"]),)

@@ -44,7 +44,7 @@ MAX_SEED = 2**63 - 1
 #: Longest text value (a path, a list, an address) any option takes.
 MAX_TEXT = 4096
 
-KINDS = ("flag", "number", "integer", "seed", "choice", "text", "list", "file", "output")
+KINDS = ("flag", "number", "integer", "seed", "choice", "text", "list", "file", "output", "refused")
 
 
 @dataclass(frozen=True)
@@ -58,7 +58,8 @@ class Spec:
         ``choice`` (one of ``choices``); ``text`` or ``list`` (a comma list the command
         parses), both free of control characters; ``file`` (an input that must be a
         regular, readable file; ``-`` for standard input if ``stdin``); ``output`` (a
-        file, or a directory if ``directory``, to be written).
+        file, or a directory if ``directory``, to be written); ``refused`` (an option this
+        command has but cannot use: any value is refused, saying ``why``).
     low, high
         Bounds of a number or integer (``None``: unbounded on that side).
     open_low
@@ -97,6 +98,8 @@ class Spec:
     def bounds_text(self) -> str:
         """The bounds as ``--help`` shows them, e.g. ``0.5 to 3600 s``; empty if none."""
         u = f" {self.unit}" if self.unit else ""
+        if self.kind == "refused":
+            return f"not for this command: {self.why}"
         if self.kind == "seed":
             return "0 to 2**63 - 1"
         if self.kind not in ("number", "integer") or (self.low is None and self.high is None):
@@ -122,6 +125,8 @@ class Spec:
         kind = self.kind
         if kind == "flag":
             return
+        if kind == "refused":
+            raise ValueError(f"{flag}: {self.why}")
         if kind in ("number", "integer", "seed"):
             self._check_number(flag, value)
             return
@@ -275,6 +280,15 @@ REPRODUCE: dict[str, Spec] = {
     "baseline": Spec("file", structured=True),
 }
 
+
+def _no_baseline(name: str) -> Spec:
+    return Spec(
+        "refused",
+        why=f"the {name} report has no 'before' column (radial-distance, angle-texture and "
+        "floor-texture have one); compare the two runs' results.json instead",
+    )
+
+
 CONTRACT: dict[str, dict[str, Spec]] = {
     "generate": {
         "protocol": TEXT,
@@ -392,17 +406,19 @@ CONTRACT: dict[str, dict[str, Spec]] = {
         "repeats": _i(1, 1000, "timed trials"),
         "duration_s": _n(0, 600, "s", "simulated time", open_low=True),
     },
-    "reproduce tactile-framework": dict(REPRODUCE),
+    "reproduce tactile-framework": {**REPRODUCE, "baseline": _no_baseline("tactile-framework")},
     "reproduce radial-distance": {**REPRODUCE, "n_seeds": _i(1, 1000, "repeats of a subset")},
     "reproduce angle-texture": dict(REPRODUCE),
     "reproduce biotact-g1": {
         **REPRODUCE,
+        "baseline": _no_baseline("biotact-g1"),
         "distances": LIST,
         "whisk_frequency": TEXT,
         "n_seeds": _i(0, 1000, "sessions; 0 means one"),
     },
     "reproduce crunchbot-slam": {
         **REPRODUCE,
+        "baseline": _no_baseline("crunchbot-slam"),
         "runs": TEXT,
         "seconds": TEXT,
         "particles": TEXT,
@@ -412,7 +428,11 @@ CONTRACT: dict[str, dict[str, Spec]] = {
         "floors": LIST,
         "n_seeds": _i(1, 1000, "sessions"),
     },
-    "reproduce scratchbot": {**REPRODUCE, "n_seeds": _i(1, 1000, "sessions")},
+    "reproduce scratchbot": {
+        **REPRODUCE,
+        "baseline": _no_baseline("scratchbot"),
+        "n_seeds": _i(1, 1000, "sessions"),
+    },
     "run crunchbot": {
         "out": OUT_DIR,
         "arena": Spec("text", why="a preset name or an arena file, checked by the command"),
@@ -482,10 +502,12 @@ def enforce(app: typer.Typer) -> None:
             spec = table[name]
             flags[name] = _flag_of(param)
             shown = spec.bounds_text()
+            # brackets around words would be read as rich markup and vanish from the help
+            shown = f"({shown})" if spec.kind == "refused" else f"[{shown}]" if shown else ""
             for opt in _infos(param):
                 help_text = getattr(opt, "help", None)
-                if shown and isinstance(help_text, str) and f"[{shown}]" not in help_text:
-                    opt.help = f"{help_text} [{shown}]"
+                if shown and isinstance(help_text, str) and shown not in help_text:
+                    opt.help = f"{help_text} {shown}"
         missing = set(table) - set(sig.parameters)
         if missing:
             raise KeyError(f"{path}: rows without an option: {sorted(missing)}")

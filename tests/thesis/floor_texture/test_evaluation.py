@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -119,3 +121,19 @@ def test_signal_levels_weigh_what_the_templates_weigh():
     assert lv["rms_v"] == pytest.approx([0.01 / np.sqrt(2), 0.1 / np.sqrt(2)], rel=1e-3)
     assert lv["centroid_hz"] == pytest.approx([100.0, 100.0], abs=1.0)
     assert signal_levels(np.zeros((0, 2, 800)), FS)["rms_v"] is None
+
+
+def test_a_baseline_adds_a_before_column_to_the_mean_correct_and_cross_condition_tables():
+    """Issue 33, item 5: ``--baseline`` was accepted and ignored by this report."""
+    res = run_floor_texture(_dataset())
+    before = json.loads(json.dumps(res, default=lambda o: np.asarray(o).tolist()))
+    before["mean_correct"] = {c: 0.25 for c in before["mean_correct"]}
+    before["cross_condition"]["cw_on_ccw"] = 0.5
+    before["meta"]["label"] = "docs/runs/old.json"
+    text = markdown_floor_texture(res, {}, before)
+    assert "*Before* is docs/runs/old.json (`--baseline`)." in text
+    mean = text[text.index("## Mean correct") : text.index("## Cross-condition")]
+    assert "| before |" in mean and mean.count("25 %") == 3
+    cross = text[text.index("## Cross-condition") :]
+    assert "| before |" in cross.splitlines()[2] and "50 %" in cross
+    assert "before" not in markdown_floor_texture(res, {}, None)

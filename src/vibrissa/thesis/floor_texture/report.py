@@ -121,8 +121,9 @@ def markdown_floor_texture(
     """The Markdown report body of floor-texture results.
 
     The results are those of
-    :func:`~vibrissa.thesis.floor_texture.evaluation.run_floor_texture`; ``baseline`` is
-    not used: the thesis' numbers are the comparison.
+    :func:`~vibrissa.thesis.floor_texture.evaluation.run_floor_texture`. ``baseline``, an
+    earlier floor-texture run's results (``--baseline``), adds a *before* column beside
+    this run's and the thesis' mean-correct and cross-condition figures.
     """
     meta = results["meta"]
     floors = list(meta["floors"])
@@ -138,6 +139,8 @@ def markdown_floor_texture(
         if n_seeds > 1
         else "One session (one seed): no spread."
     )
+    before = (lambda *path: _pm(baseline, *path)) if baseline is not None else None
+    label = str((baseline or {}).get("meta", {}).get("label", "an earlier run"))
     out = [
         "Thesis 6.2: a SCRATCHbot whisker on a Roomba over four floors, turning clockwise, "
         "anticlockwise or running its 'spot' pattern; packets of 160 samples with variance "
@@ -147,14 +150,23 @@ def markdown_floor_texture(
         "",
         over,
         "",
+        *([f"*Before* is {label} (`--baseline`).", ""] if before is not None else []),
         "## Mean correct",
         "",
         md_table(
-            ["condition", "spectral templates", "thesis", "naive Bayes (raw)", "nearest spectrum"],
+            [
+                "condition",
+                "spectral templates",
+                *(["before"] if before is not None else []),
+                "thesis",
+                "naive Bayes (raw)",
+                "nearest spectrum",
+            ],
             [
                 [
                     c,
                     _pm(results, "mean_correct", c),
+                    *([before("mean_correct", c)] if before is not None else []),
                     percent(THESIS["mean_correct"].get(c)),
                     _pm(results, "naive_bayes", "mean_correct", c),
                     _pm(results, "spectral_nearest", "mean_correct", c),
@@ -164,22 +176,25 @@ def markdown_floor_texture(
         ),
         "",
     ]
+    cross_before = ["before"] if before is not None else []
     out += [
         "## Cross-condition",
         "",
         md_table(
-            ["templates from", "classifying", "mean correct", "thesis"],
+            ["templates from", "classifying", "mean correct", *cross_before, "thesis"],
             [
                 [
                     "clockwise",
                     "anticlockwise",
                     _pm(results, "cross_condition", "cw_on_ccw"),
+                    *([before("cross_condition", "cw_on_ccw")] if before is not None else []),
                     percent(THESIS["cross_condition"]),
                 ],
                 [
                     "anticlockwise",
                     "clockwise",
                     _pm(results, "cross_condition", "ccw_on_cw"),
+                    *([before("cross_condition", "ccw_on_cw")] if before is not None else []),
                     percent(THESIS["cross_condition"]),
                 ],
             ],
