@@ -140,3 +140,27 @@ def test_a_baseline_is_refused_where_the_report_cannot_show_it(tmp_path: Path, n
     assert not (tmp_path / "o").exists()
     shown = runner.invoke(app, ["reproduce", name, "--help"], env={"COLUMNS": "300"}).output
     assert "not for this command" in shown
+
+
+def test_out_of_memory_is_one_line_naming_what_to_lower(tmp_path: Path, monkeypatch) -> None:
+    def exhausted(*args, **kwargs):
+        raise MemoryError
+
+    monkeypatch.setattr("vibrissa.thesis.crunchbot_slam.viewer.watch_run", exhausted)
+    res = runner.invoke(app, ["run", "crunchbot", "--out", str(tmp_path / "w"), "--seconds", "5"])
+    assert res.exit_code == 2
+    assert res.stderr.splitlines()[-1] == (
+        "error: out of memory; ask for less work: lower --seconds or --particles"
+    )
+    assert "Traceback" not in res.output
+
+
+def test_every_memory_hint_names_a_command_and_its_options() -> None:
+    from vibrissa.cli._contract import MEMORY
+
+    assert set(MEMORY) <= set(CONTRACT)
+    for path, hint in MEMORY.items():
+        for word in hint.replace(",", " ").replace(")", " ").replace("(", " ").split():
+            if word.startswith("--"):
+                flags = {f"--{n.replace('_', '-')}" for n in CONTRACT[path]}
+                assert word in flags | {"--quick", "--crop"}, (path, word)

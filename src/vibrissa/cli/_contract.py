@@ -445,6 +445,33 @@ CONTRACT: dict[str, dict[str, Spec]] = {
 }
 
 
+#: What to lower when a command runs out of memory (MemoryError), by command.
+MEMORY: dict[str, str] = {
+    "generate": "--runs, the grid (--radial-distances, --speeds, --angles) or --workers",
+    "import": "the recording's size (--crop keeps the shortest length)",
+    "plot": "--dpi",
+    "identify": "the grids (--quick)",
+    "live": "the stream's rate or --max-seconds",
+    "fit-pipeline": "the datasets' sizes",
+    "whisker ring": "--duration-s, or raise --dt-ms",
+    "whisker whisk": "--whisks or --control-rate-hz",
+    "bench physics": "--duration-s",
+    "run crunchbot": "--seconds or --particles",
+    **{
+        f"reproduce {name}": "--workers, or use --quick"
+        for name in (
+            "tactile-framework",
+            "radial-distance",
+            "angle-texture",
+            "biotact-g1",
+            "crunchbot-slam",
+            "floor-texture",
+            "scratchbot",
+        )
+    },
+}
+
+
 # ---------------------------------------------------------------------------- enforcing
 def _flag_of(param: inspect.Parameter) -> str:
     """The option's long flag (``--out``) or the argument's name (``SOURCE``)."""
@@ -530,7 +557,12 @@ def _checked(
         except ValueError as exc:
             print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
             raise typer.Exit(code=2) from None
-        return func(*args, **kwargs)
+        try:
+            return func(*args, **kwargs)
+        except MemoryError:
+            lower = MEMORY.get(path, "the sizes of the work")
+            print(f"error: out of memory; ask for less work: lower {lower}", file=sys.stderr)
+            raise typer.Exit(code=2) from None
 
     wrapper.__vibrissa_contract__ = path  # type: ignore[attr-defined]
     return wrapper
