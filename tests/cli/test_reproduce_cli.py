@@ -120,7 +120,9 @@ def test_corrupt_cached_dataset_is_regenerated(radial_distance):
     again = json.loads(res.stdout)
     assert again["meta"]["dataset"]["reused"] is False
     # the statement said "reused" before the file was read; the console corrects it
-    assert "could not be read; it was simulated again" in res.stderr
+    assert (
+        "could not be trusted (unreadable, changed since written, or without vibrissa" in res.stderr
+    )
     # regenerated with the same seed: the same trials, so the same errors
     for key in ("radius_mm", "speed_mm_s"):
         assert again["classifiers"]["template"][key] == first["classifiers"]["template"][key]

@@ -113,3 +113,25 @@ def test_a_bad_scheduler_address_is_refused_before_any_work(tmp_path, address):
     with pytest.raises(ValueError, match="scheduler must be a Dask address"):
         run_experiment("radial-distance", tmp_path / "out", quick=True, scheduler=address)
     assert not (tmp_path / "out").exists()
+
+
+def test_a_cached_dataset_without_vibrissas_checksum_is_simulated_again(tmp_path):
+    """Issue 33: a cached dataset whose vibrissa_* attributes were stripped (saved again
+    with plain xarray, or any NetCDF given that name) was reused unverified."""
+    from vibrissa.experiments.generate import generate
+    from vibrissa.experiments.protocols import get_protocol
+    from vibrissa.reproduce import pipeline
+
+    p = get_protocol("radial-distance", radial_distances_mm=(140.0,), speeds_mm_s=(100.0,), runs=1)
+    path = pipeline.dataset_path(p, tmp_path)
+    ref = generate(p, path, workers=1)
+    stripped = ref.copy()
+    stripped.attrs = {k: v for k, v in ref.attrs.items() if not k.startswith("vibrissa_")}
+    stripped["signal"] = stripped["signal"] + 1.0  # and its data changed
+    path.unlink()
+    stripped.to_netcdf(path)
+    ds, _, reused = pipeline.cached_dataset(p, tmp_path / "data", workers=1)
+    assert not reused
+    assert ds["signal"].values.tobytes() == ref["signal"].values.tobytes()
+    ds2, _, reused2 = pipeline.cached_dataset(p, tmp_path / "data", workers=1)
+    assert reused2  # the regenerated file, with its checksum, is reused

@@ -173,9 +173,11 @@ def _run(
             )
         said_reused = work.startswith("simulated dataset reused")
         if said_reused and not (res.get("meta", {}).get("dataset") or {}).get("reused", True):
-            # the cached file could not be read: the pipeline simulated it again
+            # the cached file could not be trusted: the pipeline simulated it again
             console.print(
-                f"{exp.name}: the cached dataset {data} could not be read; it was simulated again",
+                f"{exp.name}: the cached dataset {data} could not be trusted (unreadable, "
+                "changed since written, or without vibrissa's checksum); it was simulated "
+                "again",
                 highlight=False,
                 soft_wrap=True,
             )

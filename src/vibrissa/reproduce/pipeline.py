@@ -14,12 +14,17 @@ into its output directory:
 
 from __future__ import annotations
 
+import contextlib
 import datetime as dt
+import functools
+import hashlib
 import os
 import shlex
+import shutil
 import sys
+import tempfile
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -116,14 +121,30 @@ def check_scheduler(protocol: SimulationProtocol, scheduler: str | None) -> None
 def dataset_path(protocol: SimulationProtocol, out_dir: str | os.PathLike[str]) -> Path:
     """Where a run writing ``out_dir`` keeps the dataset of ``protocol``.
 
-    ``<out_dir>/data/<protocol>-<fingerprint>.nc``: the fingerprint changes with any
-    parameter of the protocol, so a changed protocol never reuses stale data.
+    ``<out_dir>/data/<protocol>-<fingerprint>-<code>.nc``: the fingerprint changes with
+    any parameter of the protocol and the code part with the code that simulates it, so
+    neither a changed protocol nor changed physics ever reuses stale data.
     """
     return Path(out_dir) / "data" / _file_name(protocol)
 
 
 def _file_name(protocol: SimulationProtocol) -> str:
-    return f"{protocol.name}-{protocol.fingerprint()}.nc"
+    code = _code_digest(type(protocol).__module__)[:8]
+    return f"{protocol.name}-{protocol.fingerprint()}-{code}.nc"
+
+
+@functools.cache
+def _code_digest(module: str) -> str:
+    """The fingerprint of the code that simulates a protocol's trials.
+
+    Its module's closure (:func:`~vibrissa.reproduce.provenance.code_fingerprint`): a
+    cached dataset is reused only by the code that made it. A module outside vibrissa (a
+    user's own protocol) counts by its name alone.
+    """
+    try:
+        return str(code_fingerprint(module)["digest"])
+    except ValueError:
+        return hashlib.sha256(module.encode()).hexdigest()[:16]
 
 
 def cached_dataset(
@@ -136,7 +157,8 @@ def cached_dataset(
     """Load the dataset of ``protocol`` from ``data_dir``, generating it if absent.
 
     The file name carries the protocol's fingerprint, so a changed protocol never
-    reuses stale data; a corrupt cached file is regenerated. With ``scheduler`` (a
+    reuses stale data; a cached file that is corrupt, changed since it was written or
+    carries no vibrissa checksum (``vibrissa_checksum``) is simulated again. With ``scheduler`` (a
     Dask address) the trials are simulated on that cluster instead of local processes.
 
     Returns
@@ -147,8 +169,12 @@ def cached_dataset(
     path = Path(data_dir) / _file_name(protocol)
     if path.exists():
         try:
+            if not _carries_checksum(path):
+                raise DatasetFileError(path, "carries no vibrissa checksum")
             return load_dataset(path), path, True
         except DatasetFileError:
+            # unreadable, changed since written, or not written by vibrissa at all (its
+            # checksum attributes stripped or never there): never trusted, simulated again
             path.unlink()
     cb = (lambda d, t: progress("generate", d, t)) if progress else None
     if isinstance(protocol, SelfGenerating):  # simulates its whole dataset itself
@@ -290,22 +316,69 @@ def run_experiment(
     }
     from vibrissa.evaluate.report_common import write_json
 
-    # the results are saved before the reports are drawn: a failing figure loses nothing
-    write_json(envelope, out / "results.json")
-    write_reports(
-        exp,
-        envelope,
-        out,
-        dataset=ds if figures else None,
-        figures=figures,
-        baseline=baseline,
-        workers=workers,
-        artifacts=evaluation.artifacts,
-    )
-    meta["wall_seconds"]["report"] = round(time.perf_counter() - t2, 3)
-    meta["wall_seconds"]["total"] = round(time.perf_counter() - t0, 3)
-    write_json(envelope, out / "results.json")
+    # results, reports and figures are written into a staging directory beside them and
+    # moved into place only when all are whole: a full disk or a failing figure leaves
+    # the run's earlier outputs as they were, never results without their report (the
+    # simulated dataset stays cached in data/, so a rerun only evaluates again)
+    with _staging(out) as stage:
+        write_reports(
+            exp,
+            envelope,
+            stage,
+            dataset=ds if figures else None,
+            figures=figures,
+            baseline=baseline,
+            workers=workers,
+            artifacts=evaluation.artifacts,
+        )
+        meta["wall_seconds"]["report"] = round(time.perf_counter() - t2, 3)
+        meta["wall_seconds"]["total"] = round(time.perf_counter() - t0, 3)
+        write_json(envelope, stage / "results.json")
     return envelope
+
+
+def _carries_checksum(path: Path) -> bool:
+    """Whether a NetCDF-4 file carries vibrissa's checksum (``vibrissa_checksum``).
+
+    :func:`~vibrissa.data.load_dataset` accepts files of other software, which carry
+    none; a cache must be vibrissa's own, verified against it.
+    """
+    import h5py
+
+    try:
+        with h5py.File(path, "r") as f:
+            return "vibrissa_checksum" in f.attrs
+    except (OSError, ValueError):
+        return False
+
+
+#: The staging directory of a run's outputs, inside its output directory.
+STAGING_PREFIX = ".staging-"
+
+
+@contextlib.contextmanager
+def _staging(out: Path) -> Iterator[Path]:
+    """A directory to write a run's outputs into; they replace ``out``'s when it closes.
+
+    On an exception (a full disk, a failing figure, an interruption) the staging
+    directory is removed and ``out`` keeps what it had. Otherwise each entry moves onto
+    its namesake in ``out`` (a figures directory replaced whole), ``results.json`` last:
+    a rename within one filesystem, so a reader sees the old outputs or the new ones.
+    Stale staging directories of killed runs are removed first.
+    """
+    for old in out.glob(STAGING_PREFIX + "*"):
+        shutil.rmtree(old, ignore_errors=True)
+    stage = Path(tempfile.mkdtemp(prefix=STAGING_PREFIX, dir=out))
+    try:
+        yield stage
+        entries = sorted(stage.iterdir(), key=lambda p: (p.name == "results.json", p.name))
+        for entry in entries:
+            dest = out / entry.name
+            if dest.is_dir() and not dest.is_symlink():
+                shutil.rmtree(dest)
+            os.replace(entry, dest)
+    finally:
+        shutil.rmtree(stage, ignore_errors=True)
 
 
 def _package(exp: Experiment) -> str:
