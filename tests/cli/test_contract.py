@@ -164,3 +164,25 @@ def test_every_memory_hint_names_a_command_and_its_options() -> None:
             if word.startswith("--"):
                 flags = {f"--{n.replace('_', '-')}" for n in CONTRACT[path]}
                 assert word in flags | {"--quick", "--crop"}, (path, word)
+
+
+@pytest.mark.parametrize(
+    ("args", "option"),
+    [
+        (["generate", "radial-distance", "--quick", "-o", "x.nc", "--drift", "5e-324"], "--drift"),
+        (["whisker", "ring", "--tip-deflection-mm", "5e-324"], "--tip-deflection-mm"),
+        (["whisker", "whisk", "--control-rate-hz", "5e-324"], "--control-rate-hz"),
+        (["import", "x.mat", "-o", "x.nc", "--sample-rate-hz", "5e-324"], "--sample-rate-hz"),
+    ],
+)
+def test_subnormal_values_the_slow_fuzzer_found_are_refused_first(
+    tmp_path: Path, monkeypatch, args: list[str], option: str
+) -> None:
+    """scripts/fuzz_cli_slow.py: each of these divided by (nearly) zero inside the work
+    (ZeroDivisionError tracebacks, or an overflow warning before the error line)."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "x.mat").write_bytes(b"")
+    res = runner.invoke(app, args)
+    assert res.exit_code == 2
+    assert res.stderr.startswith(f"error: {option}") and len(res.stderr.splitlines()) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["x.mat"]

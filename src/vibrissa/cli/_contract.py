@@ -77,6 +77,9 @@ class Spec:
     structured
         A ``file`` of JSON (or TOML, by its suffix): it is parsed here, with its size and
         nesting bounded (:func:`read_structured`).
+    min_magnitude
+        A ``number`` is 0 or at least this far from it: a subnormal value such as 5e-324
+        passes every bound yet divides to infinity (found by ``scripts/fuzz_cli_slow.py``).
     """
 
     kind: str
@@ -89,6 +92,7 @@ class Spec:
     directory: bool = False
     stdin: bool = False
     structured: bool = False
+    min_magnitude: float = 0.0
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -152,6 +156,10 @@ class Spec:
             raise ValueError(f"{flag} must be finite, got {value!r}")
         low, high = (0, MAX_SEED) if self.kind == "seed" else (self.low, self.high)
         u = f" {self.unit}" if self.unit else ""
+        if value != 0 and abs(value) < self.min_magnitude:
+            raise ValueError(
+                f"{flag} must be 0 or at least {self.min_magnitude:g}{u} from it, got {value!r}"
+            )
         below = low is not None and (value <= low if self.open_low else value < low)
         above = high is not None and value > high
         if not (below or above):
@@ -240,9 +248,17 @@ def _check_output(flag: str, path: Path, directory: bool) -> None:
 
 # ---------------------------------------------------------------------------- the tables
 def _n(
-    low: float | None, high: float | None, unit: str = "", why: str = "", *, open_low: bool = False
+    low: float | None,
+    high: float | None,
+    unit: str = "",
+    why: str = "",
+    *,
+    open_low: bool = False,
+    min_magnitude: float = 0.0,
 ) -> Spec:
-    return Spec("number", low, high, open_low=open_low, unit=unit, why=why)
+    return Spec(
+        "number", low, high, open_low=open_low, unit=unit, why=why, min_magnitude=min_magnitude
+    )
 
 
 def _i(low: int | None, high: int | None, why: str = "") -> Spec:
@@ -302,7 +318,9 @@ CONTRACT: dict[str, dict[str, Spec]] = {
         "sample_rate_hz": _n(1, 1e6, "Hz", "a Hall sensor read at 1 Hz to 1 MHz"),
         "whisker": TEXT,
         "noise_v": _n(0, 10, "V", "within the sensor's supply"),
-        "drift": _n(-0.5, 0.5, "", "the protocol's own bound on the stiffness drift"),
+        "drift": _n(
+            -0.5, 0.5, "", "the protocol's own bound on the stiffness drift", min_magnitude=1e-4
+        ),
         "seed": SEED,
         "workers": WORKERS,
         "scheduler": SCHEDULER,
@@ -318,7 +336,7 @@ CONTRACT: dict[str, dict[str, Spec]] = {
         "signal": TEXT,
         "axis": TEXT,
         "channels": LIST,
-        "sample_rate_hz": _n(0, 1e9, "Hz", "up to 1 GHz", open_low=True),
+        "sample_rate_hz": _n(1e-3, 1e9, "Hz", "a sample every 1000 s to 1 GHz"),
         "time_axis": _i(0, 1, "samples x channels (0) or channels x samples (1)"),
         "label": TEXT,
         "const": TEXT,
@@ -376,7 +394,9 @@ CONTRACT: dict[str, dict[str, Spec]] = {
         "json_out": FLAG,
     },
     "whisker ring": {
-        "tip_deflection_mm": _n(-2000, 2000, "mm", "at most a whisker's length"),
+        "tip_deflection_mm": _n(
+            -2000, 2000, "mm", "at most a whisker's length", min_magnitude=1e-6
+        ),
         "duration_s": _n(0.0, 600.0, "s", "the command's own limit on simulated time"),
         "dt_ms": _n(1e-4, 1.0, "ms", "the solver's range"),
         "no_lowpass": FLAG,
@@ -394,7 +414,7 @@ CONTRACT: dict[str, dict[str, Spec]] = {
         "pole_radius_mm": _n(0, None, "mm", "checked against --pole-at-mm", open_low=True),
         "sigma_z": _n(0, 1e3, "", "RCP gain (eq. 3.3); the thesis uses 0.7 and 2"),
         "tau_z_periods": _n(0, 1e3, "periods", "RCP decay time", open_low=True),
-        "control_rate_hz": _n(0, 1e6, "Hz", "the command bounds the control steps", open_low=True),
+        "control_rate_hz": _n(1, 1e6, "Hz", "at least once a second; the steps are bounded too"),
         "motor_bandwidth_hz": _n(0, 1e4, "Hz", "a servo", open_low=True),
         **GEOMETRY,
         "json_out": FLAG,
