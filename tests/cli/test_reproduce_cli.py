@@ -283,3 +283,14 @@ def test_a_scheduler_without_dask_is_refused_in_one_line_before_any_work(
         "error: --scheduler: needs the 'distributed' extra (pip install 'vibrissa[distributed]')"
     )
     assert not (out / "data").exists() and not (out / "results.json").exists()
+
+
+def test_a_directory_named_like_a_run_file_is_refused_naming_out(tmp_path):
+    """Issue 33: a results.json that is a directory was refused only after the work."""
+    out = tmp_path / "o"
+    (out / "results.json").mkdir(parents=True)
+    res = runner.invoke(app, ["reproduce", "scratchbot", "--quick", "--out", str(out)])
+    assert res.exit_code == 2
+    assert res.stderr.startswith("error: --out: output directory")
+    assert "holds a directory 'results.json'" in res.stderr
+    assert sorted(p.name for p in out.iterdir()) == ["results.json"]

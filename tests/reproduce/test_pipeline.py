@@ -135,3 +135,41 @@ def test_a_cached_dataset_without_vibrissas_checksum_is_simulated_again(tmp_path
     assert ds["signal"].values.tobytes() == ref["signal"].values.tobytes()
     ds2, _, reused2 = pipeline.cached_dataset(p, tmp_path / "data", workers=1)
     assert reused2  # the regenerated file, with its checksum, is reused
+
+
+def test_outputs_appear_whole_or_not_at_all(tmp_path):
+    """Issue 33: a full disk while the reports were written left results.json and figures
+    without a report. Staged outputs move into place only when all are written."""
+    import errno
+
+    from vibrissa.reproduce.pipeline import _staging
+
+    out = tmp_path / "out"
+    (out / "figures").mkdir(parents=True)
+    (out / "figures" / "old.png").write_text("previous run")
+    (out / "results.json").write_text("previous run")
+    with pytest.raises(OSError), _staging(out) as stage:
+        (stage / "results.json").write_text("new")
+        (stage / "figures").mkdir()
+        raise OSError(errno.ENOSPC, "No space left on device")
+    assert (out / "results.json").read_text() == "previous run"
+    assert sorted(p.name for p in out.iterdir()) == ["figures", "results.json"]  # no staging
+    with _staging(out) as stage:
+        (stage / "figures").mkdir()
+        (stage / "figures" / "new.png").write_text("this run")
+        (stage / "report.md").write_text("this run")
+        (stage / "results.json").write_text("this run")
+    assert sorted(p.name for p in (out / "figures").iterdir()) == ["new.png"]
+    assert (out / "results.json").read_text() == "this run"
+    assert sorted(p.name for p in out.iterdir()) == ["figures", "report.md", "results.json"]
+
+
+def test_a_directory_where_the_run_writes_a_file_is_refused_before_any_work(tmp_path):
+    """And never replaced: the staged results.json would have taken its place."""
+    out = tmp_path / "out"
+    (out / "results.json").mkdir(parents=True)
+    (out / "results.json" / "keep.txt").write_text("mine")
+    with pytest.raises(ValueError, match="holds a directory 'results.json'"):
+        run_experiment("scratchbot", out, quick=True)
+    assert (out / "results.json" / "keep.txt").read_text() == "mine"
+    assert sorted(p.name for p in out.iterdir()) == ["results.json"]

@@ -95,7 +95,10 @@ def _run(
     try:
         check_job_arguments(out, seed, workers, scheduler=scheduler)
     except ValueError as exc:
-        raise ValueError(_RENAME(str(exc))) from None
+        text = _RENAME(str(exc))
+        raise ValueError(
+            f"--out: {text}" if text.startswith("output directory") else text
+        ) from None
     try:
         check_writable(out, directory=True)
     except ValueError as exc:

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import contextlib
 import datetime as dt
+import errno
 import functools
 import hashlib
 import os
@@ -98,7 +99,22 @@ def check_job_arguments(
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise ValueError(f"output directory {str(out)!r} is an existing file")
+    for name in RUN_FILES:
+        if (out / name).is_dir():
+            raise ValueError(
+                f"output directory {str(out)!r} holds a directory {name!r} where the run "
+                "writes a file; move it away"
+            )
+    if (out / "figures").exists() and not (out / "figures").is_dir():
+        raise ValueError(
+            f"output directory {str(out)!r} holds a file 'figures' where the run writes its "
+            "figures; move it away"
+        )
     return out
+
+
+#: The files every run writes into its output directory.
+RUN_FILES = ("results.json", "report.md", "report.html")
 
 
 def check_scheduler(protocol: SimulationProtocol, scheduler: str | None) -> None:
@@ -372,10 +388,16 @@ def _staging(out: Path) -> Iterator[Path]:
     try:
         yield stage
         entries = sorted(stage.iterdir(), key=lambda p: (p.name == "results.json", p.name))
+        for entry in entries:  # never a file onto a directory or the reverse: check first
+            dest = out / entry.name
+            if dest.exists() and dest.is_dir() != entry.is_dir():
+                raise IsADirectoryError(
+                    errno.EISDIR, "in the way of the run's output of the same name", str(dest)
+                )
         for entry in entries:
             dest = out / entry.name
-            if dest.is_dir() and not dest.is_symlink():
-                shutil.rmtree(dest)
+            if entry.is_dir() and dest.is_dir() and not dest.is_symlink():
+                shutil.rmtree(dest)  # the previous run's figures, replaced whole
             os.replace(entry, dest)
     finally:
         shutil.rmtree(stage, ignore_errors=True)
