@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from pathlib import Path
 
 import pytest
@@ -186,3 +187,36 @@ def test_subnormal_values_the_slow_fuzzer_found_are_refused_first(
     assert res.exit_code == 2
     assert res.stderr.startswith(f"error: {option}") and len(res.stderr.splitlines()) == 1
     assert sorted(p.name for p in tmp_path.iterdir()) == ["x.mat"]
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("5,5.0000000000001", "repeats 5"),
+        ("1e-300", "must be 0 or at least 1e-06 mm from it"),
+        ("0", "must be positive"),
+        ("5,nan", "must be finite"),
+        ("5,x", "expected numbers separated by commas"),
+        ("5,2000", "must lie in (0, 1000] mm"),
+    ],
+)
+def test_a_list_of_numbers_is_checked_item_by_item(text: str, message: str) -> None:
+    """Issue 33: --distances 5,5.0000000000001 made two classes 1e-13 mm apart and 1e-300
+    was accepted where 0 was refused."""
+    spec = CONTRACT["reproduce biotact-g1"]["distances"]
+    with pytest.raises(ValueError, match=f"^--distances.*{re.escape(message)}"):
+        spec.check("--distances", text)
+    spec.check("--distances", "")  # none given: the defaults
+    spec.check("--distances", "5, 10,15")
+
+
+def test_whole_numbers_for_runs_and_particles() -> None:
+    runs = CONTRACT["reproduce crunchbot-slam"]["runs"]
+    runs.check("--runs", "20")
+    for bad, message in (
+        ("2.5", "whole numbers"),
+        ("1e30", "must lie in [1, 1000]"),
+        ("0", "positive"),
+    ):
+        with pytest.raises(ValueError, match=re.escape(message)):
+            runs.check("--runs", bad)

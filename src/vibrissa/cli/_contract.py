@@ -44,7 +44,19 @@ MAX_SEED = 2**63 - 1
 #: Longest text value (a path, a list, an address) any option takes.
 MAX_TEXT = 4096
 
-KINDS = ("flag", "number", "integer", "seed", "choice", "text", "list", "file", "output", "refused")
+KINDS = (
+    "flag",
+    "number",
+    "integer",
+    "seed",
+    "choice",
+    "text",
+    "list",
+    "numbers",
+    "file",
+    "output",
+    "refused",
+)
 
 
 @dataclass(frozen=True)
@@ -59,7 +71,9 @@ class Spec:
         parses), both free of control characters; ``file`` (an input that must be a
         regular, readable file; ``-`` for standard input if ``stdin``); ``output`` (a
         file, or a directory if ``directory``, to be written); ``refused`` (an option this
-        command has but cannot use: any value is refused, saying ``why``).
+        command has but cannot use: any value is refused, saying ``why``); ``numbers`` (a
+        comma list of numbers, each within the bounds, none repeating another to within
+        1e-9 of its size; integers only if ``whole``; empty: none given).
     low, high
         Bounds of a number or integer (``None``: unbounded on that side).
     open_low
@@ -80,6 +94,8 @@ class Spec:
     min_magnitude
         A ``number`` is 0 or at least this far from it: a subnormal value such as 5e-324
         passes every bound yet divides to infinity (found by ``scripts/fuzz_cli_slow.py``).
+    whole
+        ``numbers`` that must be integers.
     """
 
     kind: str
@@ -93,6 +109,7 @@ class Spec:
     stdin: bool = False
     structured: bool = False
     min_magnitude: float = 0.0
+    whole: bool = False
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -106,7 +123,9 @@ class Spec:
             return f"not for this command: {self.why}"
         if self.kind == "seed":
             return "0 to 2**63 - 1"
-        if self.kind not in ("number", "integer") or (self.low is None and self.high is None):
+        if self.kind not in ("number", "integer", "numbers") or (
+            self.low is None and self.high is None
+        ):
             return ""
         low, high = self._fmt(self.low), self._fmt(self.high)
         if self.high is None:
@@ -134,6 +153,9 @@ class Spec:
         if kind in ("number", "integer", "seed"):
             self._check_number(flag, value)
             return
+        if kind == "numbers" and isinstance(value, str):
+            self._check_numbers(flag, value)
+            return
         text = os.fspath(value) if isinstance(value, os.PathLike) else value
         if not isinstance(text, str):
             return  # typer converted it already (an enum, a bool)
@@ -147,10 +169,33 @@ class Spec:
         if kind == "output" and text != "-":
             _check_output(flag, Path(text), self.directory)
 
-    def _check_number(self, flag: str, value: Any) -> None:
+    def _check_numbers(self, flag: str, text: str) -> None:
+        _check_text(flag, text)
+        if not text.strip():
+            return  # none given: the command's default
+        values: list[float] = []
+        for item in text.split(","):
+            try:
+                x = float(item)
+            except ValueError:
+                raise ValueError(
+                    f"{flag}: expected numbers separated by commas, got {text!r}"
+                ) from None
+            if self.whole and not (math.isfinite(x) and x.is_integer()):
+                raise ValueError(f"{flag}: expected whole numbers, got {item.strip()!r}")
+            self._check_number(flag, int(x) if self.whole else x, as_integer=False)
+            for y in values:
+                if abs(x - y) <= 1e-9 * max(abs(x), abs(y)):
+                    raise ValueError(
+                        f"{flag}: {item.strip()} repeats {y:g} (values closer than 1e-9 of "
+                        "their size are the same class written twice)"
+                    )
+            values.append(x)
+
+    def _check_number(self, flag: str, value: Any, *, as_integer: bool = True) -> None:
         if isinstance(value, bool):
             raise ValueError(f"{flag}: expected a number, got {value!r}")
-        if self.kind in ("integer", "seed") and not isinstance(value, int):
+        if as_integer and self.kind in ("integer", "seed") and not isinstance(value, int):
             raise ValueError(f"{flag}: expected an integer, got {value!r}")
         if not math.isfinite(value):
             raise ValueError(f"{flag} must be finite, got {value!r}")
@@ -164,7 +209,7 @@ class Spec:
         above = high is not None and value > high
         if not (below or above):
             return
-        if self.kind in ("integer", "seed") and below and low in (0, 1):
+        if (self.kind in ("integer", "seed") or self.whole) and below and low in (0, 1):
             word = "non-negative" if low == 0 else "positive"
             raise ValueError(f"{flag}: expected a {word} integer, got {value}")
         if self.kind == "seed":
@@ -188,7 +233,7 @@ class Spec:
     def _fmt(self, x: float | None) -> str:
         if x is None:
             return ""
-        return str(int(x)) if self.kind == "integer" else f"{x:g}"
+        return str(int(x)) if self.kind == "integer" or self.whole else f"{x:g}"
 
 
 def _check_text(flag: str, text: str) -> None:
@@ -432,16 +477,34 @@ CONTRACT: dict[str, dict[str, Spec]] = {
     "reproduce biotact-g1": {
         **REPRODUCE,
         "baseline": _no_baseline("biotact-g1"),
-        "distances": LIST,
-        "whisk_frequency": TEXT,
+        "distances": Spec(
+            "numbers",
+            0.0,
+            1000.0,
+            open_low=True,
+            unit="mm",
+            min_magnitude=1e-6,
+            why="ahead of the head; the head checks each against its whiskers' reach",
+        ),
+        "whisk_frequency": Spec(
+            "numbers",
+            0.0,
+            100.0,
+            open_low=True,
+            unit="Hz",
+            min_magnitude=1e-6,
+            why="rats whisk at up to about 25 Hz",
+        ),
         "n_seeds": _i(0, 1000, "sessions; 0 means one"),
     },
     "reproduce crunchbot-slam": {
         **REPRODUCE,
         "baseline": _no_baseline("crunchbot-slam"),
-        "runs": TEXT,
-        "seconds": TEXT,
-        "particles": TEXT,
+        "runs": Spec("numbers", 1, 1000, whole=True, why="the thesis ran 20"),
+        "seconds": Spec(
+            "numbers", 0.5, 3600.0, unit="s", why="one FSM step to an hour of robot time"
+        ),
+        "particles": Spec("numbers", 1, 10_000, whole=True, why="each carries its own map"),
     },
     "reproduce floor-texture": {
         **REPRODUCE,
