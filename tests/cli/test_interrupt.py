@@ -31,7 +31,18 @@ def test_a_signal_inside_the_step_is_delivered_after_it(signum: int) -> None:
         signal.signal(signum, before)
 
 
-def test_ctrl_c_inside_the_step_raises_keyboard_interrupt_after_it() -> None:
+@pytest.fixture
+def ctrl_c():
+    """Python's own SIGINT handler for the test (a CI runner may start it with SIGINT
+    ignored, and a child inherits that)."""
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, before)
+
+
+def test_ctrl_c_inside_the_step_raises_keyboard_interrupt_after_it(ctrl_c) -> None:
     done = []
     with pytest.raises(KeyboardInterrupt):
         with uninterrupted():
@@ -41,7 +52,9 @@ def test_ctrl_c_inside_the_step_raises_keyboard_interrupt_after_it() -> None:
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
 
 
-def test_no_signal_no_effect() -> None:
+def test_no_signal_no_effect(ctrl_c) -> None:
+    term = signal.getsignal(signal.SIGTERM)
     with uninterrupted():
         pass
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    assert signal.getsignal(signal.SIGTERM) is term

@@ -178,9 +178,7 @@ class Spec:
             try:
                 x = float(item)
             except ValueError:
-                raise ValueError(
-                    f"{flag}: expected numbers separated by commas, got {text!r}"
-                ) from None
+                raise ValueError(f"{flag} must be comma-separated numbers, got {text!r}") from None
             if self.whole and not (math.isfinite(x) and x.is_integer()):
                 raise ValueError(f"{flag}: expected whole numbers, got {item.strip()!r}")
             self._check_number(flag, int(x) if self.whole else x, as_integer=False)
@@ -479,21 +477,19 @@ CONTRACT: dict[str, dict[str, Spec]] = {
         "baseline": _no_baseline("biotact-g1"),
         "distances": Spec(
             "numbers",
-            0.0,
+            None,
             1000.0,
-            open_low=True,
             unit="mm",
             min_magnitude=1e-6,
-            why="ahead of the head; the head checks each against its whiskers' reach",
+            why="the head checks each against itself and its whiskers' reach",
         ),
         "whisk_frequency": Spec(
             "numbers",
-            0.0,
+            None,
             100.0,
-            open_low=True,
             unit="Hz",
             min_magnitude=1e-6,
-            why="rats whisk at up to about 25 Hz",
+            why="rats whisk at up to about 25 Hz; the experiment refuses 0 and below",
         ),
         "n_seeds": _i(0, 1000, "sessions; 0 means one"),
     },
