@@ -463,3 +463,41 @@ def test_undecodable_attribute_bytes_are_a_modification_not_a_crash(tmp_path) ->
     p.write_bytes(bytes(data))
     with pytest.raises(DatasetModifiedError, match="differs: attribute 'robot'"):
         load_dataset(p)
+
+
+def test_a_cache_can_demand_vibrissas_checksum(tmp_path):
+    path = tmp_path / "x.nc"
+    save_dataset(_ds(), path)
+    load_dataset(path, written_by_vibrissa=True)
+    plain = load_dataset(path)
+    plain.to_netcdf(tmp_path / "plain.nc")  # the checksum attributes are gone
+    load_dataset(tmp_path / "plain.nc")  # another program's file is accepted ...
+    with pytest.raises(DatasetFileError, match="carries no vibrissa checksum"):
+        load_dataset(tmp_path / "plain.nc", written_by_vibrissa=True)  # ... but not as a cache
+
+
+_FULL_DISK = r"""
+import resource, signal, sys
+signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # a write past the limit fails with EFBIG
+resource.setrlimit(resource.RLIMIT_FSIZE, (20_000, 20_000))
+sys.argv = ["vibrissa", *sys.argv[1:]]
+from vibrissa.__main__ import main
+main()
+"""
+
+
+@pytest.mark.parametrize("limit_bytes", [20_000])
+def test_a_write_that_fails_midway_is_one_line_not_a_crash(tmp_path, limit_bytes):
+    """Issue 33: HDF5 writing to a full disk failed on close, and the clean-up of its
+    file object then crashed the process (SIGSEGV, after the error line). A file-size
+    limit makes the same failure (EFBIG) on any filesystem."""
+    from vibrissa.examples import example_path
+
+    out = tmp_path / "x.nc"
+    cmd = [sys.executable, "-c", _FULL_DISK, "import", str(example_path("data_XY_small.mat"))]
+    cmd += ["--mapping", str(example_path("data_XY_small.mapping.json")), "-o", str(out)]
+    res = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    assert res.returncode == 2, (res.returncode, res.stderr[-500:])
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"error: {out}: "), res.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == []

@@ -110,6 +110,33 @@ def test_interrupted_generation_resumes_to_identical_signals(tmp_path):
     assert before  # finished shards were not recomputed: checked via the progress count
 
 
+def test_tampered_or_foreign_shards_are_simulated_again_not_trusted(tmp_path):
+    """Issue 33: a resumed generation matched kept shards by trial index only, so an
+    edited shard, or one from another seed, was sealed into the result with a valid
+    checksum."""
+    ref = generate(small(), tmp_path / "ref.nc", workers=1)
+    out = tmp_path / "out.nc"
+    assert generate(small(), out, workers=1, chunk_size=1, max_chunks=2) is None
+    shards = sorted(parts_dir(out).glob("chunk-*.npz"))
+    # shard 0 edited: same arrays and trial index, one value changed
+    with np.load(shards[0]) as z:
+        data = {k: z[k] for k in z.files}
+    data["signal"] = data["signal"] + 1e-3
+    with open(shards[0], "wb") as fh:
+        np.savez(fh, **data)
+    # shard 2 taken from another seed's generation of the same chunk
+    other = tmp_path / "other.nc"
+    generate(small(seed=5), other, workers=1, chunk_size=1, max_chunks=3)
+    (parts_dir(out) / "chunk-00002.npz").write_bytes(
+        (parts_dir(other) / "chunk-00002.npz").read_bytes()
+    )
+    seen = []
+    with pytest.warns(UserWarning, match="2 kept shard"):
+        ds = generate(small(), out, workers=1, chunk_size=1, progress=lambda d, t: seen.append(d))
+    assert seen[0] == 1  # only the untouched shard 1 was kept
+    assert ds["signal"].values.tobytes() == ref["signal"].values.tobytes()
+
+
 def test_leftover_shards_of_another_protocol_are_refused(tmp_path):
     out = tmp_path / "x.nc"
     generate(small(), out, workers=1, chunk_size=1, max_chunks=1)

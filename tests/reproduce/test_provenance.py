@@ -58,3 +58,15 @@ def test_refuses_a_foreign_or_missing_module() -> None:
 
 def test_git_commit_outside_a_checkout(tmp_path: Path) -> None:
     assert git_commit(tmp_path) is None
+
+
+def test_a_packages_re_export_counts_where_it_is_made() -> None:
+    """``from vibrissa.data import load_dataset`` counts vibrissa.data.netcdf, not the
+    whole package with every importer (a change to the .mat reader staled every chapter-6
+    result)."""
+    closure = module_closure("vibrissa.thesis.scratchbot")
+    assert "vibrissa.data.netcdf" in closure
+    assert not any(m.startswith("vibrissa.data.importers") for m in closure)
+    assert "vibrissa.data" not in closure
+    # what the experiment does run is still there
+    assert {"vibrissa.whisker.rod", "vibrissa.robots.whisking"} <= set(closure)

@@ -416,8 +416,13 @@ def save_dataset(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
     full = _full_parts(out)  # hashed once for both attributes
     out.attrs[_CHECKSUM_ATTR] = _checksum_of(full)
     out.attrs[_PARTS_ATTR] = _json(_parts_of(full))
-    with atomic_path(path, suffix=".nc") as tmp:
-        out.to_netcdf(tmp, engine=_ENGINE)
+    # The file is made in memory and written with plain file I/O: when HDF5 itself wrote
+    # to a full disk, its failed close left a file object whose later clean-up (garbage
+    # collection, interpreter exit) crashed the process with SIGSEGV; now a full disk is
+    # an OSError from write() like any other, and the temporary file is removed.
+    image = out.to_netcdf(engine=_ENGINE)
+    with atomic_path(path, suffix=".nc") as tmp, open(tmp, "wb") as fh:
+        fh.write(image)
     return Path(path)
 
 
@@ -436,7 +441,9 @@ def _open_hdf5_root(p: Path) -> None:
         dict(f.attrs)
 
 
-def load_dataset(path: str | os.PathLike[str], *, verify: bool = True) -> xr.Dataset:
+def load_dataset(
+    path: str | os.PathLike[str], *, verify: bool = True, written_by_vibrissa: bool = False
+) -> xr.Dataset:
     """Read a dataset written by :func:`save_dataset` (or any schema-conforming NetCDF).
 
     The whole file is read into memory (the file is closed on return) and checked
@@ -452,6 +459,9 @@ def load_dataset(path: str | os.PathLike[str], *, verify: bool = True) -> xr.Dat
     verify
         ``False`` loads a file that fails verification (modified, other schema)
         anyway, with a :class:`DatasetIntegrityWarning` saying why.
+    written_by_vibrissa
+        ``True`` refuses a file without vibrissa's checksum (written by other software,
+        or its ``vibrissa_*`` attributes stripped), as a cache must.
 
     Returns
     -------
@@ -502,6 +512,10 @@ def load_dataset(path: str | os.PathLike[str], *, verify: bool = True) -> xr.Dat
         raise DatasetFileError(p, str(exc)) from None
     stored = ds.attrs.pop(_CHECKSUM_ATTR, None)
     parts_raw = ds.attrs.pop(_PARTS_ATTR, None)
+    if written_by_vibrissa and stored is None:
+        raise DatasetFileError(
+            p, "carries no vibrissa checksum (not written by vibrissa, or its attributes stripped)"
+        )
     problem = _integrity_problem(p, ds, stored, parts_raw)
     ds.attrs.pop(_SCHEMA_ATTR, None)
     if problem is not None:

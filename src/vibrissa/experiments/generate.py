@@ -23,11 +23,13 @@ from __future__ import annotations
 import contextlib
 import fcntl
 import functools
+import hashlib
 import importlib.util
 import json
 import os
 import re
 import shutil
+import warnings
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
@@ -147,20 +149,51 @@ def kept_trials(out: str | os.PathLike[str]) -> int:
     return n
 
 
-def _write_shard(parts: Path, k: int, result: dict[str, np.ndarray]) -> None:
+#: A shard's own arrays: the protocol fingerprint it was simulated for and its checksum.
+_SHARD_FINGERPRINT = "__vibrissa_fingerprint__"
+_SHARD_CHECKSUM = "__vibrissa_checksum__"
+
+
+def _shard_checksum(arrays: dict[str, np.ndarray]) -> str:
+    """SHA-256 over a shard's arrays: each one's name, dtype, shape and bytes, by name."""
+    h = hashlib.sha256()
+    for key in sorted(arrays):
+        a = np.ascontiguousarray(arrays[key])
+        h.update(f"{key}|{a.dtype.str}|{a.shape}|".encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
+def _write_shard(parts: Path, k: int, result: dict[str, np.ndarray], fingerprint: str) -> None:
+    """Write a shard with the fingerprint of its protocol and the checksum of its arrays."""
+    meta = {
+        _SHARD_FINGERPRINT: np.array(fingerprint),
+        _SHARD_CHECKSUM: np.array(_shard_checksum(result)),
+    }
     with atomic_path(_shard_path(parts, k), suffix=".npz") as tmp:
         with open(tmp, "wb") as fh:
-            np.savez(fh, **result)
+            np.savez(fh, **result, **meta)
 
 
-def _read_shard(path: Path, expected: np.ndarray) -> dict[str, np.ndarray] | None:
-    """Load a shard; None if it is unreadable or not the expected chunk (then redo it)."""
+def _read_shard(path: Path, expected: np.ndarray, fingerprint: str) -> dict[str, np.ndarray] | None:
+    """Load a shard; None (redo it) if it cannot be trusted.
+
+    That is: unreadable (truncated), not the expected chunk, simulated for another
+    protocol (its fingerprint differs: another seed, another grid) or changed since it
+    was written (its checksum differs), or written without either (an older vibrissa).
+    """
     try:
         with np.load(path) as z:
             data = {k: z[k] for k in z.files}
     except Exception:  # any unreadable shard (truncated zip, ...) is redone
         return None
+    own = data.pop(_SHARD_FINGERPRINT, None)
+    checksum = data.pop(_SHARD_CHECKSUM, None)
+    if own is None or checksum is None or str(own) != fingerprint:
+        return None
     if "index" not in data or not np.array_equal(data["index"], expected):
+        return None
+    if str(checksum) != _shard_checksum(data):
         return None
     return data
 
@@ -504,14 +537,24 @@ def _generate_locked(
     from vibrissa.data import save_dataset
 
     parts = _prepare_parts(protocol, out, chunk_size, restart)
+    fingerprint = protocol.fingerprint()
     chunks = _chunks(protocol.n_trials, chunk_size)
     done = _Assembly(chunks)
+    redone = 0
     for k, idx in enumerate(chunks):
         p = _shard_path(parts, k)
         if p.exists():
-            data = _read_shard(p, idx)
+            data = _read_shard(p, idx, fingerprint)
             if data is not None:
                 done.add(k, data)
+            else:
+                redone += 1
+    if redone:
+        warnings.warn(
+            f"{redone} kept shard(s) in {parts} could not be trusted (unreadable, changed "
+            "since written, or simulated for another protocol) and are simulated again",
+            stacklevel=3,
+        )
     todo = [(k, idx) for k, idx in enumerate(chunks) if k not in done.filled]
     if max_chunks is not None:
         todo = todo[:max_chunks]
@@ -525,7 +568,7 @@ def _generate_locked(
             w = workers if workers is not None else (os.cpu_count() or 1)
             it = _local_results(protocol, todo, min(w, len(todo)))
         for k, res in it:
-            _write_shard(parts, k, res)
+            _write_shard(parts, k, res, fingerprint)
             done.add(k, res)
             n_done += len(chunks[k])
             if progress:

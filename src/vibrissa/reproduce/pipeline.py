@@ -185,9 +185,7 @@ def cached_dataset(
     path = Path(data_dir) / _file_name(protocol)
     if path.exists():
         try:
-            if not _carries_checksum(path):
-                raise DatasetFileError(path, "carries no vibrissa checksum")
-            return load_dataset(path), path, True
+            return load_dataset(path, written_by_vibrissa=True), path, True
         except DatasetFileError:
             # unreadable, changed since written, or not written by vibrissa at all (its
             # checksum attributes stripped or never there): never trusted, simulated again
@@ -351,21 +349,6 @@ def run_experiment(
         meta["wall_seconds"]["total"] = round(time.perf_counter() - t0, 3)
         write_json(envelope, stage / "results.json")
     return envelope
-
-
-def _carries_checksum(path: Path) -> bool:
-    """Whether a NetCDF-4 file carries vibrissa's checksum (``vibrissa_checksum``).
-
-    :func:`~vibrissa.data.load_dataset` accepts files of other software, which carry
-    none; a cache must be vibrissa's own, verified against it.
-    """
-    import h5py
-
-    try:
-        with h5py.File(path, "r") as f:
-            return "vibrissa_checksum" in f.attrs
-    except (OSError, ValueError):
-        return False
 
 
 #: The staging directory of a run's outputs, inside its output directory.

@@ -73,9 +73,40 @@ def _imports(module: str, tree: ast.AST, is_package: bool) -> set[str]:
             found.update(alias.name for alias in node.names)
         elif isinstance(node, ast.ImportFrom):
             base = _resolve(module, is_package, node)
-            found.add(base)
-            found.update(f"{base}.{alias.name}" for alias in node.names)
+            exports = _exports(base)
+            for alias in node.names:
+                sub = f"{base}.{alias.name}"
+                if _source_path(sub) is not None:
+                    found.add(sub)  # a submodule
+                elif alias.name in exports:
+                    found.add(exports[alias.name])  # a package's re-export: where it is made
+                else:
+                    found.add(base)  # made in the module itself (or a package's __init__)
     return {name for name in found if _counts(name) and _source_path(name) is not None}
+
+
+@cache
+def _exports(package: str) -> dict[str, str]:
+    """Names a package's ``__init__`` re-exports -> the submodule that defines them.
+
+    ``from vibrissa.data import load_dataset`` then counts ``vibrissa.data.netcdf``, where
+    ``load_dataset`` is made, instead of the whole package: the package's ``__init__``
+    imports every reader and writer, none of which changes what ``load_dataset`` returns.
+    Only names the ``__init__`` imports from its own submodules count; an ``__init__``
+    that is not a package, or a name it defines itself, gives nothing here.
+    """
+    path = _source_path(package)
+    if path is None or not _is_package(path):
+        return {}
+    out: dict[str, str] = {}
+    for node in ast.walk(_parsed(path)):
+        if isinstance(node, ast.ImportFrom):
+            source = _resolve(package, True, node)
+            if source.startswith(package + ".") and _source_path(source) is not None:
+                for alias in node.names:
+                    # a name re-exported from a subpackage resolves through it in turn
+                    out[alias.asname or alias.name] = _exports(source).get(alias.name, source)
+    return out
 
 
 def _strip_docstrings(tree: ast.AST) -> ast.AST:
