@@ -501,3 +501,28 @@ def test_a_write_that_fails_midway_is_one_line_not_a_crash(tmp_path, limit_bytes
     lines = res.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"error: {out}: "), res.stderr
     assert sorted(p.name for p in tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("how", ["external link", "external storage", "virtual dataset"])
+def test_a_dataset_taking_data_from_outside_the_file_is_refused(tmp_path, how) -> None:
+    """Issue 33: HDF5 indirections would read other files' bytes; refused before reading."""
+    ds = make_dataset(np.ones((3, 2, 10)), sample_rate_hz=1000, labels={"k": [0, 1, 2]})
+    p = tmp_path / "plain.nc"
+    ds.to_netcdf(p, engine="h5netcdf")  # another program's file: no vibrissa checksum
+    load_dataset(p)  # accepted as it is
+    (tmp_path / "secret.bin").write_bytes(np.arange(10.0).tobytes())
+    with h5py.File(tmp_path / "other.h5", "w") as f:
+        f["x"] = np.arange(10.0)
+    with h5py.File(p, "r+") as f:
+        if how == "external link":
+            f["extra"] = h5py.ExternalLink(str(tmp_path / "other.h5"), "/x")
+        elif how == "external storage":
+            f.create_dataset(
+                "extra", shape=(10,), dtype="<f8", external=[(str(tmp_path / "secret.bin"), 0, 80)]
+            )
+        else:
+            layout = h5py.VirtualLayout(shape=(10,), dtype="<f8")
+            layout[:] = h5py.VirtualSource(str(tmp_path / "other.h5"), "x", shape=(10,))
+            f.create_virtual_dataset("extra", layout)
+    with pytest.raises(DatasetFileError, match=f"takes data from outside the file.*{how}"):
+        load_dataset(p)

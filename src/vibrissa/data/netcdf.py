@@ -36,6 +36,7 @@ import xarray as xr
 
 from vibrissa._atomic import atomic_path
 from vibrissa.data.dataset import attr_value, validate_dataset
+from vibrissa.data.hdf5_storage import foreign_storage
 
 __all__ = [
     "SCHEMA_VERSION",
@@ -426,19 +427,26 @@ def save_dataset(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
     return Path(path)
 
 
-def _open_hdf5_root(p: Path) -> None:
-    """Open ``p`` with h5py and read its root attributes, closing it whatever happens.
+def _open_hdf5_root(p: Path) -> str | None:
+    """Open ``p`` with h5py, read its root attributes and look for data kept elsewhere.
 
     h5netcdf reads the root attributes while constructing its file object; when that
     fails (a corrupt header) the half-built object is left to the garbage collector,
     whose finaliser then fails too and prints a traceback on standard error after the
     error was reported. Failing here first keeps a corrupt file to one error.
+
+    Returns
+    -------
+    str or None
+        What in the file takes its data from outside it
+        (:func:`~vibrissa.data.hdf5_storage.foreign_storage`), else ``None``.
     """
     import h5py
 
     with h5py.File(p, "r") as f:
         f.attrs.get("_nc3_strict")
         dict(f.attrs)
+        return foreign_storage(f)
 
 
 def load_dataset(
@@ -493,9 +501,19 @@ def load_dataset(
     if kind == "other":
         raise DatasetFileError(p, "is not a NetCDF/HDF5 file")
     engine = "scipy" if kind == "netcdf3" else _ENGINE
+    foreign = None
     try:
         if kind == "hdf5":
-            _open_hdf5_root(p)
+            foreign = _open_hdf5_root(p)
+    except Exception as exc:  # h5py raises OSError, KeyError, RuntimeError, ...
+        raise DatasetFileError(
+            p, f"cannot be read as a NetCDF dataset (truncated or corrupt?): {exc}"
+        ) from None
+    if foreign is not None:
+        raise DatasetFileError(
+            p, f"takes data from outside the file ({foreign}); such files are refused"
+        )
+    try:
         with xr.open_dataset(p, engine=engine) as f:
             ds = f.load()
     except Exception as exc:  # h5py raises OSError, xarray ValueError, ...

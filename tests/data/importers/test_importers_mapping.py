@@ -162,3 +162,16 @@ def test_a_mapping_that_is_a_directory_or_binary_is_named(tmp_path) -> None:
     (tmp_path / "b.json").write_bytes(b"\xff\xfe\x00binary")
     with pytest.raises(ImportMappingError, match=r"b.json is not UTF-8 text"):
         load_mapping(tmp_path / "b.json")
+
+
+@pytest.mark.parametrize(
+    "key", ["sample_rate_hz", "source_sha256", "source_file", "cropped_from_samples", "vibrissa_x"]
+)
+def test_attrs_cannot_contradict_what_the_import_takes_from_the_file(key) -> None:
+    """Issue 33: ``"attrs": {"sample_rate_hz": 5}`` labelled 1 kHz data as 5 Hz."""
+    with pytest.raises(ImportMappingError, match=rf"'attrs' cannot set \['{key}'\]"):
+        load_mapping({**XY_MAPPING, "attrs": {key: 5, "robot": "XY"}})
+    assert load_mapping({**XY_MAPPING, "attrs": {"robot": "XY", "protocol": "p"}}).attrs == {
+        "robot": "XY",
+        "protocol": "p",
+    }

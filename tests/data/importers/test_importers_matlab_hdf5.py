@@ -86,3 +86,78 @@ def test_mat_v73_truncated_or_damaged(tmp_path) -> None:
             failures += 1
             assert "damaged.mat" in str(exc) or "cell data" in str(exc)
     assert failures > 0
+
+
+def _add_to_mat73(path, edit) -> None:
+    """Open a written v7.3 file and let ``edit`` add to it."""
+    import h5py
+
+    with h5py.File(path, "r+") as f:
+        edit(f)
+
+
+@pytest.mark.parametrize("how", ["external storage", "external link", "virtual dataset"])
+def test_mat_v73_taking_data_from_outside_the_file_is_refused(tmp_path, how) -> None:
+    """Issue 33: the importer read other files' bytes through HDF5 indirections.
+
+    The secret file stands for any file the user can read; it must neither be imported
+    nor reach the dataset (on main before this test, the external-storage case imported
+    its bytes with ``source_sha256`` covering only the ``.mat``).
+    """
+    import h5py
+
+    secret = np.arange(20.0).reshape(2, 10)
+    (tmp_path / "secret.bin").write_bytes(secret.T.astype("<f8").tobytes())
+    with h5py.File(tmp_path / "other.h5", "w") as f:
+        f["x"] = secret.T
+    path = write_mat73(tmp_path / "d.mat", {"fs": np.array(1000.0)})
+
+    def edit(f) -> None:
+        if how == "external storage":
+            outside = [(str(tmp_path / "secret.bin"), 0, 160)]
+            d = f.create_dataset("data", shape=(10, 2), dtype="<f8", external=outside)
+            d.attrs["MATLAB_class"] = np.bytes_("double")
+        elif how == "external link":
+            f["data"] = h5py.ExternalLink(str(tmp_path / "other.h5"), "/x")
+        else:
+            layout = h5py.VirtualLayout(shape=(10, 2), dtype="<f8")
+            layout[:] = h5py.VirtualSource(str(tmp_path / "other.h5"), "x", shape=(10, 2))
+            f.create_virtual_dataset("data", layout).attrs["MATLAB_class"] = np.bytes_("double")
+
+    _add_to_mat73(path, edit)
+    with pytest.raises(ImportMappingError, match=f"takes data from outside the file.*{how}"):
+        import_recording(path, {"signal": "data", "sample_rate_hz": "fs", "time_axis": 1})
+
+
+@pytest.mark.parametrize(
+    ("cls", "group", "decode"),
+    [
+        ("function_handle", True, False),  # MATLAB saves a handle as a group of fields
+        ("function_handle", False, False),
+        ("string", False, True),  # MCOS objects: uint32 bytes flagged MATLAB_object_decode
+        ("double", False, True),
+        ("MyClassdef", False, False),
+    ],
+)
+def test_mat_v73_object_classes_are_refused_by_name(tmp_path, cls, group, decode) -> None:
+    """Issue 33: a ``function_handle`` was imported though the docs said it is refused."""
+    path = write_mat73(tmp_path / "h.mat", {"fs": np.array(1000.0)})
+
+    def edit(f) -> None:
+        if group:
+            g = f.create_group("data")
+            g["function"] = np.arange(10.0).reshape(5, 2)
+            g.attrs["MATLAB_class"] = np.bytes_(cls)
+            return
+        d = f.create_dataset("data", data=np.arange(20.0).reshape(10, 2))
+        d.attrs["MATLAB_class"] = np.bytes_(cls)
+        if decode:
+            d.attrs["MATLAB_object_decode"] = np.int32(3)
+
+    _add_to_mat73(path, edit)
+    mapping = {"signal": "data", "sample_rate_hz": "fs", "time_axis": 1}
+    with pytest.raises(ImportMappingError, match=r"'data' is a MATLAB .*object class"):
+        import_recording(path, mapping)
+    if group:  # walking into the handle's fields is refused too
+        with pytest.raises(ImportMappingError, match=r"'data' is a MATLAB function_handle"):
+            import_recording(path, {**mapping, "signal": "data.function"})

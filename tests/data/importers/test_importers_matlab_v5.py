@@ -11,6 +11,7 @@ from data_recordings import XY_MAPPING, cell_recording
 from importer_checks import check_xy, sha256_hex
 
 from vibrissa.data import import_recording, select
+from vibrissa.data.importers import ImportMappingError
 from vibrissa.examples import EXAMPLE_MAPPING, EXAMPLE_RECORDING, example_names, example_path
 
 
@@ -104,3 +105,22 @@ def test_shipped_example_imports_with_its_mapping() -> None:
     assert np.all(np.diff(amp, axis=1) > 0)
     peak = np.abs(x - x[:, :, :50].mean(axis=2, keepdims=True)).max(axis=1).argmax(axis=1)
     assert np.mean(ds["time"].values[peak] == 0.0) > 0.9
+
+
+@pytest.mark.parametrize("kind", ["MatlabFunction", "MatlabOpaque", "MatlabObject"])
+def test_mat_v5_function_handles_and_objects_are_refused(tmp_path, monkeypatch, kind) -> None:
+    """What SciPy reads as a function handle or an object is refused by name, not imported.
+
+    SciPy cannot write these classes, so ``loadmat`` is made to return one.
+    """
+    import scipy.io
+    import scipy.io.matlab as mio
+
+    path = tmp_path / "h.mat"
+    scipy.io.savemat(path, {"fs": 1000.0})
+    arr = np.arange(20.0).reshape(10, 2)
+    value = mio.MatlabObject(arr, "MyClass") if kind == "MatlabObject" else getattr(mio, kind)(arr)
+    monkeypatch.setattr(scipy.io, "loadmat", lambda *a, **k: {"data": value, "fs": 1000.0})
+    mapping = {"signal": "data", "sample_rate_hz": 1000.0, "time_axis": 1}
+    with pytest.raises(ImportMappingError, match=r"'data' is a MATLAB (function handle|object)"):
+        import_recording(path, mapping)

@@ -22,6 +22,7 @@ import numpy as np
 
 __all__ = [
     "FORMATS",
+    "FILE_ATTRS",
     "INTEGER_LABELS",
     "UNSET",
     "ImportMapping",
@@ -62,6 +63,32 @@ class ImportMappingError(ValueError):
 
     The message names the mapping key, variable, cell, column or line at fault.
     """
+
+
+#: Dataset attributes the import itself sets, from the file and the mapping's own
+#: fields; the mapping's ``attrs`` may not contradict them (nor any ``vibrissa_*``).
+FILE_ATTRS = frozenset(
+    {
+        "sample_rate_hz",
+        "source_file",
+        "source_format",
+        "source_sha256",
+        "import_mapping",
+        "cropped_from_samples",
+    }
+)
+
+
+def _free_attrs(attrs: Mapping[str, Any]) -> dict[str, Any]:
+    """The mapping's ``attrs``, refused if they set one the import takes from the file."""
+    taken = sorted(str(k) for k in attrs if str(k) in FILE_ATTRS or str(k).startswith("vibrissa_"))
+    if taken:
+        raise ImportMappingError(
+            f"mapping 'attrs' cannot set {taken}: the import takes them from the file and "
+            "the mapping's other fields (the sampling rate from 'sample_rate_hz' or the "
+            "time column)"
+        )
+    return dict(attrs)
 
 
 @dataclass(frozen=True)
@@ -275,7 +302,7 @@ def load_mapping(source: Mapping[str, Any] | str | os.PathLike[str] | None) -> I
     if "attrs" in raw:
         if not isinstance(raw["attrs"], Mapping):
             raise ImportMappingError("mapping 'attrs' must be an object")
-        kw["attrs"] = dict(raw["attrs"])
+        kw["attrs"] = _free_attrs(raw["attrs"])
     if "trial_column" in raw:
         if not isinstance(raw["trial_column"], str):
             raise ImportMappingError("mapping 'trial_column' must be a column name")

@@ -6,8 +6,12 @@ MATLAB's own layout is assumed: each variable is an HDF5 dataset whose
 dataset of object references (class ``cell``) to datasets in the ``#refs#``
 group; an empty array is a dims vector with attribute ``MATLAB_empty``;
 ``char`` arrays are UTF-16 code units; structs are groups. Complex, sparse and
-object-class (``MATLAB_class`` ``"function_handle"``, classdef objects) data are
-not supported and raise :class:`~vibrissa.data.importers.ImportMappingError`.
+object-class data (any ``MATLAB_class`` but the numeric ones, ``logical``, ``char``,
+``cell`` and ``struct``: ``function_handle``, ``string``, ``table``, classdef
+objects, whose bytes are MATLAB's private serialisation) are not supported and raise
+:class:`~vibrissa.data.importers.ImportMappingError`. So is a file that takes data
+from outside itself (external links, external storage, virtual datasets:
+:mod:`vibrissa.data.hdf5_storage`), refused when it is opened.
 """
 
 from __future__ import annotations
@@ -19,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from vibrissa.data.hdf5_storage import foreign_storage
 from vibrissa.data.importers._common import Source
 from vibrissa.data.importers.mapping import ImportMappingError
 
@@ -26,6 +31,19 @@ __all__ = ["H5MatSource", "is_mat_v73", "open_mat_v73"]
 
 #: What h5py raises on damaged files (besides ValueError).
 _H5_ERRORS = (OSError, KeyError, RuntimeError, TypeError)
+
+#: The ``MATLAB_class`` values of datasets read as arrays ("" when the attribute is
+#: absent: HDF5 written by other software).
+_ARRAY_CLASSES = frozenset(
+    {"", "double", "single", "logical", "char", "cell"}
+    | {f"{s}int{b}" for s in ("", "u") for b in (8, 16, 32, 64)}
+)
+
+
+def _matlab_class(obj: Any) -> str:
+    """The ``MATLAB_class`` attribute of an HDF5 object, ``""`` when it has none."""
+    cls = obj.attrs.get("MATLAB_class", b"")
+    return cls.decode(errors="replace") if isinstance(cls, bytes) else str(cls)
 
 
 class H5MatSource(Source):
@@ -87,6 +105,8 @@ class H5MatSource(Source):
                 )
             obj = obj[part]
             walked = f"{walked}.{part}" if walked else part
+            if isinstance(obj, h5py.Group) and _matlab_class(obj) not in ("", "struct"):
+                raise self._unsupported(walked, _matlab_class(obj))
         if isinstance(obj, h5py.Group):
             raise ImportMappingError(f"{self.path}: {name!r} is a struct; name one of its fields")
         return self._read(obj, name)
@@ -94,8 +114,9 @@ class H5MatSource(Source):
     def _read(self, ds: Any, where: str) -> np.ndarray:
         import h5py
 
-        cls = ds.attrs.get("MATLAB_class", b"")
-        cls = cls.decode() if isinstance(cls, bytes) else str(cls)
+        cls = _matlab_class(ds)
+        if cls not in _ARRAY_CLASSES or "MATLAB_object_decode" in ds.attrs:
+            raise self._unsupported(where, cls)
         if ds.attrs.get("MATLAB_empty", 0):
             return np.zeros((0, 0))
         if ds.attrs.get("MATLAB_sparse", None) is not None:
@@ -127,6 +148,13 @@ class H5MatSource(Source):
         arr = arr.T
         return arr.astype(bool) if cls == "logical" else arr
 
+    def _unsupported(self, where: str, cls: str) -> ImportMappingError:
+        """The error for a variable of a MATLAB class that is not an array of numbers."""
+        return ImportMappingError(
+            f"{self.path}: {where!r} is a MATLAB {cls or 'object'} (an object class, not "
+            "numbers, chars or a cell array); convert it to an array in MATLAB and save again"
+        )
+
 
 def is_mat_v73(path: Path) -> bool:
     """Whether ``path`` is an HDF5 file (a MATLAB v7.3 ``.mat`` file) rather than v4-v7."""
@@ -152,7 +180,8 @@ def open_mat_v73(path: Path) -> Iterator[H5MatSource]:
     Raises
     ------
     ImportMappingError
-        If HDF5 cannot open it (e.g. a truncated file).
+        If HDF5 cannot open it (e.g. a truncated file) or it takes data from outside
+        itself (external links, external storage, virtual datasets).
     """
     import h5py
 
@@ -163,4 +192,15 @@ def open_mat_v73(path: Path) -> Iterator[H5MatSource]:
             f"{path}: cannot be read as a MATLAB v7.3 (HDF5) file: {exc}"
         ) from None
     with f:
+        try:
+            foreign = foreign_storage(f)
+        except _H5_ERRORS as exc:
+            raise ImportMappingError(
+                f"{path}: cannot list its contents (corrupt or truncated file?): {exc}"
+            ) from None
+        if foreign is not None:
+            raise ImportMappingError(
+                f"{path}: takes data from outside the file ({foreign}); such files are "
+                "refused (save it again in MATLAB without links to other files)"
+            )
         yield H5MatSource(path, f)
