@@ -7,11 +7,25 @@ chapters 4-6 of M. H. Evans, *Tactile Discrimination with Whiskers*
 (University of Sheffield, 2011).
 """
 
-from importlib.metadata import PackageNotFoundError, version
-
-try:
-    __version__ = version("vibrissa")
-except PackageNotFoundError:  # pragma: no cover - running from a source tree
-    __version__ = "0.0.0+unknown"
+from __future__ import annotations
 
 __all__ = ["__version__"]
+
+
+def __getattr__(name: str) -> str:
+    """``__version__``, read from the installed metadata when first asked for.
+
+    Importing the package stays free of work (``importlib.metadata`` takes tens of
+    milliseconds), so the console entry point (:mod:`vibrissa.__main__`) installs its
+    signal handling before anything slow runs: a Ctrl-C in that time was a traceback.
+    """
+    if name != "__version__":
+        raise AttributeError(f"module 'vibrissa' has no attribute {name!r}")
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        found = version("vibrissa")
+    except PackageNotFoundError:  # pragma: no cover - running from a source tree
+        found = "0.0.0+unknown"
+    globals()["__version__"] = found
+    return found

@@ -1,4 +1,4 @@
-"""Signals held back over a step that must happen whole (cli._interrupt.uninterrupted)."""
+"""Interrupted commands (cli._interrupt): reported in one line, or held back over a step."""
 
 from __future__ import annotations
 
@@ -6,8 +6,10 @@ import os
 import signal
 
 import pytest
+import typer
 
-from vibrissa.cli._interrupt import uninterrupted
+from vibrissa._signals import Terminated
+from vibrissa.cli._interrupt import interruptible, uninterrupted
 
 
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
@@ -58,3 +60,23 @@ def test_no_signal_no_effect(ctrl_c) -> None:
         pass
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
     assert signal.getsignal(signal.SIGTERM) is term
+
+
+@pytest.mark.parametrize(("cause", "code"), [(KeyboardInterrupt, 130), (Terminated, 143)])
+def test_an_interrupt_wrapped_by_an_extensions_import_is_reported(capsys, cause, code) -> None:
+    """pybind11 turns an exception inside a module's init into ``ImportError:
+    initialization failed`` (SciPy's HiGHS wrapper, imported inside long commands)."""
+    with pytest.raises(typer.Exit) as stop:
+        with interruptible(lambda: "nothing kept"):
+            try:
+                raise cause
+            except BaseException as exc:
+                raise ImportError("initialization failed") from exc
+    assert stop.value.exit_code == code
+    assert capsys.readouterr().err == "interrupted: nothing kept\n"
+
+
+def test_an_import_error_of_its_own_passes_through() -> None:
+    with pytest.raises(ImportError, match="no module"):
+        with interruptible(lambda: "nothing kept"):
+            raise ImportError("no module named x")

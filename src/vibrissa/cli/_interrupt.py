@@ -17,19 +17,9 @@ from types import FrameType
 
 import typer
 
+from vibrissa._signals import Terminated, interrupt_in, raise_terminated
+
 __all__ = ["interruptible", "uninterrupted"]
-
-
-class _Terminated(BaseException):
-    """SIGTERM as an exception.
-
-    A ``BaseException``, like ``KeyboardInterrupt``, so that no ``except Exception`` on the
-    way swallows it.
-    """
-
-
-def _raise_terminated(signum: int, frame: FrameType | None) -> None:
-    raise _Terminated
 
 
 @contextlib.contextmanager
@@ -44,14 +34,19 @@ def interruptible(kept: Callable[[], str]) -> Iterator[None]:
         ``"12 of 24 trials kept in x.nc.parts/; rerun the same command to resume"``.
     """
     main = threading.current_thread() is threading.main_thread()
-    previous = signal.signal(signal.SIGTERM, _raise_terminated) if main else None
+    previous = signal.signal(signal.SIGTERM, raise_terminated) if main else None
     try:
         yield
         return
     except KeyboardInterrupt:
         code = 128 + signal.SIGINT
-    except _Terminated:
+    except Terminated:
         code = 128 + signal.SIGTERM
+    except ImportError as exc:  # an interrupt inside a C extension's initialisation
+        sig = interrupt_in(exc)
+        if sig is None:
+            raise
+        code = 128 + sig
     finally:
         if main:
             signal.signal(signal.SIGTERM, previous)
