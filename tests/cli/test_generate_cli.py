@@ -165,3 +165,29 @@ def test_a_scheduler_without_dask_is_refused_in_one_line_before_any_work(tmp_pat
         "error: --scheduler: needs the 'distributed' extra (pip install 'vibrissa[distributed]')"
     )
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["generate", "radial-distance", "--quick", "-o", "{tmp}/sub/d.nc"],
+        ["reproduce", "radial-distance", "--quick", "--out", "{tmp}/rep"],
+    ],
+)
+def test_an_output_that_will_not_fit_is_refused_before_work(tmp_path, monkeypatch, argv) -> None:
+    """Issue 33: a full disk was reported only after the simulation it was meant to keep."""
+    import shutil
+    from collections import namedtuple
+
+    usage = namedtuple("usage", "total used free")
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: usage(10**9, 10**9 - 1000, 1000))
+    res = runner.invoke(app, [a.format(tmp=tmp_path) for a in argv])
+    assert res.exit_code == 2, res.output
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1, res.stderr
+    assert re.match(
+        r"error: (-o|--out): .* needs about [\d,]+ MB for the .*dataset and its shards; "
+        r".* has 0 MB free$",
+        lines[0],
+    ), lines[0]
+    assert list(tmp_path.iterdir()) == []

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import os
 import re
+import shutil
 import sys
 from collections.abc import Callable
 from functools import wraps
@@ -179,6 +180,49 @@ def regular_file(option: str, path: Path) -> Path:
     if not os.access(path, os.R_OK):
         raise ValueError(f"{option}: {path} is not readable")
     return path
+
+
+def files_bytes(directory: Path) -> int:
+    """Bytes the files directly in ``directory`` hold (0 when it does not exist)."""
+    if not directory.is_dir():
+        return 0
+    return sum(f.stat().st_size for f in directory.iterdir() if f.is_file())
+
+
+def free_space(option: str, path: Path, needed_bytes: int, what: str) -> None:
+    """Refuse to start work whose output will not fit on its filesystem.
+
+    A full disk is reported cleanly wherever it happens (the writes are atomic), but
+    only after the simulation it was meant to keep; this says so before it starts.
+
+    Parameters
+    ----------
+    option
+        The option naming the output, e.g. ``"-o"``.
+    path
+        The output (it and its parents need not exist yet).
+    needed_bytes
+        What the work writes at its peak (e.g. a dataset's shards and the file).
+    what
+        What is written, for the message: ``"the dataset and its shards"``.
+
+    Raises
+    ------
+    ValueError
+        ``OPTION: PATH needs about X MB for WHAT; DIR has Y MB free``.
+    """
+    where = Path(path).absolute().parent
+    while not where.exists() and where != where.parent:
+        where = where.parent
+    try:
+        free = shutil.disk_usage(where).free
+    except OSError:  # cannot tell: the writes report it if it happens
+        return
+    if needed_bytes > free:
+        raise ValueError(
+            f"{option}: {path} needs about {needed_bytes / 1e6:,.0f} MB for {what}; "
+            f"{where} has {free / 1e6:,.0f} MB free"
+        )
 
 
 #: Largest seed a command accepts: datasets store it as a signed 64-bit integer.
