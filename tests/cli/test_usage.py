@@ -6,6 +6,8 @@ On the old main a wrong type, a missing value or an unknown option printed a
 
 from __future__ import annotations
 
+import sys
+
 import pytest
 from typer.testing import CliRunner
 
@@ -107,3 +109,23 @@ def test_help_shows_a_flag_as_a_flag_on_every_command():
         assert out.exit_code == 0, (path, out.output)
         assert "<bool>" not in out.output, path
         assert "--help" in out.output
+
+
+@pytest.mark.parametrize("where", ["make_context", "invoke"])
+def test_ctrl_c_anywhere_in_the_command_line_is_one_line(monkeypatch, capsys, where) -> None:
+    """typer turned a Ctrl-C while options were parsed into a silent exit 130 (found by
+    ``scripts/fuzz_cli_slow.py --signals``: 2 of 210 runs)."""
+    import typer.core
+
+    from vibrissa.cli import app
+
+    def interrupted(self, *args, **kwargs):
+        raise KeyboardInterrupt
+
+    target = typer.core.TyperGroup if where == "make_context" else typer.core.TyperCommand
+    monkeypatch.setattr(target, where, interrupted)
+    monkeypatch.setattr(sys, "argv", ["vibrissa", "whisker", "presets"])
+    with pytest.raises(SystemExit) as stop:
+        app()
+    assert stop.value.code == 130
+    assert capsys.readouterr().err == "interrupted: the command stopped before it finished\n"
