@@ -7,8 +7,8 @@ chapters 4-6 of M. H. Evans, *Tactile Discrimination with Whiskers*
 (University of Sheffield, 2011).
 """
 
-from __future__ import annotations
-
+# No imports at all, ``__future__`` included (a real module, read from disk): a Ctrl-C
+# while the package is imported, before the entry point runs, is Python's traceback.
 __all__ = ["__version__"]
 
 
