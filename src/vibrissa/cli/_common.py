@@ -182,11 +182,17 @@ def regular_file(option: str, path: Path) -> Path:
     return path
 
 
-def files_bytes(directory: Path) -> int:
-    """Bytes the files directly in ``directory`` hold (0 when it does not exist)."""
-    if not directory.is_dir():
-        return 0
-    return sum(f.stat().st_size for f in directory.iterdir() if f.is_file())
+def generation_disk_bytes(protocol: Any, out: Path) -> int:
+    """Disk that generating ``protocol`` into ``out`` needs at its peak.
+
+    Its shards and the finished file exist at once (2 x the signal's bytes), less what
+    the shards an interrupted run kept already hold.
+    """
+    from vibrissa.experiments.generate import dataset_bytes, parts_dir
+
+    parts = parts_dir(out)
+    kept = sum(f.stat().st_size for f in parts.iterdir() if f.is_file()) if parts.is_dir() else 0
+    return max(2 * dataset_bytes(protocol) - kept, 0)
 
 
 def free_space(option: str, path: Path, needed_bytes: int, what: str) -> None:

@@ -13,8 +13,8 @@ import typer
 from vibrissa.cli._common import (
     count_option,
     echo_json,
-    files_bytes,
     free_space,
+    generation_disk_bytes,
     option_renamer,
     seed_option,
     user_errors,
@@ -54,16 +54,6 @@ def _name_options(message: str) -> str:
         return message
     about = next((opt for word, opt in _ABOUT if word in message), None)
     return f"{about}: {message}" if about else message
-
-
-def _disk_bytes(protocol: Any, out: Path) -> int:
-    """Disk the generation needs at its peak (its shards and the finished file at once).
-
-    Less what the shards an interrupted run kept already hold.
-    """
-    from vibrissa.experiments.generate import dataset_bytes, parts_dir
-
-    return max(2 * dataset_bytes(protocol) - files_bytes(parts_dir(out)), 0)
 
 
 def work_statement(
@@ -234,7 +224,7 @@ def register(app: typer.Typer) -> None:
             check_generation(proto, out, workers, scheduler, chunk_size)
         except ValueError as exc:  # the messages name the output path or the parameter
             raise ValueError(_RENAME(str(exc))) from exc
-        free_space("-o", out, _disk_bytes(proto, out), "the dataset and its shards")
+        free_space("-o", out, generation_disk_bytes(proto, out), "the dataset and its shards")
         kept: list[int | None] = [None]  # trials kept in the shards, once known
 
         def interrupted() -> str:

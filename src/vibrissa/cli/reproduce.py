@@ -19,8 +19,8 @@ from vibrissa._atomic import check_writable
 from vibrissa.cli._common import (
     count_option,
     echo_json,
-    files_bytes,
     free_space,
+    generation_disk_bytes,
     option_renamer,
     print_table,
     seed_option,
@@ -88,7 +88,7 @@ def _run(
 
     from vibrissa.evaluate.baseline import load_baseline
     from vibrissa.experiments.contract import SelfGenerating, chunk_size_of
-    from vibrissa.experiments.generate import dataset_bytes, kept_trials, parts_dir
+    from vibrissa.experiments.generate import kept_trials, parts_dir
     from vibrissa.reproduce import check_job_arguments, dataset_path, run_experiment
     from vibrissa.reproduce.pipeline import check_scheduler
 
@@ -115,8 +115,8 @@ def _run(
         raise ValueError(_RENAME(str(exc))) from None
     data = dataset_path(protocol, out)
     if not data.exists() and not isinstance(protocol, SelfGenerating):
-        need = 2 * dataset_bytes(protocol) - files_bytes(parts_dir(data))
-        free_space("--out", data, max(need, 0), "the simulated dataset and its shards")
+        need = generation_disk_bytes(protocol, data)
+        free_space("--out", data, need, "the simulated dataset and its shards")
     stages: dict[str, int] = {}
 
     def interrupted() -> str:
