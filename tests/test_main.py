@@ -75,7 +75,7 @@ def test_an_import_error_that_is_not_an_interrupt_stays_a_bug(tmp_path) -> None:
 @pytest.mark.parametrize("sig", ["SIGINT", "SIGTERM"])
 def test_a_signal_after_the_command_finished_leaves_its_result(tmp_path, sig) -> None:
     """A signal during the interpreter's teardown ended a finished command by that signal
-    (status -15 to its parent, measured 2 of 60 SIGTERMs into ``whisker presets``)."""
+    (status -15 to its parent: SIGTERMs 2.82 and 2.87 s into ``whisker presets``)."""
     res = _run(
         "vibrissa.cli.main = lambda: print('done')\n"
         "from vibrissa.__main__ import main\nmain()\n"
