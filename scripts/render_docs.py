@@ -794,7 +794,12 @@ def extract_framework(results: Mapping[str, Any]) -> dict[str, Any]:
                     "contacts_to_decision",
                     "seconds_to_decision",
                     "decided_fraction",
+                    "accuracy_with_deadline",
+                    "contacts_with_deadline",
+                    "seconds_with_deadline",
+                    "no_evidence_fraction",
                 )
+                if k in r
             }
     comp = results["comparison"]["per_threshold"]
     proto = meta.get("protocol") or {}
@@ -822,6 +827,30 @@ def extract_framework(results: Mapping[str, Any]) -> dict[str, Any]:
             "accuracy": sum(1 for r in comp if r["accuracy_active_beats_passive"]),
             "contacts": sum(1 for r in comp if r["contacts_active_beats_passive"]),
             "everywhere": results["comparison"]["active_beats_passive_everywhere"],
+            "accuracy_decided_only": sum(
+                1 for r in comp if r.get("accuracy_active_beats_passive_decided_only")
+            ),
+            "contacts_decided_only": sum(
+                1 for r in comp if r.get("contacts_active_beats_passive_decided_only")
+            ),
+            "everywhere_decided_only": results["comparison"].get(
+                "active_beats_passive_everywhere_decided_only"
+            ),
+        },
+        "paired": {
+            _threshold_key(r["threshold"]): {
+                "accuracy_gain": r["accuracy_gain_over_passive"],
+                "contacts_saved": r["contacts_saved_over_passive"],
+            }
+            for r in comp
+            if "accuracy_gain_over_passive" in r
+        },
+        "gap_to_oracle": {
+            _threshold_key(r["threshold"]): {
+                "accuracy": r["accuracy_gap_to_oracle"],
+                "contacts": r["contacts_gap_to_oracle"],
+            }
+            for r in comp
         },
         "maps": results["maps"],
         "transfer": results.get("transfer"),

@@ -10,8 +10,10 @@ import xarray as xr
 
 from vibrissa.thesis.tactile_framework.evaluation import (
     compare_policies,
+    deadline_decision,
     episode_decisions,
     evaluate_framework,
+    paired_difference,
 )
 
 # two joint classes: (45 deg, texture 0) and (45 deg, texture 3)
@@ -53,6 +55,43 @@ def test_nothing_used_means_no_decision():
         "contacts": None,
         "seconds": None,
     }
+
+
+def test_the_deadline_decides_on_the_evidence_so_far():
+    used = np.array([True, False, True])
+    log_p = np.stack([lp(0.3), lp(0.5), lp(0.4)])  # class 1 ahead, never past 0.9
+    truth = np.array([1, -1, 1])
+    onset = np.array([0.5, 1.0, 1.5])
+    assert not episode_decisions(used, log_p, truth, onset, 0.9)["decided"]
+    d = deadline_decision(used, log_p, truth, onset, 0.9, end_s=8.0)
+    assert d == {
+        "at_threshold": False,
+        "correct": True,
+        "class": 1,
+        "contacts": 3,  # every contact of the episode
+        "seconds": 8.0,  # the end of its budget, not its last contact
+    }
+    # the same episode past its threshold decides there, as episode_decisions does
+    d = deadline_decision(used, log_p, truth, onset, 0.6, end_s=8.0)
+    assert d["at_threshold"] and d["contacts"] == 1 and d["seconds"] == 0.5
+
+
+def test_the_deadline_with_no_evidence_names_nothing_and_is_wrong():
+    d = deadline_decision(
+        np.zeros(2, bool), np.zeros((2, 2)), np.array([0, 0]), np.zeros(2), 0.9, end_s=4.0
+    )
+    assert d["class"] is None and d["correct"] is False and d["contacts"] == 2
+
+
+def test_paired_difference_brackets_the_mean():
+    a = np.array([1, 1, 0, 1, 1, 0, 1, 1], dtype=float)
+    b = np.array([0, 1, 0, 0, 1, 0, 1, 0], dtype=float)
+    d = paired_difference(a, b)
+    assert d["mean"] == pytest.approx(3 / 8)
+    assert 0.0 <= d["lo"] < d["mean"] < d["hi"] <= 1.0
+    assert paired_difference(a, a) == {"mean": 0.0, "lo": 0.0, "hi": 0.0}
+    with pytest.raises(ValueError, match="one value per episode"):
+        paired_difference(np.array([]), np.array([]))
 
 
 def synthetic_dataset() -> xr.Dataset:
@@ -129,7 +168,7 @@ def synthetic_dataset() -> xr.Dataset:
 
 
 def test_the_synthetic_episodes_rank_oracle_active_passive():
-    r = evaluate_framework(synthetic_dataset(), thresholds=(0.9, 0.99))
+    r = evaluate_framework(synthetic_dataset(), thresholds=(0.9, 0.99999))
     pol = r["policies"]
     assert pol["passive"]["tip_fraction"] == pytest.approx(3 / 5)
     assert pol["oracle"]["tip_fraction"] == 1.0
@@ -141,6 +180,17 @@ def test_the_synthetic_episodes_rank_oracle_active_passive():
     comp = r["comparison"]["per_threshold"][0]
     assert comp["contacts_active_beats_passive"] is True
     assert comp["accuracy_active_beats_passive"] is False  # equal accuracy is not "beats"
+    # every synthetic episode decides at 0.9, so the deadline changes nothing there
+    assert at["passive"]["accuracy_with_deadline"] == 1.0
+    assert at["passive"]["contacts_with_deadline"] == 4
+    assert comp["accuracy_gain_over_passive"] == {"mean": 0.0, "lo": 0.0, "hi": 0.0}
+    assert comp["contacts_saved_over_passive"]["mean"] == 1.0
+    # at 0.99999 nobody decides: each episode ends undecided after all its contacts
+    at = {n: r["curves"][n][1] for n in ("passive", "active", "oracle")}
+    assert at["passive"]["decided_fraction"] == 0.0 and at["passive"]["accuracy"] is None
+    assert at["passive"]["accuracy_with_deadline"] == 1.0
+    assert at["passive"]["contacts_with_deadline"] == 5
+    assert at["oracle"]["contacts_with_deadline"] == 3
     maps = r["maps"]["active"]
     assert maps["texture_cells"] == 1 and maps["texture_accuracy"] == 1.0
     assert maps["direction_error_deg"] == pytest.approx(0.0, abs=1e-6)
@@ -153,3 +203,27 @@ def test_compare_policies_needs_both_to_win_everywhere():
     assert c["active_beats_passive_everywhere"] is True
     c = compare_policies({"active": [worse], "passive": [row], "oracle": [row]})
     assert c["active_beats_passive_everywhere"] is False
+
+
+def test_the_comparison_is_with_the_deadline_and_reports_decided_only_beside_it():
+    # passive decides in few episodes, the easy ones: right on those, wrong on the rest
+    active = {
+        "threshold": 0.9,
+        "accuracy": 0.7,
+        "contacts_to_decision": 3.0,
+        "accuracy_with_deadline": 0.7,
+        "contacts_with_deadline": 3.0,
+    }
+    passive = {
+        "threshold": 0.9,
+        "accuracy": 0.8,
+        "contacts_to_decision": 4.0,
+        "accuracy_with_deadline": 0.5,
+        "contacts_with_deadline": 6.0,
+    }
+    c = compare_policies({"active": [active], "passive": [passive], "oracle": [active]})
+    assert c["active_beats_passive_everywhere"] is True
+    assert c["active_beats_passive_everywhere_decided_only"] is False
+    row = c["per_threshold"][0]
+    assert row["accuracy_active_beats_passive"] is True
+    assert row["accuracy_active_beats_passive_decided_only"] is False

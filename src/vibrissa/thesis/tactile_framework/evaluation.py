@@ -16,7 +16,16 @@ recording with the same per-contact table) and never the simulator:
   as the base moves; the map carries the surface's direction instead. An episode's decision
   is right when it names the texture most of its true tip contacts so far touched; one that
   decided on corner contacts alone is wrong. Contacts and seconds to
-  decision count every contact and every second of the episode up to the deciding contact;
+  decision count every contact and every second of the episode up to the deciding contact.
+  Two accuracies are kept. *At the threshold* scores only the episodes that reached it within
+  their budget, so a policy that seldom decides is scored on the episodes easy enough to
+  decide (the run's ``decided_fraction`` says how many).
+  *With the deadline* scores every episode: one that has not reached the threshold when its
+  budget of whisks runs out decides then, on the evidence it has (the accumulator's best
+  texture; with no usable contact it names nothing and is wrong), after all its contacts and
+  its whole duration. Active and passive are compared on the second, which asks the same
+  question of both policies over the same episodes, with a paired bootstrap interval of the
+  difference; the first is reported beside it;
 * **the touch map** (:class:`vibrissa.framework.mapping.TouchMap`) of each policy from all its
   episodes: occupancy from every contact's estimated point, texture and surface direction from
   the tip contacts, scored by :func:`~vibrissa.framework.mapping.score_touch_map`.
@@ -38,8 +47,11 @@ __all__ = [
     "MIN_PROBABILITY",
     "THRESHOLDS",
     "build_touch_map",
+    "compare_policies",
+    "deadline_decision",
     "episode_decisions",
     "evaluate_framework",
+    "paired_difference",
 ]
 
 #: Decision thresholds of the speed-accuracy curves.
@@ -113,6 +125,86 @@ def episode_decisions(
     }
 
 
+def deadline_decision(
+    used: np.ndarray,
+    log_proba: np.ndarray,
+    truth_class: np.ndarray,
+    onset_s: np.ndarray,
+    threshold: float,
+    end_s: float,
+) -> dict[str, Any]:
+    """One episode's decision at ``threshold``, or when its budget runs out.
+
+    An episode that reaches ``threshold`` decides as in :func:`episode_decisions`. One that
+    does not decides at the end of its budget (``end_s``, after all its contacts) on the
+    texture evidence it has accumulated; with no contact fed to "what" it names nothing, which
+    counts as wrong. Its decision is right when it names the texture most of the episode's
+    true tip contacts touched.
+
+    Parameters
+    ----------
+    used, log_proba, truth_class, onset_s, threshold
+        As in :func:`episode_decisions`.
+    end_s : float
+        The episode's end on its clock (the deadline).
+
+    Returns
+    -------
+    dict
+        ``at_threshold`` (bool), ``correct`` (bool), ``class`` (int or None),
+        ``contacts`` and ``seconds`` to the decision.
+    """
+    d = episode_decisions(used, log_proba, truth_class, onset_s, threshold)
+    if d["decided"]:
+        return {
+            "at_threshold": True,
+            "correct": d["correct"],
+            "class": d["class"],
+            "contacts": d["contacts"],
+            "seconds": d["seconds"],
+        }
+    idx = np.flatnonzero(used)
+    seen = truth_class[truth_class >= 0]
+    cls: int | None = None
+    if idx.size:
+        cls = int(np.argmax(_floored_log(log_proba[idx]).sum(axis=0)))
+    target = int(np.bincount(seen).argmax()) if seen.size else -1
+    return {
+        "at_threshold": False,
+        "correct": cls is not None and cls == target,
+        "class": cls,
+        "contacts": int(len(used)),
+        "seconds": float(end_s),
+    }
+
+
+def paired_difference(
+    a: np.ndarray, b: np.ndarray, n_boot: int = 4000, seed: int = 0
+) -> dict[str, float]:
+    """Mean of ``a - b`` over paired episodes with a 95 % bootstrap interval.
+
+    Parameters
+    ----------
+    a, b : ndarray of shape (n_episodes,)
+        One value per episode for each policy, episodes in the same order.
+    n_boot : int, default=4000
+        Bootstrap resamples of the episodes.
+    seed : int, default=0
+
+    Returns
+    -------
+    dict
+        ``mean``, ``lo``, ``hi`` (the 2.5 and 97.5 percentiles).
+    """
+    d = np.asarray(a, dtype=float) - np.asarray(b, dtype=float)
+    if d.ndim != 1 or d.size == 0:
+        raise ValueError(f"need one value per episode for each policy, got shape {d.shape}")
+    rng = np.random.default_rng(seed)
+    means = d[rng.integers(0, d.size, size=(n_boot, d.size))].mean(axis=1)
+    lo, hi = np.percentile(means, [2.5, 97.5])
+    return {"mean": float(d.mean()), "lo": float(lo), "hi": float(hi)}
+
+
 def _policy_summary(ds: xr.Dataset, sel: np.ndarray, policy: int) -> dict[str, Any]:
     kind = _col(ds, "truth_kind")[sel]
     tip = _col(ds, "tip")[sel].astype(bool)
@@ -149,7 +241,24 @@ def _texture_log_proba(lp: np.ndarray, textures: np.ndarray) -> tuple[np.ndarray
     return np.log(np.maximum(marg, 1e-300)), uniq
 
 
-def _curves(ds: xr.Dataset, thresholds: tuple[float, ...]) -> dict[str, list[dict[str, Any]]]:
+def _episode_end_s(ds: xr.Dataset, policy: int, episode: int, onset: np.ndarray) -> float:
+    """The episode's last clock reading (its moves'), or its last contact's onset."""
+    if "move_clock_s" in ds:
+        sel = (np.asarray(ds["move_policy"].values) == policy) & (
+            np.asarray(ds["move_episode"].values) == episode
+        )
+        if sel.any():
+            return float(np.asarray(ds["move_clock_s"].values)[sel].max())
+    return float(onset.max()) if onset.size else 0.0
+
+
+def _mean(values: list[Any]) -> float | None:
+    return float(np.mean(values)) if values else None
+
+
+def _curves(
+    ds: xr.Dataset, thresholds: tuple[float, ...]
+) -> tuple[dict[str, list[dict[str, Any]]], dict[str, dict[str, np.ndarray]]]:
     """Texture decisions of every episode at every threshold, per policy.
 
     The evidence accumulated is each contact's texture posterior (the joint (angle, texture)
@@ -157,6 +266,18 @@ def _curves(ds: xr.Dataset, thresholds: tuple[float, ...]) -> dict[str, list[dic
     reports is the surface's angle to the whisker, which changes whenever the base moves or
     turns; the touch map turns each contact's angle into the surface's direction in the world
     instead (:func:`build_touch_map`).
+
+    Returns
+    -------
+    curves : dict
+        Per policy, one row per threshold: at the threshold (``accuracy``,
+        ``contacts_to_decision``, ``seconds_to_decision`` over the episodes that reached it,
+        ``decided_fraction``) and with the deadline (``accuracy_with_deadline``,
+        ``contacts_with_deadline``, ``seconds_with_deadline`` over every episode,
+        ``no_evidence_fraction``).
+    paired : dict
+        Per policy, ``correct`` and ``contacts`` of shape (n_thresholds, n_episodes) with the
+        deadline, episodes in the same order for every policy.
     """
     pol = _col(ds, "policy")
     ep = _col(ds, "episode")
@@ -170,34 +291,42 @@ def _curves(ds: xr.Dataset, thresholds: tuple[float, ...]) -> dict[str, list[dic
     truth[(kind == TIP) & ~np.isin(true_tex, codes)] = codes.size  # a texture never calibrated
     episodes = sorted(set(ep.tolist()))
     out: dict[str, list[dict[str, Any]]] = {}
+    paired: dict[str, dict[str, np.ndarray]] = {}
     for p, name in enumerate(POLICIES):
         rows = []
-        for thr in thresholds:
-            dec = []
-            for e in episodes:
+        correct = np.zeros((len(thresholds), len(episodes)), dtype=bool)
+        contacts = np.zeros((len(thresholds), len(episodes)))
+        for t, thr in enumerate(thresholds):
+            dec, dl = [], []
+            for j, e in enumerate(episodes):
                 sel = np.flatnonzero((pol == p) & (ep == e))
                 sel = sel[np.argsort(onset[sel], kind="stable")]
                 used = (kind[sel] == TIP) if name == "oracle" else tip[sel]
-                dec.append(episode_decisions(used, lp[sel], truth[sel], onset[sel], thr))
+                args = (used, lp[sel], truth[sel], onset[sel], thr)
+                dec.append(episode_decisions(*args))
+                dl.append(deadline_decision(*args, _episode_end_s(ds, p, e, onset[sel])))
+                correct[t, j] = dl[-1]["correct"]
+                contacts[t, j] = dl[-1]["contacts"]
             decided = [d for d in dec if d["decided"]]
             rows.append(
                 {
                     "threshold": thr,
                     "episodes": len(dec),
                     "decided_fraction": len(decided) / len(dec) if dec else None,
-                    "accuracy": (
-                        float(np.mean([d["correct"] for d in decided])) if decided else None
-                    ),
-                    "contacts_to_decision": (
-                        float(np.mean([d["contacts"] for d in decided])) if decided else None
-                    ),
-                    "seconds_to_decision": (
-                        float(np.mean([d["seconds"] for d in decided])) if decided else None
+                    "accuracy": _mean([d["correct"] for d in decided]),
+                    "contacts_to_decision": _mean([d["contacts"] for d in decided]),
+                    "seconds_to_decision": _mean([d["seconds"] for d in decided]),
+                    "accuracy_with_deadline": _mean([d["correct"] for d in dl]),
+                    "contacts_with_deadline": _mean([d["contacts"] for d in dl]),
+                    "seconds_with_deadline": _mean([d["seconds"] for d in dl]),
+                    "no_evidence_fraction": (
+                        sum(d["class"] is None for d in dl) / len(dl) if dl else None
                     ),
                 }
             )
         out[name] = rows
-    return out
+        paired[name] = {"correct": correct, "contacts": contacts}
+    return out, paired
 
 
 def build_touch_map(ds: xr.Dataset, policy: int) -> TouchMap:
@@ -356,7 +485,7 @@ def evaluate_framework(
         "radial_classes_mm": sorted({float(v) for v in ds["radial_class_mm"].values}),
     }
     policies = {name: _policy_summary(ds, pol == p, p) for p, name in enumerate(POLICIES)}
-    curves = _curves(ds, thresholds)
+    curves, paired = _curves(ds, thresholds)
     maps = {}
     for p, name in enumerate(POLICIES):
         tm = build_touch_map(ds, p)
@@ -399,39 +528,83 @@ def evaluate_framework(
         "policies": policies,
         "curves": curves,
         "maps": maps,
-        "comparison": compare_policies(curves),
+        "comparison": compare_policies(curves, paired),
         "transfer": transfer(ds),
     }
 
 
-def compare_policies(curves: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
-    """Whether active beats passive at every threshold, and the gap to the oracle."""
+def compare_policies(
+    curves: dict[str, list[dict[str, Any]]],
+    paired: dict[str, dict[str, np.ndarray]] | None = None,
+) -> dict[str, Any]:
+    """Whether active beats passive at every threshold, and the gap to the oracle.
+
+    Active beats passive at a threshold when its accuracy with the deadline is higher and its
+    contacts to decision with the deadline fewer (every episode scored: see the module's
+    docstring); the same comparison over only the episodes that reached the threshold is
+    reported beside it (``*_decided_only``). Rows without the deadline columns (older results)
+    are compared at the threshold.
+
+    Parameters
+    ----------
+    curves : dict
+        Per policy, the rows of :func:`_curves`.
+    paired : dict, optional
+        Per policy, per-episode ``correct`` and ``contacts`` with the deadline (shape
+        (n_thresholds, n_episodes)): adds the paired bootstrap interval of active minus
+        passive at each threshold.
+    """
+
+    def better(x: float | None, y: float | None, higher: bool) -> bool | None:
+        if x is None or y is None:
+            return None
+        return x > y if higher else x < y
+
+    def gap(x: float | None, y: float | None) -> float | None:
+        return None if x is None or y is None else x - y
+
     rows = []
-    for a, p, o in zip(curves["active"], curves["passive"], curves["oracle"], strict=True):
+    for t, (a, p, o) in enumerate(
+        zip(curves["active"], curves["passive"], curves["oracle"], strict=True)
+    ):
+        acc = "accuracy_with_deadline" if "accuracy_with_deadline" in a else "accuracy"
+        con = "contacts_with_deadline" if "contacts_with_deadline" in a else "contacts_to_decision"
+        row: dict[str, Any] = {
+            "threshold": a["threshold"],
+            "accuracy_active_beats_passive": better(a[acc], p[acc], True),
+            "contacts_active_beats_passive": better(a[con], p[con], False),
+            "accuracy_active_beats_passive_decided_only": better(
+                a["accuracy"], p["accuracy"], True
+            ),
+            "contacts_active_beats_passive_decided_only": better(
+                a["contacts_to_decision"], p["contacts_to_decision"], False
+            ),
+            "accuracy_gap_to_oracle": gap(o[acc], a[acc]),
+            "contacts_gap_to_oracle": gap(a[con], o[con]),
+            "accuracy_gap_to_oracle_decided_only": gap(o["accuracy"], a["accuracy"]),
+            "contacts_gap_to_oracle_decided_only": gap(
+                a["contacts_to_decision"], o["contacts_to_decision"]
+            ),
+        }
+        if paired is not None:
+            act, pas = paired["active"], paired["passive"]
+            row["accuracy_gain_over_passive"] = paired_difference(
+                act["correct"][t], pas["correct"][t]
+            )
+            row["contacts_saved_over_passive"] = paired_difference(
+                pas["contacts"][t], act["contacts"][t]
+            )
+        rows.append(row)
 
-        def better(x: float | None, y: float | None, higher: bool) -> bool | None:
-            if x is None or y is None:
-                return None
-            return x > y if higher else x < y
+    def everywhere(key: str) -> bool:
+        return bool(rows) and all(r[f"accuracy_{key}"] and r[f"contacts_{key}"] for r in rows)
 
-        rows.append(
-            {
-                "threshold": a["threshold"],
-                "accuracy_active_beats_passive": better(a["accuracy"], p["accuracy"], True),
-                "contacts_active_beats_passive": better(
-                    a["contacts_to_decision"], p["contacts_to_decision"], False
-                ),
-                "accuracy_gap_to_oracle": (
-                    None
-                    if a["accuracy"] is None or o["accuracy"] is None
-                    else o["accuracy"] - a["accuracy"]
-                ),
-                "contacts_gap_to_oracle": (
-                    None
-                    if a["contacts_to_decision"] is None or o["contacts_to_decision"] is None
-                    else a["contacts_to_decision"] - o["contacts_to_decision"]
-                ),
-            }
-        )
-    both = [r["accuracy_active_beats_passive"] and r["contacts_active_beats_passive"] for r in rows]
-    return {"per_threshold": rows, "active_beats_passive_everywhere": bool(rows) and all(both)}
+    return {
+        "per_threshold": rows,
+        "rule": "with the deadline: every episode decides, at the threshold or when its "
+        "budget runs out",
+        "active_beats_passive_everywhere": everywhere("active_beats_passive"),
+        "active_beats_passive_everywhere_decided_only": everywhere(
+            "active_beats_passive_decided_only"
+        ),
+    }

@@ -112,6 +112,8 @@ class TactileFramework(Experiment):
                 "tip_fraction": results["policies"][name]["tip_fraction"],
                 "texture_accuracy_at_0.99": at["accuracy"],
                 "contacts_to_decision_at_0.99": at["contacts_to_decision"],
+                "texture_accuracy_with_deadline_at_0.99": at.get("accuracy_with_deadline"),
+                "contacts_with_deadline_at_0.99": at.get("contacts_with_deadline"),
                 "texture_map_accuracy": results["maps"][name]["texture_accuracy"],
             }
         out["active_beats_passive_everywhere"] = results["comparison"][

@@ -127,20 +127,35 @@ def touch_map_figure(
 
 
 def curves_figure(curves: Mapping[str, Sequence[Mapping[str, Any]]]) -> Figure:
-    """Speed-accuracy: accuracy at decision against contacts to decision, per threshold."""
+    """Speed-accuracy: accuracy against contacts to decision, per threshold.
+
+    Solid lines score every episode (one that has not reached the threshold decides when its
+    budget runs out); dashed lines only the episodes that reached the threshold.
+    """
     fig = Figure(figsize=(10.0, 4.0), layout="constrained")
     ax_a, ax_b = fig.subplots(1, 2)
     for name in POLICIES:
+        col = POLICY_COLOURS[name]
+        dl = [r for r in curves.get(name, []) if r.get("accuracy_with_deadline") is not None]
+        if dl:
+            ax_a.plot(
+                [r["contacts_with_deadline"] for r in dl],
+                [r["accuracy_with_deadline"] for r in dl],
+                "o-",
+                color=col,
+                label=f"{name}, with the deadline",
+            )
         rows = [r for r in curves.get(name, []) if r["accuracy"] is not None]
         if not rows:
             continue
-        col = POLICY_COLOURS[name]
         ax_a.plot(
             [r["contacts_to_decision"] for r in rows],
             [r["accuracy"] for r in rows],
-            "o-",
+            "s--",
             color=col,
-            label=name,
+            alpha=0.6,
+            markersize=4,
+            label=f"{name}, decided episodes only",
         )
         ax_b.plot(
             [r["threshold"] for r in rows],
@@ -151,18 +166,19 @@ def curves_figure(curves: Mapping[str, Sequence[Mapping[str, Any]]]) -> Figure:
         )
     ax_a.set(
         xlabel="contacts to decision (mean)",
-        ylabel="accuracy at decision (angle and texture)",
+        ylabel="texture accuracy at decision",
         title="(a) speed-accuracy over decision thresholds",
         ylim=(0, 1.05),
     )
     ax_b.set(
         xlabel="decision threshold",
-        ylabel="episodes that decided",
-        title="(b) episodes reaching a decision",
+        ylabel="episodes that reached the threshold",
+        title="(b) episodes deciding before the deadline",
         ylim=(0, 1.05),
         xscale="logit",
     )
-    ax_a.legend()
+    ax_a.legend(fontsize=7)
+    ax_b.legend(fontsize=8)
     return fig
 
 
