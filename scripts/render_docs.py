@@ -703,8 +703,9 @@ def extract_peers(results: Mapping[str, Any]) -> dict[str, Any]:
 
     Besides the headline numbers it turns the search into a markdown table, one row per
     number of links: its largest stable step, the first-mode error against the beam
-    reference and the peak-moment error against ours there, and the verdict (the
-    accepted step where there is one).
+    reference and the peak-moment error against the converged rod there, and the verdict
+    (the accepted step where there is one); and our rod's search, one row per element
+    count, as ``vibrissa_search_table``.
     """
     keys = (
         "vibrissa_rtf",
@@ -731,8 +732,15 @@ def extract_peers(results: Mapping[str, Any]) -> dict[str, Any]:
         "mujoco_planar_rtf",
         "ratio_planar",
         "mujoco_planar_peak_moment_error_pct",
+        "vibrissa_peak_moment_error_pct",
+        "vibrissa_default_n_elements",
+        "vibrissa_default_first_mode_error_pct",
+        "vibrissa_default_peak_moment_error_pct",
     )
     out: dict[str, Any] = {k: results[k] for k in keys}
+    out["reference_peak_follicle_moment_mnm"] = results["reference_peak_follicle_moment_nm"] * 1e3
+    out["peak_reference_n_elements"] = results["peak_reference"]["n_elements"]
+    out["peak_reference_dt_us"] = results["peak_reference"]["dt_s"] * 1e6
     out["mujoco_dt_us"] = results["mujoco_dt_s"] * 1e6
     out["mujoco_max_penetration_um"] = results["mujoco_max_penetration_m"] * 1e6
     out["vibrissa_dt_us"] = results["vibrissa_dt_s"] * 1e6
@@ -745,8 +753,30 @@ def extract_peers(results: Mapping[str, Any]) -> dict[str, Any]:
     out["machine"] = {k: results["machine"][k] for k in ("cpu", "cpu_count", "pinned_cpu")}
     out["machine"]["load_average_before"] = results["machine"]["load_average_before"][0]
     tol = results["criteria"]
+    tol_f = tol["first_mode_tolerance_pct"]
+    ours = [
+        "| elements | first mode vs reference | peak moment vs reference | verdict |",
+        "|---|---|---|---|",
+    ]
+    for r in results["vibrissa_search"]:
+        moment = (
+            "not run"
+            if r["peak_moment_error_pct"] is None
+            else f"{r['peak_moment_error_pct']:+.2f} %"
+        )
+        verdict = (
+            "accepted"
+            if r["accepted"]
+            else "first mode outside"
+            if abs(r["first_mode_error_pct"]) > tol_f
+            else "peak moment outside"
+        )
+        ours.append(
+            f"| {r['n_elements']} | {r['first_mode_error_pct']:+.3f} % | {moment} | {verdict} |"
+        )
+    out["vibrissa_search_table"] = "\n".join(ours)
     lines = [
-        "| links | step | first mode vs reference | peak moment vs ours | verdict |",
+        "| links | step | first mode vs reference | peak moment vs reference | verdict |",
         "|---|---|---|---|---|",
     ]
     for n in sorted({row["links"] for row in results["search"]}):

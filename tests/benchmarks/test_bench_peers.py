@@ -171,8 +171,26 @@ def test_quick_json_has_the_comparison(mujoco, tmp_path, capsys):
         "mujoco_planar_rtf",
         "ratio_planar",
         "mujoco_planar_peak_follicle_moment_nm",
+        "reference_peak_follicle_moment_nm",
+        "vibrissa_peak_moment_error_pct",
+        "vibrissa_search",
+        "vibrissa_default_first_mode_error_pct",
+        "vibrissa_default_peak_moment_error_pct",
     ):
         assert key in result, key
+    # both simulators held to the same tolerances, each at its cheapest accepted setting
+    tol_f, tol_m = bench_peers.FIRST_MODE_TOLERANCE_PCT, bench_peers.MOMENT_TOLERANCE_PCT
+    assert abs(result["vibrissa_first_mode_error_pct"]) <= tol_f
+    assert abs(result["vibrissa_peak_moment_error_pct"]) <= tol_m
+    ours = [row for row in result["vibrissa_search"] if row["accepted"]]
+    assert len(ours) == 1 and ours[0]["n_elements"] == result["vibrissa_n_elements"]
+    fewer = [r for r in result["vibrissa_search"] if r["n_elements"] < ours[0]["n_elements"]]
+    assert all(
+        abs(r["first_mode_error_pct"]) > tol_f
+        or r["peak_moment_error_pct"] is None
+        or abs(r["peak_moment_error_pct"]) > tol_m
+        for r in fewer
+    )
     assert result["ratio"] == pytest.approx(result["vibrissa_rtf"] / result["mujoco_rtf"])
     assert result["ratio_planar"] == pytest.approx(
         result["vibrissa_rtf"] / result["mujoco_planar_rtf"]
@@ -188,9 +206,23 @@ def test_quick_json_has_the_comparison(mujoco, tmp_path, capsys):
     quoted = render_docs.extract_peers(result)
     assert quoted["ratio"] == result["ratio"]
     assert quoted["mujoco_dt_us"] == pytest.approx(result["mujoco_dt_s"] * 1e6)
+    assert quoted["vibrissa_search_table"].count("accepted") == 1
     table = quoted["search_table"].splitlines()
     assert len(table) == 2 + len({row["links"] for row in result["search"]})
     assert table[-1].startswith(f"| {result['mujoco_links']} |") and "accepted" in table[-1]
+
+
+def test_our_search_takes_the_fewest_elements_within_both_tolerances():
+    g = preset("xy-robot")
+    ref_hz = bench_peers.reference_first_mode_hz(g)
+    # a peak reference our rod meets at any resolution: the first mode decides alone
+    found = bench_peers.our_search(g, 0.2, ref_hz, 1.0, elements=(20, 40, 60))
+    assert found["accepted"] is None  # 1 N m is far from the contact's mN m
+    peak = found["rows"][-1]["peak_follicle_moment_nm"]
+    found = bench_peers.our_search(g, 0.2, ref_hz, peak, elements=(20, 40, 60))
+    assert [r["n_elements"] for r in found["rows"]] == [20, 40]
+    assert found["rows"][0]["peak_follicle_moment_nm"] is None  # first mode 0.34 % off
+    assert found["accepted"]["n_elements"] == 40
 
 
 @pytest.mark.parametrize(
