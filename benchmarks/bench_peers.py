@@ -816,13 +816,7 @@ def our_search(
             )
             row["peak_follicle_moment_nm"] = float(out["peak_follicle_moment_nm"])
             row["peak_moment_error_pct"] = _pct(row["peak_follicle_moment_nm"], reference_peak_nm)
-        what = f"first mode {f1:.4f} Hz ({row['first_mode_error_pct']:+.3f} %)"
-        if row["peak_moment_error_pct"] is not None:
-            what += (
-                f", peak moment {row['peak_follicle_moment_nm'] * 1e3:.4f} mN m "
-                f"({row['peak_moment_error_pct']:+.2f} %)"
-            )
-        print(f"  ours {n:3d} elements: {what}", file=sys.stderr)
+        print(f"  ours {n:3d} elements: {_accuracy(row)}", file=sys.stderr)
         if (
             row["peak_moment_error_pct"] is not None
             and abs(row["peak_moment_error_pct"]) <= MOMENT_TOLERANCE_PCT
@@ -832,16 +826,19 @@ def our_search(
     return {"accepted": None, "rows": rows}
 
 
+def _accuracy(row: dict[str, Any]) -> str:
+    """A search row's first mode and peak moment with their errors, for progress lines."""
+    what = f"first mode {row['first_mode_hz']:.4f} Hz ({row['first_mode_error_pct']:+.3f} %)"
+    if row["peak_moment_error_pct"] is not None:
+        what += (
+            f", peak moment {row['peak_follicle_moment_nm'] * 1e3:.4f} mN m "
+            f"({row['peak_moment_error_pct']:+.2f} %)"
+        )
+    return what
+
+
 def _progress(row: dict[str, Any]) -> None:
-    if not row["stable"]:
-        what = "unstable"
-    else:
-        what = f"first mode {row['first_mode_hz']:.4f} Hz ({row['first_mode_error_pct']:+.3f} %)"
-        if row["peak_moment_error_pct"] is not None:
-            what += (
-                f", peak moment {row['peak_follicle_moment_nm'] * 1e3:.4f} mN m "
-                f"({row['peak_moment_error_pct']:+.2f} %)"
-            )
+    what = _accuracy(row) if row["stable"] else "unstable"
     print(f"  {row['links']:3d} links, dt {row['dt_s'] * 1e6:6.1f} us: {what}", file=sys.stderr)
 
 
