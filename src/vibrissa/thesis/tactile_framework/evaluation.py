@@ -296,26 +296,26 @@ def _curves(
         rows = []
         correct = np.zeros((len(thresholds), len(episodes)), dtype=bool)
         contacts = np.zeros((len(thresholds), len(episodes)))
+        inputs = []  # per episode: what its policy feeds to "what", in time order
+        for e in episodes:
+            sel = np.flatnonzero((pol == p) & (ep == e))
+            sel = sel[np.argsort(onset[sel], kind="stable")]
+            used = (kind[sel] == TIP) if name == "oracle" else tip[sel]
+            end = _episode_end_s(ds, p, e, onset[sel])
+            inputs.append((used, lp[sel], truth[sel], onset[sel], end))
         for t, thr in enumerate(thresholds):
-            dec, dl = [], []
-            for j, e in enumerate(episodes):
-                sel = np.flatnonzero((pol == p) & (ep == e))
-                sel = sel[np.argsort(onset[sel], kind="stable")]
-                used = (kind[sel] == TIP) if name == "oracle" else tip[sel]
-                args = (used, lp[sel], truth[sel], onset[sel], thr)
-                dec.append(episode_decisions(*args))
-                dl.append(deadline_decision(*args, _episode_end_s(ds, p, e, onset[sel])))
-                correct[t, j] = dl[-1]["correct"]
-                contacts[t, j] = dl[-1]["contacts"]
-            decided = [d for d in dec if d["decided"]]
+            dl = [deadline_decision(u, q, tr, on, thr, end) for u, q, tr, on, end in inputs]
+            correct[t] = [d["correct"] for d in dl]
+            contacts[t] = [d["contacts"] for d in dl]
+            dec = [d for d in dl if d["at_threshold"]]  # decided at the threshold
             rows.append(
                 {
                     "threshold": thr,
-                    "episodes": len(dec),
-                    "decided_fraction": len(decided) / len(dec) if dec else None,
-                    "accuracy": _mean([d["correct"] for d in decided]),
-                    "contacts_to_decision": _mean([d["contacts"] for d in decided]),
-                    "seconds_to_decision": _mean([d["seconds"] for d in decided]),
+                    "episodes": len(dl),
+                    "decided_fraction": len(dec) / len(dl) if dl else None,
+                    "accuracy": _mean([d["correct"] for d in dec]),
+                    "contacts_to_decision": _mean([d["contacts"] for d in dec]),
+                    "seconds_to_decision": _mean([d["seconds"] for d in dec]),
                     "accuracy_with_deadline": _mean([d["correct"] for d in dl]),
                     "contacts_with_deadline": _mean([d["contacts"] for d in dl]),
                     "seconds_with_deadline": _mean([d["seconds"] for d in dl]),
