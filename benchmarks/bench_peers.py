@@ -60,13 +60,15 @@ The same tolerance for us
     Our rod is held to the same two tolerances (issue 32): for each element count
     (:data:`OUR_ELEMENTS`, ascending) at the standard step (0.25 ms, the largest that
     divides the 4 kHz output period), its first mode (the rod's linearisation; our
-    implicit step's period error at 16 Hz is about 5e-5 %) against the beam reference
-    and its peak follicle moment in the standard contact against the peak-moment
-    reference; the fewest elements within both is the setting timed. The standard
-    contact has no closed form, so the peak-moment reference is our rod converged
+    implicit step's period error at 16 Hz is of order (w dt)^2 / 12 = 6e-5, i.e.
+    0.006 %) against the beam reference and its peak follicle moment in the standard
+    contact against the peak-moment reference; the fewest elements within both is the
+    setting timed. The standard contact has no closed form, so the peak-moment
+    reference is our rod converged
     (:data:`PEAK_REFERENCE`: 150 elements, 31.25 us steps, every step the nonlinear
     rod): between 100 and 150 elements it moves by 6e-5 relative, and between 31.25
-    and 62.5 us steps by 3e-4, both well inside the 1 % tolerance. The JSON also
+    and 62.5 us steps by 3e-4, both well inside the 1 % tolerance (``physics_benchmark``
+    at those settings, every step nonlinear, 2026-11-27). The JSON also
     states the default rod's errors (``vibrissa_default_*``), which may lie outside.
 Timing
     Ours: :func:`~vibrissa.whisker.benchmark.physics_benchmark` (one timed standard trial

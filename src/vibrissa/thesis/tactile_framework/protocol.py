@@ -163,8 +163,10 @@ class FrameworkProtocol(SelfGenerating):
     n_episodes, n_whisks
         Episodes per policy, whisk-and-step cycles per episode. Active and passive are
         compared episode by episode (paired); at 20 episodes the 95 % interval of the
-        accuracy difference was about +-0.2 wide (docs/runs/framework.json at 20 episodes,
-        2026-11-27), too wide to rank the policies, so the full run has 40.
+        accuracy difference was about +-0.2 wide (the 20-episode run of
+        docs/runs/framework.json at 7cc5204, re-scored with
+        :func:`~.evaluation.paired_difference`), too wide to rank the policies, so the
+        full run has 40.
     step_mm, margin_mm
         The patrol's step along the heading per whisk; the extra distance of a reposition
         beyond the estimated distance to the tip.
