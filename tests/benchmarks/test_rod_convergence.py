@@ -47,3 +47,28 @@ def test_consistent_mass_converges_faster_and_the_json_says_so(bench_script, tmp
     assert fewest[("consistent", "node", "uniform")] < fewest[("lumped", "node", "uniform")]
     for r in res["rows"]:
         assert abs(r["follicle_rotation_error_pct"]) < 1e-6  # statics: moment = force x arm
+    # the dynamics run for the diagonal masses only, and agree with the converged rod
+    both = {
+        (r["mass"], r["stiffness"], r["grading"]): r["fewest_elements_both"]
+        for r in res["fewest_elements_within_tolerance"]
+    }
+    assert both[("consistent", "node", "uniform")] == "not run"
+    for mass in ("lumped", "centroid"):
+        assert both[(mass, "node", "uniform")] >= fewest[(mass, "node", "uniform")]
+        rows = [
+            r
+            for r in res["rows"]
+            if (r["mass"], r["stiffness"], r["grading"]) == (mass, "node", "uniform")
+        ]
+        assert all(abs(r["peak_moment_error_pct"]) < 2.0 for r in rows)
+
+
+def test_the_lumped_dynamic_model_is_the_models_own(bench_script) -> None:
+    rc = bench_script("rod_convergence")
+    g = preset("xy-robot")
+    assert np.array_equal(rc.dynamic_model(g, 12, "lumped").mass, RodModel(g, 12).mass)
+    centroid = rc.dynamic_model(g, 12, "centroid").mass
+    assert centroid.sum() == pytest.approx(RodModel(g, 12).mass.sum(), rel=1e-12)
+    assert not np.allclose(centroid, RodModel(g, 12).mass)  # mass moved toward the base
+    with pytest.raises(ValueError, match="diagonal"):
+        rc.dynamic_model(g, 12, "consistent")
