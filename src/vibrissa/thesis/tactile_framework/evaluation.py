@@ -242,14 +242,15 @@ def _texture_log_proba(lp: np.ndarray, textures: np.ndarray) -> tuple[np.ndarray
 
 
 def _episode_end_s(ds: xr.Dataset, policy: int, episode: int, onset: np.ndarray) -> float:
-    """The episode's last clock reading (its moves'), or its last contact's onset."""
+    """The episode's last clock reading: its last move's or its last contact's onset."""
+    end = float(onset.max()) if onset.size else 0.0
     if "move_clock_s" in ds:
         sel = (np.asarray(ds["move_policy"].values) == policy) & (
             np.asarray(ds["move_episode"].values) == episode
         )
         if sel.any():
-            return float(np.asarray(ds["move_clock_s"].values)[sel].max())
-    return float(onset.max()) if onset.size else 0.0
+            end = max(end, float(np.asarray(ds["move_clock_s"].values)[sel].max()))
+    return end
 
 
 def _mean(values: list[Any]) -> float | None:
