@@ -56,7 +56,12 @@ import scipy.linalg
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from bench_peers import MOMENT_TOLERANCE_PCT, reference_frequencies_hz, reference_peak_moment_nm
+from bench_peers import (
+    MOMENT_TOLERANCE_PCT,
+    PEAK_REFERENCE,
+    reference_frequencies_hz,
+    reference_peak_moment_nm,
+)
 
 from vibrissa import __version__
 from vibrissa._atomic import atomic_write_text
@@ -281,6 +286,7 @@ def run(name: str) -> dict[str, Any]:
         "tip_force_n": TIP_FORCE_N,
         "moment_tolerance_pct": MOMENT_TOLERANCE_PCT,
         "reference_peak_follicle_moment_nm": peak_ref,
+        "peak_reference": dict(PEAK_REFERENCE),
         "rows": rows,
         "fewest_elements_within_tolerance": fewest,
     }
