@@ -623,7 +623,7 @@ def extract_benchmarks(folder: str | os.PathLike[str]) -> dict[str, Any]:
 
     root = Path(folder)
     out: dict[str, Any] = {"sources": {}}
-    for name in ("physics", "generation", "chapter5"):
+    for name in ("physics", "generation", "chapter5", "rod_convergence"):
         f = root / f"{name}.json"
         log = subprocess.run(
             ["git", "log", "-1", "--format=%H %aI", "--", str(f)],
@@ -695,7 +695,60 @@ def extract_benchmarks(folder: str | os.PathLike[str]) -> dict[str, Any]:
     out["chapter5"]["classify_seconds"] = {
         n: c["classify_seconds"] for n, c in ch5["classifiers"].items()
     }
+    out["rod_convergence"] = extract_rod_convergence(
+        json.loads((root / "rod_convergence.json").read_text(encoding="utf-8"))
+    )
     return out
+
+
+def extract_rod_convergence(rc: Mapping[str, Any]) -> dict[str, Any]:
+    """``benchmarks/rod_convergence.py``'s result: a table of the options and the default.
+
+    One row per discretisation option at the fewest elements whose first mode is within
+    the tolerance: its mode errors, static tip error, peak follicle moment error (where
+    the dynamics ran) and the fewest elements within both tolerances.
+    """
+    rows = rc["rows"]
+
+    def row(mass: str, stiffness: str, grading: str, n: int) -> Mapping[str, Any]:
+        key = (mass, stiffness, grading, n)
+        return next(
+            r for r in rows if (r["mass"], r["stiffness"], r["grading"], r["n_elements"]) == key
+        )
+
+    lines = [
+        "| mass | stiffness | elements | mode 1 | mode 2 | mode 3 | static tip | peak moment "
+        "| elements within both |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for best in rc["fewest_elements_within_tolerance"]:
+        n = best["fewest_elements"]
+        label = f"| {best['mass']} | {best['stiffness']}" + (
+            "" if best["grading"] == "uniform" else f", {best['grading']}-graded"
+        )
+        if n is None:
+            lines.append(f"{label} | none tried | | | | | | |")
+            continue
+        r = row(best["mass"], best["stiffness"], best["grading"], n)
+        m = r["mode_error_pct"]
+        p = r.get("peak_moment_error_pct")
+        lines.append(
+            f"{label} | {n} | {m[0]:+.3f} % | {m[1]:+.3f} % | {m[2]:+.3f} % "
+            f"| {r['tip_deflection_error_pct']:+.3f} % | "
+            + ("not run" if p is None else f"{p:+.2f} %")
+            + f" | {best['fewest_elements_both']} |"
+        )
+    default = row("lumped", "node", "uniform", rc["default_n_elements"])
+    return {
+        "table": "\n".join(lines),
+        "default_n_elements": rc["default_n_elements"],
+        "default_first_mode_error_pct": default["mode_error_pct"][0],
+        "default_peak_moment_error_pct": default.get("peak_moment_error_pct"),
+        "first_mode_tolerance_pct": rc["first_mode_tolerance_pct"],
+        "moment_tolerance_pct": rc.get("moment_tolerance_pct"),
+        "peak_reference_n_elements": rc["peak_reference"]["n_elements"],
+        "peak_reference_dt_us": rc["peak_reference"]["dt_s"] * 1e6,
+    }
 
 
 def extract_peers(results: Mapping[str, Any]) -> dict[str, Any]:
