@@ -70,11 +70,12 @@ class ContactGeometry:
     kind
         "tip" (the tip meets a face), "shaft" (the shaft meets a convex box vertex) or
         "pressed" (at full retraction the whisker already crosses a solid, or its
-        pivot is inside one).
+        pivot is inside one, or its root runs into a face during the protraction).
     whisker
         The whisker's index.
     sweep_deg
-        The housing's angle from full retraction at the contact (0 when pressed).
+        The housing's angle from full retraction at the contact (0 when pressed at
+        rest; where the root meets the face when it runs into one).
     radial_distance_mm
         Distance along the whisker from its base to the contact (its length for a tip;
         NaN when pressed).
@@ -133,6 +134,43 @@ def _segments_cross(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray) 
         lo, hi = np.minimum(t0, t1), np.maximum(t0, t1)
         hit |= col & (hi >= -_EPS) & (lo <= 1 + _EPS)
     return hit
+
+
+_NAN2 = (math.nan, math.nan)
+
+
+def _arc_meets_faces(
+    world: BoxWorld, centre: np.ndarray, z: np.ndarray, x: np.ndarray, radius: float, amp: float
+) -> list[tuple[int, np.ndarray, float]]:
+    """Where the arc of ``radius`` about the pivot, swept from 0 to ``amp``, meets a face.
+
+    Only crossings where the point on the arc moves into the face (from its free side)
+    count. Returns ``(face index, point, housing angle rad)`` for each.
+    """
+    a, b = world.face_segments()
+    out = []
+    for k in range(a.shape[0]):
+        d = b[k] - a[k]
+        f = a[k] - centre
+        qa, qb, qc = d @ d, 2.0 * (f @ d), f @ f - radius * radius
+        disc = qb * qb - 4 * qa * qc
+        if disc < 0.0:
+            continue
+        sq = math.sqrt(disc)
+        n = world.faces[k].normal
+        for t in ((-qb - sq) / (2 * qa), (-qb + sq) / (2 * qa)):
+            if not -_EPS <= t <= 1 + _EPS:
+                continue
+            q = a[k] + t * d
+            rq = q - centre
+            th = math.atan2(float(rq @ x), float(rq @ z))
+            if not 0.0 < th <= amp:
+                continue
+            vel = -math.sin(th) * z + math.cos(th) * x  # the point's direction of motion
+            if float(n @ vel) >= 0.0:
+                continue  # leaving the face, not meeting it
+            out.append((k, q, th))
+    return out
 
 
 def _geometry(pose: HeadPose, head: WhiskingHead, i: int) -> tuple[np.ndarray, ...]:
@@ -197,49 +235,35 @@ def first_contact(
                         corner=int(k),
                     ),
                 )
-    # the tip's arc (radius depth + L about the pivot) meets a face
-    R = depth + L
     faces_all = world.faces
-    for k in range(a.shape[0]):
-        d = b[k] - a[k]
-        f = a[k] - centre
-        qa, qb, qc = d @ d, 2.0 * (f @ d), f @ f - R * R
-        disc = qb * qb - 4 * qa * qc
-        if disc < 0.0:
+    # the whisker's root (its base, radius depth about the pivot) runs into a face: the
+    # head is against the obstacle, the whisker pressed from there on
+    for k, _q, th in _arc_meets_faces(world, centre, z, x, depth, amp):
+        if best is None or th < best[0]:
+            best = (th, ContactGeometry("pressed", i, math.degrees(th), math.nan, _NAN2, (k,)))
+    # the tip's arc (radius depth + L about the pivot) meets a face
+    for k, q, th in _arc_meets_faces(world, centre, z, x, depth + L, amp):
+        if best is not None and th >= best[0]:
             continue
-        sq = math.sqrt(disc)
         n = faces_all[k].normal
-        for t in ((-qb - sq) / (2 * qa), (-qb + sq) / (2 * qa)):
-            if not -_EPS <= t <= 1 + _EPS:
-                continue
-            q = a[k] + t * d
-            rq = q - centre
-            th = math.atan2(float(rq @ x), float(rq @ z))
-            if not 0.0 < th <= amp:
-                continue
-            vel = -math.sin(th) * z + math.cos(th) * x  # the tip's direction of motion
-            if float(n @ vel) >= 0.0:
-                continue  # leaving the face, not meeting it
-            if best is not None and th >= best[0]:
-                continue
-            nx, nz = float(n @ x), float(n @ z)
-            side = 1 if nx > 0.0 else -1
-            angle = math.degrees(math.asin(min(1.0, max(-1.0, -nz))))
-            best = (
-                th,
-                ContactGeometry(
-                    "tip",
-                    i,
-                    math.degrees(th),
-                    L,
-                    (float(q[0]), float(q[1])),
-                    int(k),
-                    faces_all[k].texture,
-                    angle,
-                    side,
-                    faces_all[k].direction_deg,
-                ),
-            )
+        nx, nz = float(n @ x), float(n @ z)
+        side = 1 if nx > 0.0 else -1
+        angle = math.degrees(math.asin(min(1.0, max(-1.0, -nz))))
+        best = (
+            th,
+            ContactGeometry(
+                "tip",
+                i,
+                math.degrees(th),
+                L,
+                (float(q[0]), float(q[1])),
+                int(k),
+                faces_all[k].texture,
+                angle,
+                side,
+                faces_all[k].direction_deg,
+            ),
+        )
     return None if best is None else best[1]
 
 
