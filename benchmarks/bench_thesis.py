@@ -15,6 +15,13 @@ budget of 10 minutes on 2 cores. The machine (cores, CPU model, memory) is recor
 them. The JSON (default ``benchmarks/results/thesis.json``) is written atomically after
 every reproduction; rerunning with the same ``--out`` resumes after the last one written
 (``--restart`` starts again).
+
+``--keep DIR`` keeps each reproduction's output (report, figures, ``results.json``, the
+dataset) in ``DIR/NAME`` instead of a temporary directory, with the equivalent
+``vibrissa reproduce NAME --out DIR/NAME`` as its recorded command: one run then both
+times the thesis and makes the committed results of ``docs/runs``. A kept directory
+that already exists is refused before any work (its cached dataset would make the
+timing a reuse, not a reproduction).
 """
 
 from __future__ import annotations
@@ -67,12 +74,18 @@ def machine() -> dict[str, Any]:
     }
 
 
-def one(name: str, quick: bool, workers: int | None) -> dict[str, Any]:
-    """Run one reproduction from scratch; its times."""
+def one(name: str, quick: bool, workers: int | None, keep: Path | None = None) -> dict[str, Any]:
+    """Run one reproduction from scratch (kept in ``keep / name`` if given); its times."""
     with tempfile.TemporaryDirectory(prefix=f"bench-thesis-{name}-") as tmp:
+        out = Path(tmp) / "out" if keep is None else keep / name
+        command = None
+        if keep is not None:
+            flags = ["--quick"] if quick else []
+            flags += [f"--workers {workers}"] if workers else []
+            command = " ".join(["vibrissa reproduce", name, "--out", str(out), *flags, "--json"])
         load = os.getloadavg()[0]
         t0 = time.perf_counter()
-        res = run_experiment(name, Path(tmp) / "out", quick=quick, workers=workers)
+        res = run_experiment(name, out, quick=quick, workers=workers, command=command)
         wall = time.perf_counter() - t0
     meta = res["meta"]
     return {
@@ -93,6 +106,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--quick", action="store_true", help="the quick grids instead")
     ap.add_argument("--only", default="", help="comma list of reproductions (default: all six)")
     ap.add_argument("--restart", action="store_true", help="ignore what --out already holds")
+    ap.add_argument(
+        "--keep", type=Path, default=None, help="keep each reproduction's output in KEEP/NAME"
+    )
     args = ap.parse_args(argv)
     names = [n for n in args.only.split(",") if n] or list(THESIS)
     unknown = sorted(set(names) - set(THESIS))
@@ -106,6 +122,10 @@ def main(argv: list[str] | None = None) -> int:
         if old.get("quick") == args.quick and old.get("workers") == args.workers:
             done = dict(old.get("runs", {}))
     todo = [n for n in names if n not in done]
+    if args.keep is not None:
+        there = [n for n in todo if (args.keep / n).exists()]
+        if there:
+            ap.error(f"--keep: {args.keep} already holds {', '.join(there)} (remove it first)")
     print(
         f"bench_thesis: {len(todo)} of {len(names)} reproductions to run "
         f"({'quick' if args.quick else 'full'} grids) -> {args.out}",
@@ -113,7 +133,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     for name in todo:
         print(f"  {name} ...", file=sys.stderr, flush=True)
-        done[name] = one(name, args.quick, args.workers)
+        done[name] = one(name, args.quick, args.workers, args.keep)
         total = sum(v["wall_seconds"] for k, v in done.items() if k in names)
         result = {
             "quick": args.quick,

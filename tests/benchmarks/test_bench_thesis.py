@@ -11,7 +11,7 @@ def test_times_each_reproduction_and_resumes(bench_script, tmp_path, monkeypatch
     bench = bench_script("bench_thesis")
     calls: list[str] = []
 
-    def fake_run(name, out, quick, workers):
+    def fake_run(name, out, quick, workers, command=None):
         calls.append(name)
         return {"meta": {"wall_seconds": {"generate": 1.0}, "dataset": {"n_trials": 7}}}
 
@@ -25,3 +25,26 @@ def test_times_each_reproduction_and_resumes(bench_script, tmp_path, monkeypatch
     assert calls == ["scratchbot", "biotact-g1"]  # nothing run again
     with pytest.raises(SystemExit):
         bench.main(["--out", str(out), "--only", "nope"])
+
+
+def test_keep_records_the_reproduce_command_and_refuses_an_existing_output(
+    bench_script, tmp_path, monkeypatch
+) -> None:
+    bench = bench_script("bench_thesis")
+    seen: dict[str, object] = {}
+
+    def fake_run(name, out, quick, workers, command=None):
+        seen.update(name=name, out=out, command=command)
+        return {"meta": {"wall_seconds": {"generate": 1.0}, "dataset": {"n_trials": 3}}}
+
+    monkeypatch.setattr(bench, "run_experiment", fake_run)
+    keep = tmp_path / "kept"
+    args = ["--out", str(tmp_path / "t.json"), "--only", "scratchbot", "--keep", str(keep)]
+    assert bench.main([*args, "--workers", "2"]) == 0
+    assert seen["out"] == keep / "scratchbot"
+    assert seen["command"] == (
+        f"vibrissa reproduce scratchbot --out {keep / 'scratchbot'} --workers 2 --json"
+    )
+    (keep / "scratchbot").mkdir(parents=True)
+    with pytest.raises(SystemExit):  # refused before any work: a cache would be reused
+        bench.main([*args, "--workers", "2", "--restart"])
