@@ -53,6 +53,7 @@ from vibrissa.whisker.hall import calibrated_gain
 from vibrissa.whisker.rod import RodModel
 from vibrissa.whisker.simulate import (
     BaseMotion,
+    ClosedLoopStepper,
     DynamicState,
     PoleContact,
     SurfaceContact,
@@ -609,7 +610,8 @@ def run_whisking(
             time_s, tan_x, force, angle, ctime, command, pis, zs, defl, dt, gains, tan_y
         )
 
-    states: list[DynamicState | None] = [None] * n_w
+    steppers = [ClosedLoopStepper(w.model, w.contact, w.trajectory, dt) for w in whiskers]
+    sides = [[i for i, wh in enumerate(whiskers) if wh.side == s] for s in range(n_sides)]
     for n in range(n_ctrl):
         k0, k1 = n * spp, (n + 1) * spp
         for s in range(n_sides):
@@ -619,13 +621,18 @@ def run_whisking(
             ang, rt = motor_follow(cmd, dt, motor_bandwidth_hz, motors[s])
             motors[s] = (float(ang[-1]), float(rt[-1]))
             command[s, n + 1] = float(pats[s].command_deg(ctime[n + 1], zs[s, n], gain))
-            for w in [i for i, wh in enumerate(whiskers) if wh.side == s]:
-                states[w] = run(w, k0, k1, ang, rt, states[w])
+            tk = time_s[k0 : k1 + 1]
+            ang_rad, rt_rad = np.radians(ang), np.radians(rt)
+            for w in sides[s]:
+                res = steppers[w].advance(k1 - k0, tk, ang_rad, rt_rad)
+                tan_x[w, k0 : k1 + 1] = res.tan_xy[:, 0]
+                tan_y[w, k0 : k1 + 1] = res.tan_xy[:, 1]
+                force[w, k0 : k1 + 1] = res.contact_force_n
+                angle[w, k0 : k1 + 1] = ang
         for w in range(n_w):
             defl[w, n + 1] = tan_x[w, k1] / full_tan[w]
         for s in range(n_sides):
-            members = [i for i, wh in enumerate(whiskers) if wh.side == s]
-            pis[s, n + 1] = ctrl.signal_scale * filters[s].step(defl[members, n + 1])
+            pis[s, n + 1] = ctrl.signal_scale * filters[s].step(defl[sides[s], n + 1])
             zs[s, n + 1] = _gate_step(zs[s, n], pis[s, n + 1], decays[s], ctrl.sigma_z)
     return WhiskingResult(
         time_s, tan_x, force, angle, ctime, command, pis, zs, defl, dt, gains, tan_y

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
 
@@ -47,6 +48,8 @@ from vibrissa.whisker.surfaces import Surface
 
 __all__ = [
     "BaseMotion",
+    "ClosedLoopStepper",
+    "PeriodOutput",
     "PoleContact",
     "SimulationResult",
     "SurfaceContact",
@@ -496,20 +499,26 @@ def _contact_spec(
 ) -> tuple[ContactSpec, np.ndarray]:
     """Pack the contact and the object's motion for the kernels.
 
-    Returns the :class:`~vibrissa.whisker._kernels.ContactSpec` and the object's
-    state at ``times`` (s), shape ``(len(times), 6)``: for a pole x, z (m),
-    vx, vz (m/s), y, vy (its motion along its own axis); for a surface the base
-    point's x, y, z (m) and its velocity (m/s).
+    Returns the :class:`~vibrissa.whisker._kernels.ContactSpec`
+    (:func:`_contact_kernel_spec`) and the object's state at ``times`` (s)
+    (:func:`_object_motion`).
     """
-    traj = np.zeros((times.size, 6))
+    spec = _contact_kernel_spec(model, contact, trajectory)
+    return spec, _object_motion(contact, trajectory, times)
+
+
+def _contact_kernel_spec(
+    model: RodModel,
+    contact: PoleContact | SurfaceContact | None,
+    trajectory: Trajectory | None,
+) -> ContactSpec:
+    """The contact's :class:`~vibrissa.whisker._kernels.ContactSpec` (no contact: none)."""
     if contact is None:
-        return pole_contact_spec(np.zeros(5), NO_CONTACT), traj
+        return pole_contact_spec(np.zeros(5), NO_CONTACT)
     if trajectory is None:
         raise ValueError("a contact needs a trajectory")
-    p, pv = trajectory.sample(times)
-    y, vy = trajectory.sample_lateral(times)
     if isinstance(contact, PoleContact):
-        spec = pole_contact_spec(
+        return pole_contact_spec(
             np.array(
                 [
                     contact.radius_mm * 1e-3,
@@ -520,14 +529,10 @@ def _contact_spec(
                 ]
             )
         )
-        traj[:, 0:2] = p * 1e-3
-        traj[:, 2:4] = pv * 1e-3
-        traj[:, 4] = y * 1e-3
-        traj[:, 5] = vy * 1e-3
-    elif isinstance(contact, SurfaceContact):
+    if isinstance(contact, SurfaceContact):
         mu = contact.surface.friction if contact.friction is None else contact.friction
         du = float(contact.surface.spacing_m)
-        spec = ContactSpec(
+        return ContactSpec(
             kind=PLANE,
             params=np.array(
                 [
@@ -544,15 +549,37 @@ def _contact_spec(
             dw=du,
             first_node=2,
         )
+    raise TypeError(f"unsupported contact type {type(contact).__name__}")
+
+
+def _object_motion(
+    contact: PoleContact | SurfaceContact | None,
+    trajectory: Trajectory | None,
+    times: np.ndarray,
+) -> np.ndarray:
+    """The object's state at ``times`` (s) for the kernels, shape ``(len(times), 6)``.
+
+    For a pole x, z (m), vx, vz (m/s), y, vy (its motion along its own axis); for a
+    surface the base point's x, y, z (m) and its velocity (m/s); zeros without a contact.
+    """
+    traj = np.zeros((times.size, 6))
+    if contact is None or trajectory is None:
+        return traj
+    p, pv = trajectory.sample(times)
+    y, vy = trajectory.sample_lateral(times)
+    if isinstance(contact, PoleContact):
+        traj[:, 0:2] = p * 1e-3
+        traj[:, 2:4] = pv * 1e-3
+        traj[:, 4] = y * 1e-3
+        traj[:, 5] = vy * 1e-3
+    else:
         traj[:, 0] = p[:, 0] * 1e-3
         traj[:, 1] = y * 1e-3
         traj[:, 2] = p[:, 1] * 1e-3
         traj[:, 3] = pv[:, 0] * 1e-3
         traj[:, 4] = vy * 1e-3
         traj[:, 5] = pv[:, 1] * 1e-3
-    else:
-        raise TypeError(f"unsupported contact type {type(contact).__name__}")
-    return spec, traj
+    return traj
 
 
 #: Consecutive contact-free steps before the hand-over to linear free flight is
@@ -905,6 +932,11 @@ def simulate(
         x, v, a = st.positions_m, st.velocities_m_s, st.accelerations_m_s2
         pole_anchor, plane_anchors = st.pole_anchor, st.plane_anchors
         t0 = float(st.time_s)
+    elif initial_positions_m is None and initial_velocities_m_s is None:
+        x, v, a = _rest_state(model, rod, damping, th0, thd0)
+        pole_anchor = np.zeros(5)
+        plane_anchors = np.zeros((n, 6))
+        t0 = 0.0
     else:
         x = (
             (_turned(model.x_rest, th0) if th0 != 0.0 else model.x_rest.copy())
@@ -920,10 +952,6 @@ def simulate(
         )
         if x.shape != (n, 3) or v.shape != (n, 3):
             raise ValueError(f"initial state must have shape ({n}, 3)")
-        if initial_positions_m is None and initial_velocities_m_s is None and thd0 != 0.0:
-            r = x - x[0]
-            v = np.column_stack([thd0 * r[:, 2], np.zeros(n), -thd0 * r[:, 0]])
-            v[~model.free] = 0.0
         a = _initial_acceleration(rod, damping, x, v, th0, thd0)
         pole_anchor = np.zeros(5)
         plane_anchors = np.zeros((n, 6))
@@ -990,6 +1018,198 @@ def simulate(
         stopped_early=bool(stopped),
         base_angle_rad=None if base_motion is None else traj[:m, TR_BASE].copy(),
     )
+
+
+def _rest_state(
+    model: RodModel, rod: RodArrays, damping: Damping, th0: float, thd0: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Positions, velocities and accelerations of a whisker at rest in its housing.
+
+    The housing at angle ``th0`` (rad) turning at ``thd0`` (rad/s): the rest shape turned
+    with it, moving with it.
+    """
+    x = _turned(model.x_rest, th0) if th0 != 0.0 else model.x_rest.copy()
+    v = np.zeros((model.n_nodes, 3))
+    if thd0 != 0.0:
+        r = x - x[0]
+        v = np.column_stack([thd0 * r[:, 2], np.zeros(model.n_nodes), -thd0 * r[:, 0]])
+        v[~model.free] = 0.0
+    return x, v, _initial_acceleration(rod, damping, x, v, th0, thd0)
+
+
+class PeriodOutput(NamedTuple):
+    """What :meth:`ClosedLoopStepper.advance` gives for one period, at every step."""
+
+    time_s: np.ndarray
+    tan_xy: np.ndarray
+    contact_force_n: np.ndarray
+
+
+class ClosedLoopStepper:
+    """One whisker advanced a control period at a time, for closed loops.
+
+    A closed loop (the whisking robots' RCP control) simulates each whisker for one
+    control period, reads its magnet and commands the next period. :func:`simulate`
+    checks its inputs and builds the rod's arrays, the contact's kernel spec, the
+    housing's motion and the solver settings on every call; the stepper builds what does
+    not change once and keeps the whisker's state between periods. Each period is the
+    nonlinear rod (no linear free flight), as the loops run it: the numbers are those of
+    ``simulate(model, contact, trajectory, period, dt_s, initial_state=previous,
+    base_motion=BaseMotion(base_time_s, base_angle_rad, base_rate_rad_s),
+    linear_free_flight=False)``, bit for bit.
+
+    Parameters
+    ----------
+    model, contact, trajectory, dt_s
+        As in :func:`simulate`.
+    rho_inf, tol_m, max_iterations, refactor_every, max_halvings, max_stride, stride_tol_m
+        The solver's settings, as in :func:`simulate`.
+    """
+
+    def __init__(
+        self,
+        model: RodModel,
+        contact: PoleContact | SurfaceContact | None,
+        trajectory: Trajectory | None,
+        dt_s: float = DEFAULT_DT_S,
+        *,
+        rho_inf: float = 0.5,
+        tol_m: float = 1e-8,
+        max_iterations: int = 30,
+        refactor_every: int = 16,
+        max_halvings: int = 6,
+        max_stride: int = 8,
+        stride_tol_m: float = 3e-7,
+    ) -> None:
+        dt = positive("dt_s", dt_s)
+        if dt > 1e-3:
+            raise ValueError(f"dt_s must be at most 1 ms for this model, got {dt_s}")
+        in_range("rho_inf", rho_inf, 0.0, 1.0)
+        for name, value, low in (
+            ("max_stride", max_stride, 1),
+            ("max_iterations", max_iterations, 1),
+            ("refactor_every", refactor_every, 1),
+            ("max_halvings", max_halvings, 0),
+        ):
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+                raise ValueError(f"{name} must be an integer of at least {low}, got {value!r}")
+        self.model = model
+        self.dt_s = dt
+        self._contact = contact
+        self._trajectory = trajectory
+        self._rod = model.rod_arrays()
+        self._damping = Damping(*(float(c) for c in model.damping))
+        self._spec = _contact_kernel_spec(model, contact, trajectory)
+        self._settings = SolverSettings(
+            dt=float(dt),
+            rho_inf=float(rho_inf),
+            tol=float(positive("tol_m", tol_m)),
+            max_iter=int(max_iterations),
+            refactor_every=int(refactor_every),
+            max_halvings=int(max_halvings),
+            record_every=0,
+            stop_tan=0.0,
+            stop_free=0,
+            max_stride=int(max_stride),
+            stride_tol=float(positive("stride_tol_m", stride_tol_m)),
+        )
+        self._node_state: NodeState | None = None
+        self._anchors = Anchors(np.zeros(5), np.zeros((model.n_nodes, 6)))
+        self._states = np.zeros((1, 2, model.n_nodes, 3))
+        self._status = np.zeros(1, dtype=np.int64)
+        #: The whisker's clock (s): the end of the last period.
+        self.time_s = 0.0
+
+    def advance(
+        self,
+        n_steps: int,
+        base_time_s: np.ndarray,
+        base_angle_rad: np.ndarray,
+        base_rate_rad_s: np.ndarray,
+    ) -> PeriodOutput:
+        """Advance ``n_steps`` steps with the housing's motion given at ``base_time_s``.
+
+        Parameters
+        ----------
+        n_steps : int
+            Steps of ``dt_s`` (at least 1).
+        base_time_s, base_angle_rad, base_rate_rad_s : ndarray of shape (k,)
+            The housing's angle (rad) and rate (rad/s) at increasing times (s), read as
+            :meth:`BaseMotion.sample` reads them (between samples linearly; outside them
+            the end angle and zero rate).
+
+        Returns
+        -------
+        PeriodOutput
+            Times, magnet tangents and contact force at each step, the period's start
+            included.
+
+        Raises
+        ------
+        SimulationError
+            If a step fails to converge or the state becomes non-finite.
+        """
+        if isinstance(n_steps, bool) or not isinstance(n_steps, (int, np.integer)) or n_steps < 1:
+            raise ValueError(f"n_steps must be an integer of at least 1, got {n_steps!r}")
+        tb = np.asarray(base_time_s, dtype=float)
+        ab = np.asarray(base_angle_rad, dtype=float)
+        wb = np.asarray(base_rate_rad_s, dtype=float)
+        if tb.ndim != 1 or tb.size < 2 or ab.shape != tb.shape or wb.shape != tb.shape:
+            raise ValueError(
+                "base_time_s, base_angle_rad and base_rate_rad_s must be 1-D of one length "
+                f"(at least 2), got {tb.shape}, {ab.shape}, {wb.shape}"
+            )
+        times = self.time_s + np.arange(n_steps + 1) * self.dt_s
+        inside = (times >= tb[0]) & (times <= tb[-1])
+        rate = np.where(inside, np.interp(times, tb, wb), 0.0)
+        angle = np.interp(times, tb, ab)
+        traj = np.column_stack(
+            [_object_motion(self._contact, self._trajectory, times), angle, rate]
+        )
+        if self._node_state is None:
+            self._node_state = NodeState(
+                *_rest_state(self.model, self._rod, self._damping, float(angle[0]), float(rate[0]))
+            )
+        out = np.zeros((n_steps + 1, 8))
+        done = run_dynamics(
+            self._node_state,
+            self._anchors,
+            self._rod,
+            self._damping,
+            self._spec,
+            traj,
+            self._settings,
+            out,
+            self._states,
+            self._status,
+        )
+        if (
+            int(self._status[0]) < 0
+            or done < n_steps
+            or not np.all(np.isfinite(out[: done + 1, [0, 1, 2, 4, 5, 6, 7]]))
+        ):
+            raise SimulationError(
+                f"simulation diverged or failed to converge at t = "
+                f"{self.time_s + done * self.dt_s:.5f} s (step {done} of {n_steps}); try a "
+                "smaller dt_s"
+            )
+        self.time_s = float(times[done])
+        return PeriodOutput(times, out[:, 0:2], out[:, 2])
+
+    @property
+    def state(self) -> DynamicState | None:
+        """The whisker's state now (a copy), or None before the first period."""
+        if self._node_state is None:
+            return None
+        x, v, a = self._node_state
+        return DynamicState(
+            x.copy(),
+            v.copy(),
+            a.copy(),
+            self._anchors.pole.copy(),
+            self._anchors.plane.copy(),
+            self.time_s,
+        )
 
 
 def free_vibration(
