@@ -75,6 +75,11 @@ def _pole():
     return PoleContact(), Trajectory(np.array([0.0, 10.0]), np.array([[60.0, 120.0]] * 2))
 
 
+def _moving_pole():
+    # the same pole coming in at 100 mm/s while the whisker whisks (not a still object)
+    return PoleContact(), Trajectory.linear((75.0, 120.0), (-100.0, 0.0), 0.2)
+
+
 def _plane():
     # a textured plane at 45 deg facing -x, its base point 15 mm to the +x side of the
     # rest axis at r = 175 mm: the whisk's swing toward +x presses the shaft into it
@@ -83,7 +88,9 @@ def _plane():
 
 
 @pytest.mark.parametrize(
-    "setup", [_pole, _plane, lambda: (None, None)], ids=["pole", "plane", "air"]
+    "setup",
+    [_pole, _moving_pole, _plane, lambda: (None, None)],
+    ids=["pole", "moving pole", "plane", "air"],
 )
 def test_the_stepper_is_simulate_period_by_period_bit_for_bit(model, setup):
     contact, trajectory = setup()
@@ -95,7 +102,9 @@ def test_the_stepper_is_simulate_period_by_period_bit_for_bit(model, setup):
     assert state_b.time_s == state_a.time_s
 
 
-@pytest.mark.parametrize("setup", [_pole, _plane], ids=["pole", "plane"])
+@pytest.mark.parametrize(
+    "setup", [_pole, _moving_pole, _plane], ids=["pole", "moving pole", "plane"]
+)
 def test_the_object_is_touched(model, setup):
     # the comparison above means something only if the whisk reaches the object
     rows, _ = _by_stepper(model, *setup(), 120)

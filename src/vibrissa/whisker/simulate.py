@@ -1037,6 +1037,16 @@ def _rest_state(
     return x, v, _initial_acceleration(rod, damping, x, v, th0, thd0)
 
 
+def _is_still(trajectory: Trajectory) -> bool:
+    """Whether the object stands still: one position, no velocity, across and along."""
+    p, v = trajectory.position_mm, trajectory.velocity_mm_s
+    still = bool(np.all(p == p[0]) and not np.any(v))
+    if trajectory.lateral_mm is not None:
+        y, vy = trajectory.lateral_mm, trajectory.lateral_velocity_mm_s
+        still = still and bool(np.all(y == y[0]) and not np.any(vy))
+    return still
+
+
 class PeriodOutput(NamedTuple):
     """What :meth:`ClosedLoopStepper.advance` gives for one period, at every step."""
 
@@ -1113,6 +1123,12 @@ class ClosedLoopStepper:
             max_stride=int(max_stride),
             stride_tol=float(positive("stride_tol_m", stride_tol_m)),
         )
+        # a still object (the robots' poles and walls): its state is one row for all time
+        self._still_object = (
+            _object_motion(contact, trajectory, trajectory.time_s[:1])[0]
+            if trajectory is not None and _is_still(trajectory)
+            else None
+        )
         self._node_state: NodeState | None = None
         self._anchors = Anchors(np.zeros(5), np.zeros((model.n_nodes, 6)))
         self._states = np.zeros((1, 2, model.n_nodes, 3))
@@ -1163,9 +1179,14 @@ class ClosedLoopStepper:
         inside = (times >= tb[0]) & (times <= tb[-1])
         rate = np.where(inside, np.interp(times, tb, wb), 0.0)
         angle = np.interp(times, tb, ab)
-        traj = np.column_stack(
-            [_object_motion(self._contact, self._trajectory, times), angle, rate]
+        traj = np.empty((n_steps + 1, 8))
+        traj[:, :6] = (
+            self._still_object
+            if self._still_object is not None
+            else _object_motion(self._contact, self._trajectory, times)
         )
+        traj[:, TR_BASE] = angle
+        traj[:, TR_BASE + 1] = rate
         if self._node_state is None:
             self._node_state = NodeState(
                 *_rest_state(self.model, self._rod, self._damping, float(angle[0]), float(rate[0]))
@@ -1183,10 +1204,11 @@ class ClosedLoopStepper:
             self._states,
             self._status,
         )
+        m = done + 1
         if (
             int(self._status[0]) < 0
             or done < n_steps
-            or not np.all(np.isfinite(out[: done + 1, [0, 1, 2, 4, 5, 6, 7]]))
+            or not (np.isfinite(out[:m, :3]).all() and np.isfinite(out[:m, 4:]).all())
         ):
             raise SimulationError(
                 f"simulation diverged or failed to converge at t = "
