@@ -623,7 +623,7 @@ def extract_benchmarks(folder: str | os.PathLike[str]) -> dict[str, Any]:
 
     root = Path(folder)
     out: dict[str, Any] = {"sources": {}}
-    for name in ("physics", "generation", "chapter5", "rod_convergence"):
+    for name in ("physics", "generation", "chapter5", "rod_convergence", "thesis"):
         f = root / f"{name}.json"
         log = subprocess.run(
             ["git", "log", "-1", "--format=%H %aI", "--", str(f)],
@@ -698,7 +698,62 @@ def extract_benchmarks(folder: str | os.PathLike[str]) -> dict[str, Any]:
     out["rod_convergence"] = extract_rod_convergence(
         json.loads((root / "rod_convergence.json").read_text(encoding="utf-8"))
     )
+    out["closed_loops"] = extract_closed_loops(root)
+    thesis = root / "thesis.json"
+    if thesis.is_file():
+        out["thesis"] = extract_thesis(json.loads(thesis.read_text(encoding="utf-8")))
     return out
+
+
+def extract_closed_loops(root: Path) -> dict[str, Any]:
+    """The whisking loops' profiles before and after the closed-loop stepper (issue 32).
+
+    ``closed_loops_profile_before_stepper.json`` and ``closed_loops_profile.json`` of
+    ``benchmarks/profile_closed_loops.py``: per loop, the profiled wall time and the
+    seconds in the solver and in the per-call set-up, before and after.
+    """
+    out: dict[str, Any] = {}
+    for when, name in (
+        ("before", "closed_loops_profile_before_stepper"),
+        ("after", "closed_loops_profile"),
+    ):
+        d = json.loads((root / f"{name}.json").read_text(encoding="utf-8"))
+        for loop, v in d["loops"].items():
+            cat = v["own_seconds_by_category"]
+            out.setdefault(loop.replace("-", "_"), {})[when] = {
+                "wall_seconds": v["wall_seconds"],
+                "solver_seconds": cat.get("solver", 0.0),
+                "step_setup_seconds": cat.get("step_setup", 0.0),
+            }
+    return out
+
+
+def extract_thesis(d: Mapping[str, Any]) -> dict[str, Any]:
+    """``benchmarks/bench_thesis.py``'s run: each full reproduction's time and the total."""
+    rows = [
+        "| reproduction | trials | wall (s) | simulation (s) | evaluation (s) | load at start |",
+        "|---|---|---|---|---|---|",
+    ]
+    for name, r in d["runs"].items():
+        st = r.get("stages_seconds") or {}
+        rows.append(
+            f"| `{name}` | {r.get('n_trials')} | {r['wall_seconds']:.0f} | "
+            f"{st.get('generate', float('nan')):.0f} | {st.get('evaluate', float('nan')):.0f} | "
+            f"{r.get('load_average_at_start', float('nan')):.2f} |"
+        )
+    return {
+        "table": "\n".join(rows),
+        "total_seconds": d["total_seconds"],
+        "total_minutes": d["total_seconds"] / 60.0,
+        "budget_seconds": d["budget_seconds"],
+        "budget_minutes": d["budget_seconds"] / 60.0,
+        "within_budget": d["within_budget"],
+        "complete": d["complete"],
+        "workers": d["workers"],
+        "cores": d["machine"]["cores"],
+        "cpu": d["machine"]["cpu"],
+        "created_utc": d["meta"]["created_utc"],
+    }
 
 
 def extract_rod_convergence(rc: Mapping[str, Any]) -> dict[str, Any]:

@@ -178,3 +178,44 @@ def test_sig4_keeps_four_significant_digits(x):
 
 def test_sig4_turns_non_finite_into_none():
     assert render_docs.sig4([math.nan, math.inf]) == [None, None]
+
+
+def test_thesis_timing_keeps_every_reproduction_and_the_budget():
+    run = {
+        "workers": 2,
+        "machine": {"cores": 2, "cpu": "some CPU"},
+        "runs": {
+            "scratchbot": {
+                "wall_seconds": 11.4,
+                "stages_seconds": {"generate": 6.0, "evaluate": 0.2},
+                "n_trials": 540,
+                "load_average_at_start": 0.5,
+            },
+            "biotact-g1": {
+                "wall_seconds": 700.0,
+                "stages_seconds": {"generate": 680.0, "evaluate": 20.0},
+                "n_trials": 1620,
+                "load_average_at_start": 1.0,
+            },
+        },
+        "total_seconds": 711.4,
+        "budget_seconds": 600.0,
+        "complete": True,
+        "within_budget": False,
+        "meta": {"created_utc": "2026-11-27T20:00:00+00:00"},
+    }
+    out = render_docs.extract_thesis(run)
+    lines = out["table"].splitlines()
+    assert len(lines) == 2 + 2
+    assert lines[2].startswith("| `scratchbot` | 540 | 11 | 6 | 0 |")
+    assert lines[3].startswith("| `biotact-g1` | 1620 | 700 | 680 | 20 |")
+    assert out["total_minutes"] == 711.4 / 60 and out["budget_minutes"] == 10.0
+    assert out["within_budget"] is False and out["cores"] == 2
+
+
+def test_closed_loop_profiles_give_before_and_after_per_loop():
+    out = render_docs.extract_closed_loops(ROOT / "benchmarks" / "results")
+    g1 = out["biotact_g1"]
+    assert set(g1) == {"before", "after"}
+    for when in g1.values():
+        assert when["wall_seconds"] > 0 and when["solver_seconds"] > 0
