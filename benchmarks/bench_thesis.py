@@ -116,6 +116,10 @@ def main(argv: list[str] | None = None) -> int:
         ap.error(f"--only: unknown reproduction(s) {', '.join(unknown)}; choose from {THESIS}")
     if args.workers is not None and args.workers < 1:
         ap.error("--workers: expected a positive integer")
+    if args.out.exists() and not args.out.is_file():
+        ap.error(f"--out: {args.out} is not a regular file")
+    if args.keep is not None and args.keep.exists() and not args.keep.is_dir():
+        ap.error(f"--keep: {args.keep} is not a directory")
     done: dict[str, Any] = {}
     if args.out.is_file() and not args.restart:
         old = json.loads(args.out.read_text())

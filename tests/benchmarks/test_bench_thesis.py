@@ -48,3 +48,19 @@ def test_keep_records_the_reproduce_command_and_refuses_an_existing_output(
     (keep / "scratchbot").mkdir(parents=True)
     with pytest.raises(SystemExit):  # refused before any work: a cache would be reused
         bench.main([*args, "--workers", "2", "--restart"])
+
+
+def test_out_and_keep_of_the_wrong_kind_are_refused_before_any_work(
+    bench_script, tmp_path, monkeypatch
+) -> None:
+    bench = bench_script("bench_thesis")
+    monkeypatch.setattr(bench, "run_experiment", lambda *a, **k: pytest.fail("ran"))
+    a_file = tmp_path / "a_file"
+    a_file.write_text("x")
+    for args in (
+        ["--out", str(tmp_path)],
+        ["--out", str(tmp_path / "t.json"), "--keep", str(a_file)],
+    ):
+        with pytest.raises(SystemExit) as exc:
+            bench.main([*args, "--only", "scratchbot"])
+        assert exc.value.code == 2
