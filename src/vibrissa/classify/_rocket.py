@@ -32,7 +32,8 @@ a time, with the float32 operations of the NumPy code it replaced (which the fit
 still uses for the biases), so a trial's features are the same, bit for bit, alone
 or in a batch, and one trial costs well under a millisecond (a streaming pipeline
 classifies each contact as it ends); the linear heads' decision values are
-computed without scikit-learn's per-call validation and their log-softmax
+computed in float64 without scikit-learn's per-call validation (so a trial's
+posteriors do not depend on the batch it is in, on any CPU) and their log-softmax
 without SciPy's array-API dispatch, with the same operations.
 """
 
@@ -86,15 +87,21 @@ _TRIPLES = np.ascontiguousarray(minirocket_kernels(), dtype=np.int64)
 
 
 def _decision_values(head: Any, F: np.ndarray) -> np.ndarray:
-    """``head.decision_function(F)`` of a fitted linear head, without its per-call checks.
+    """``head.decision_function(F)`` of a fitted linear head, in float64, without its checks.
 
-    The operations of scikit-learn's ``LinearClassifierMixin.decision_function``
-    (``F @ coef_.T + intercept_``, one column raveled), so the values are the same
-    bit for bit; ``F`` is the finite float32 feature array of
-    :meth:`MiniRocketClassifier._features`, which its validation would pass as it is.
+    scikit-learn's ``LinearClassifierMixin.decision_function`` (``F @ coef_.T +
+    intercept_``, one column raveled), with the float32 features of
+    :meth:`MiniRocketClassifier._features` and the heads' float32 coefficients (a head
+    fitted on float32 features keeps them) widened to float64 first. In float32 the
+    product is a BLAS ``sgemm`` whose blocking depends on the number of rows and on the
+    CPU's kernel: a trial's probabilities then changed in the seventh digit with the
+    batch it came in (2.7e-7 on an AMD EPYC, where scikit-learn's subset-invariance
+    check failed). In float64 the widened values are exact and only the accumulation
+    order remains, at 1e-16.
     """
-    coef = head.coef_
-    scores = F @ (coef.T if coef.ndim == 2 else coef) + head.intercept_
+    coef = np.asarray(head.coef_, dtype=np.float64)
+    scores = np.asarray(F, dtype=np.float64) @ (coef.T if coef.ndim == 2 else coef)
+    scores = scores + np.asarray(head.intercept_, dtype=np.float64)
     return scores.reshape(-1) if scores.ndim > 1 and scores.shape[1] == 1 else scores
 
 
