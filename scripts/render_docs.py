@@ -623,7 +623,14 @@ def extract_benchmarks(folder: str | os.PathLike[str]) -> dict[str, Any]:
 
     root = Path(folder)
     out: dict[str, Any] = {"sources": {}}
-    for name in ("physics", "generation", "chapter5", "rod_convergence", "thesis"):
+    for name in (
+        "physics",
+        "generation",
+        "chapter5",
+        "rod_convergence",
+        "thesis",
+        "consistent_mass_energy",
+    ):
         f = root / f"{name}.json"
         log = subprocess.run(
             ["git", "log", "-1", "--format=%H %aI", "--", str(f)],
@@ -699,9 +706,27 @@ def extract_benchmarks(folder: str | os.PathLike[str]) -> dict[str, Any]:
         json.loads((root / "rod_convergence.json").read_text(encoding="utf-8"))
     )
     out["closed_loops"] = extract_closed_loops(root)
+    energy = root / "consistent_mass_energy.json"
+    if energy.is_file():
+        out["consistent_mass_energy"] = extract_consistent_mass_energy(
+            json.loads(energy.read_text(encoding="utf-8"))
+        )
     thesis = root / "thesis.json"
     if thesis.is_file():
         out["thesis"] = extract_thesis(json.loads(thesis.read_text(encoding="utf-8")))
+    return out
+
+
+def extract_consistent_mass_energy(run: Mapping[str, Any]) -> dict[str, Any]:
+    """``benchmarks/consistent_mass_energy.py``'s rows by case and element count.
+
+    ``{case: {"e<n>": {first_step_pct, max_pct, last_pct}}}`` with the cases' spaces
+    made underscores (``lumped_energy``), plus the scheme's ``settings``.
+    """
+    out: dict[str, Any] = {"settings": dict(run["settings"])}
+    for r in run["rows"]:
+        case = out.setdefault(r["case"].replace(" ", "_"), {})
+        case[f"e{r['n_elements']}"] = {k: r[k] for k in ("first_step_pct", "max_pct", "last_pct")}
     return out
 
 

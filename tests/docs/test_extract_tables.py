@@ -219,3 +219,29 @@ def test_closed_loop_profiles_give_before_and_after_per_loop():
     assert set(g1) == {"before", "after"}
     for when in g1.values():
         assert when["wall_seconds"] > 0 and when["solver_seconds"] > 0
+
+
+def test_consistent_mass_energy_rows_by_case_and_elements():
+    run = {
+        "settings": {"rho_inf": 0.5, "dt_s": 2.5e-4, "steps": 400},
+        "rows": [
+            {
+                "case": "consistent",
+                "n_elements": 12,
+                "first_step_pct": -0.003,
+                "max_pct": -0.003,
+                "last_pct": -1.1,
+            },
+            {
+                "case": "lumped energy",
+                "n_elements": 12,
+                "first_step_pct": 0.8,
+                "max_pct": 3.8,
+                "last_pct": -0.5,
+            },
+        ],
+    }
+    out = render_docs.extract_consistent_mass_energy(run)
+    assert out["consistent"]["e12"]["max_pct"] == -0.003
+    assert out["lumped_energy"]["e12"] == {"first_step_pct": 0.8, "max_pct": 3.8, "last_pct": -0.5}
+    assert out["settings"]["steps"] == 400
