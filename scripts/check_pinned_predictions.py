@@ -65,7 +65,10 @@ def machine_kind() -> dict[str, Any]:
                 break
     except OSError:
         pass
-    from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+    try:  # NumPy's own record of the SIMD levels it dispatches to (what show_runtime prints)
+        from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+    except ImportError:  # pragma: no cover - NumPy 1.x
+        from numpy.core._multiarray_umath import __cpu_dispatch__, __cpu_features__
 
     blas = sorted(
         {
