@@ -31,6 +31,10 @@ import time
 from datetime import UTC, datetime
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from _machine import machine
+
 BUDGET_S = {"total": 300.0, "generate": 180.0}
 
 
@@ -93,6 +97,7 @@ def main() -> int:
         "reproduction's results.json meta.wall_seconds",
         "command": command,
         "commit": commit,
+        "machine": machine(),
         "started_at": started,
         "load_average_at_start": round(load, 2),
         "wall_seconds": round(wall, 2),

@@ -30,12 +30,15 @@ import argparse
 import datetime as _dt
 import json
 import os
-import platform
 import sys
 import tempfile
 import time
 from pathlib import Path
 from typing import Any
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from _machine import machine
 
 from vibrissa import __version__
 from vibrissa._atomic import atomic_write_text
@@ -48,30 +51,6 @@ DEFAULT_OUT = Path(__file__).resolve().parent / "results" / "thesis.json"
 THESIS = tuple(e for e in EXPERIMENTS if e != "identify")
 #: Issue 32's budget for all six, full grids, on 2 cores (s).
 BUDGET_S = 600.0
-
-
-def machine() -> dict[str, Any]:
-    """Cores, CPU model, memory and Python of this machine."""
-    cpu = ""
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    mem_gb = None
-    try:
-        mem_gb = round(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 2**30, 1)
-    except (ValueError, OSError):
-        pass
-    return {
-        "cores": os.cpu_count(),
-        "cpu": cpu,
-        "memory_gb": mem_gb,
-        "python": platform.python_version(),
-        "platform": platform.platform(),
-    }
 
 
 def one(name: str, quick: bool, workers: int | None, keep: Path | None = None) -> dict[str, Any]:
