@@ -45,9 +45,12 @@ import sys
 import tempfile
 from typing import Any
 
-PINS = (
-    pathlib.Path(__file__).resolve().parents[1] / "tests" / "reproduce" / "pinned_predictions.json"
-)
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+PINS = ROOT / "tests" / "reproduce" / "pinned_predictions.json"
+sys.path.insert(0, str(ROOT / "benchmarks"))
+
+from _machine import machine  # noqa: E402  (the benchmarks' record of the CPU model)
+
 #: The pinned quick runs and their options (chapter 4: one repeat of each reduced set).
 EXPERIMENTS = {"radial-distance": {"n_seeds": 1}, "angle-texture": {}}
 
@@ -57,14 +60,7 @@ def machine_kind() -> dict[str, Any]:
     import numpy  # noqa: F401  (loads the BLAS that threadpoolctl reports)
     import threadpoolctl
 
-    cpu = platform.processor() or platform.machine()
-    try:
-        for line in pathlib.Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
+    cpu = machine()["cpu"] or platform.machine()
     try:  # NumPy's own record of the SIMD levels it dispatches to (what show_runtime prints)
         from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
     except ImportError:  # pragma: no cover - NumPy 1.x
