@@ -14,7 +14,7 @@ from vibrissa.whisker import preset
 from vibrissa.whisker.benchmark import standard_trajectory
 from vibrissa.whisker.hall import HallSettings
 from vibrissa.whisker.modal import ENERGY_TOL, LINEARITY_TOL, linear_modes
-from vibrissa.whisker.rod import RodModel
+from vibrissa.whisker.rod import MASS_KINDS, RodModel
 from vibrissa.whisker.simulate import (
     BaseMotion,
     PoleContact,
@@ -81,11 +81,11 @@ def _numpy_amplitudes(lm, x, v):
 
     u = (x - lm.x_rest).reshape(-1)[lm.dofs]
     w = v.reshape(-1)[lm.dofs]
-    q, qd = lm.shapes.T @ (lm.mass * u), lm.shapes.T @ (lm.mass * w)
+    q, qd = lm.shapes.T @ (lm.mass @ u), lm.shapes.T @ (lm.mass @ w)
     ut, wt = transverse(u), transverse(w)
     ru, rw = transverse(u - lm.shapes @ q), transverse(w - lm.shapes @ qd)
-    total = ut @ lm.stiffness @ ut + wt @ (lm.mass * wt)
-    lost = ru @ lm.stiffness @ ru + rw @ (lm.mass * rw)
+    total = ut @ lm.stiffness @ ut + wt @ (lm.mass @ wt)
+    lost = ru @ lm.stiffness @ ru + rw @ (lm.mass @ rw)
     return lm.inverse @ np.concatenate([q, qd]), max(lost, 0.0) / total
 
 
@@ -105,10 +105,14 @@ def _numpy_state(lm, z):
     return x, v
 
 
-def test_the_compiled_mode_projections_agree_with_their_formulas(model):
+@pytest.mark.parametrize("mass", MASS_KINDS)
+def test_the_compiled_mode_projections_agree_with_their_formulas(mass):
     """amplitudes, state and nonlinearity (numba kernels) against NumPy transcriptions,
-    on bent, moving states with energy outside the modes too."""
+    on bent, moving states with energy outside the modes too, for either mass matrix."""
+    model = RodModel(preset("xy-robot"), mass=mass)
     lm = linear_modes(model)
+    # the modes are mass-normalised with the model's own mass matrix
+    np.testing.assert_allclose(lm.shapes.T @ lm.mass @ lm.shapes, np.eye(lm.n_modes), atol=1e-9)
     rng = np.random.default_rng(4)
     for scale in (1e-7, 1e-4, 3e-3):
         x = model.x_rest + rng.normal(size=model.x_rest.shape) * scale
@@ -362,20 +366,21 @@ def test_whisking_in_air_is_linear_free_flight_seen_from_the_housing(scratchbot)
     assert np.abs(hyb.tan_xy - ref.tan_xy).max() <= 1e-3 * peak
 
 
-def test_the_housing_load_is_the_euler_load():
+@pytest.mark.parametrize("mass", MASS_KINDS)
+def test_the_housing_load_is_the_euler_load(mass):
     """A housing turning at constant angular acceleration from rest loads the
     whisker, seen from the housing, with the steady Euler load -m (y x r) theta''
     (the centrifugal load, of order theta'^2 / omega_1^2, is below 1e-4 here): the
     ringing decays and the magnet settles at the linear static deflection under
     that load, K^-1 f, from the rod's own tangent stiffness."""
-    model = RodModel(preset("xy-robot"))
+    model = RodModel(preset("xy-robot"), mass=mass)
     assert model.damping[0] == 0.0  # no mass-proportional drag adds to the load
     acc = 2.0  # rad/s^2: 0.36 rad after 0.6 s
     t = np.arange(0.0, 0.7, 6.25e-5)
     res = simulate(model, None, None, 0.6, base_motion=BaseMotion(t, 0.5 * acc * t**2, acc * t))
     assert (res.newton_iterations == 0).mean() > 0.95
     r = model.x_rest - model.x_rest[0]
-    f = -(model.mass[:, None] * np.column_stack([r[:, 2], 0 * r[:, 0], -r[:, 0]])) * acc
+    f = -(model.node_mass_matrix() @ np.column_stack([r[:, 2], 0 * r[:, 0], -r[:, 0]])) * acc
     dofs = np.flatnonzero(np.repeat(model.free, 3))
     K = model.stiffness_matrix()[np.ix_(dofs, dofs)]
     u = np.zeros(model.x_rest.size)

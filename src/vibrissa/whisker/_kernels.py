@@ -115,7 +115,10 @@ class RodArrays(NamedTuple):
     EA : ndarray, shape (n - 1,)
         Axial rigidities of the edges (N).
     mass : ndarray, shape (n,)
-        Lumped node masses (kg).
+        Diagonal of the node mass matrix (kg).
+    mass_off : ndarray, shape (n - 1,)
+        Mass coupling of nodes ``i`` and ``i + 1`` (kg): the off-diagonal of the
+        tridiagonal consistent mass matrix; zeros for a lumped mass.
     radius : ndarray, shape (n,)
         Shaft radius at each node (m).
     s_rest : ndarray, shape (n,)
@@ -129,6 +132,7 @@ class RodArrays(NamedTuple):
     L0: np.ndarray
     EA: np.ndarray
     mass: np.ndarray
+    mass_off: np.ndarray
     radius: np.ndarray
     s_rest: np.ndarray
 
@@ -422,7 +426,7 @@ def add_internal(x, v, rod, damping, F, S, cD, cK, jac):
 
     ``rod`` (:class:`RodArrays`) gives the bending constants ``kb[i]`` at nodes
     i = 1..n-2, the follicle's ``kf`` and rest ``axis``, the edges' rest lengths
-    ``L0`` and axial rigidities ``EA`` and the lumped node masses. ``damping``
+    ``L0`` and axial rigidities ``EA`` and the node mass matrix. ``damping``
     (:class:`Damping`): ``alpha`` (mass proportional), ``beta_shaft`` (shaft
     stiffness proportional: material damping) and ``beta_follicle`` (the follicle's
     rubber: damping moment ``k_f beta_follicle dpsi/dt``). The follicle housing is
@@ -644,13 +648,25 @@ def add_internal_whisking(x, v, rod, damping, F, S, cD, cK, jac, theta, theta_do
                     S[rc, BW + 3 * a + q - rc] += -h21
                     S[rc, BW + 3 * b + q - rc] += h21 - h22
                     S[rc, BW + 3 * c + q - rc] += h22
-    # --- mass-proportional damping
-    for i in range(n):
-        for c in range(3):
-            F[i, c] -= alpha_d * mass[i] * v[i, c]
-        if jac:
+    # --- mass-proportional damping (with the tridiagonal mass matrix)
+    if alpha_d != 0.0:
+        mass_off = rod.mass_off
+        for i in range(n):
             for c in range(3):
-                S[3 * i + c, BW] += cD * alpha_d * mass[i]
+                mv = mass[i] * v[i, c]
+                if i > 0:
+                    mv += mass_off[i - 1] * v[i - 1, c]
+                if i < n - 1:
+                    mv += mass_off[i] * v[i + 1, c]
+                F[i, c] -= alpha_d * mv
+            if jac:
+                for c in range(3):
+                    r = 3 * i + c
+                    S[r, BW] += cD * alpha_d * mass[i]
+                    if i > 0:
+                        S[r, BW - 3] += cD * alpha_d * mass_off[i - 1]
+                    if i < n - 1:
+                        S[r, BW + 3] += cD * alpha_d * mass_off[i]
 
 
 # ----------------------------------------------------------------------------------
@@ -1377,6 +1393,7 @@ def _ga_step(state, work, rod, damping, contact, tr, anchors, h, settings):
     newton = work.newton
     free = rod.free
     mass = rod.mass
+    mass_off = rod.mass_off
     rho_inf = settings.rho_inf
     tol = settings.tol
     max_iter = settings.max_iter
@@ -1426,8 +1443,15 @@ def _ga_step(state, work, rod, damping, contact, tr, anchors, h, settings):
         rr = 0.0
         for i in range(n):
             m = mass[i]
+            mp = mass_off[i - 1] if i > 0 else 0.0
+            mn = mass_off[i] if i < n - 1 else 0.0
             for c in range(3):
-                R[3 * i + c] = F[i, c] - m * ((1.0 - am) * a[i, c] + am * an[i, c])
+                ma = m * ((1.0 - am) * a[i, c] + am * an[i, c])
+                if mp != 0.0:
+                    ma += mp * ((1.0 - am) * a[i - 1, c] + am * an[i - 1, c])
+                if mn != 0.0:
+                    ma += mn * ((1.0 - am) * a[i + 1, c] + am * an[i + 1, c])
+                R[3 * i + c] = F[i, c] - ma
         _fix_rhs(R, free)
         for k in range(3 * n):
             rr += R[k] * R[k]
@@ -1444,7 +1468,12 @@ def _ga_step(state, work, rod, damping, contact, tr, anchors, h, settings):
         if factor:
             for i in range(n):
                 for c in range(3):
-                    S[3 * i + c, BW] += cM * mass[i]
+                    r = 3 * i + c
+                    S[r, BW] += cM * mass[i]
+                    if i > 0:
+                        S[r, BW - 3] += cM * mass_off[i - 1]
+                    if i < n - 1:
+                        S[r, BW + 3] += cM * mass_off[i]
             _fix_rows(S, R, free)
             if not band_factor(S):
                 newton[0] = 1.0
@@ -1978,14 +2007,16 @@ def _transverse_into(u, tangents, out):
 
 @njit(cache=True)
 def _energy(u, w, stiffness, mass):
-    """``u . (K u) + w . (M w)`` over the moving degrees of freedom."""
+    """``u . (K u) + w . (M w)`` over the moving degrees of freedom (``M`` dense)."""
     e = 0.0
     nd = u.shape[0]
     for i in range(nd):
         ku = 0.0
+        mw = 0.0
         for j in range(nd):
             ku += stiffness[i, j] * u[j]
-        e += u[i] * ku + w[i] * mass[i] * w[i]
+            mw += mass[i, j] * w[j]
+        e += u[i] * ku + w[i] * mw
     return e
 
 
@@ -2012,8 +2043,11 @@ def modal_amplitudes(
         w[k] = v[d // 3, d % 3]
     qq = np.zeros(2 * m)
     for k in range(nd):
-        mu = mass[k] * u[k]
-        mw = mass[k] * w[k]
+        mu = 0.0
+        mw = 0.0
+        for q in range(nd):
+            mu += mass[k, q] * u[q]
+            mw += mass[k, q] * w[q]
         for j in range(m):
             qq[j] += shapes[k, j] * mu
             qq[m + j] += shapes[k, j] * mw

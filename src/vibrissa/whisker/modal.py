@@ -2,7 +2,7 @@
 
 A whisker that touches nothing, on a fixed base, is a linear system once its
 deflection is small: ``M u'' + C u' + K u = 0`` for the displacement ``u`` from
-rest, with the lumped mass ``M``, the damping ``C`` (Rayleigh damping of the shaft
+rest, with the rod's mass matrix ``M``, the damping ``C`` (Rayleigh damping of the shaft
 plus the follicle's rubber damper) and the stiffness ``K``, all the rod model's
 own tangents at rest (:func:`~vibrissa.whisker._kernels.add_internal`). Its
 solution is a sum of damped complex exponentials, so the free motion can be
@@ -107,8 +107,8 @@ class LinearModes:
         Rest positions (m).
     dofs : ndarray of int
         Flat indices (``3 * node + axis``) of the moving degrees of freedom.
-    mass : ndarray
-        Lumped mass of each moving degree of freedom (kg).
+    mass : ndarray, shape (len(dofs), len(dofs))
+        Mass matrix over the moving degrees of freedom (kg).
     stiffness : ndarray
         Tangent stiffness ``K`` at rest over the moving degrees of freedom (N/m).
     shapes : ndarray, shape (len(dofs), m)
@@ -219,7 +219,7 @@ class LinearModes:
         """
         r = self.x_rest - self.x_rest[0]
         g = np.column_stack([-r[:, 2], np.zeros(len(r)), r[:, 0]]).reshape(-1)[self.dofs]
-        qd = _mv(self.shapes.T, self.mass * g)
+        qd = _mv(self.shapes.T, _mv(self.mass, g))
         qq = np.concatenate([np.zeros_like(qd), qd])
         return _mv(self.inverse.real, qq) + 1j * _mv(self.inverse.imag, qq)
 
@@ -320,8 +320,8 @@ def linear_modes(model: RodModel, cutoff_hz: float = CUTOFF_HZ) -> LinearModes:
     K = mats[0][np.ix_(dofs, dofs)]
     K = 0.5 * (K + K.T)
     C = mats[1][np.ix_(dofs, dofs)]
-    mass = np.repeat(model.mass, 3)[dofs]
-    w2, phi = scipy.linalg.eigh(K, np.diag(mass))
+    mass = np.kron(model.node_mass_matrix(), np.eye(3))[np.ix_(dofs, dofs)]
+    w2, phi = scipy.linalg.eigh(K, mass)
     omega = np.sqrt(np.clip(w2, 0.0, None))
     # transverse modes only: the axial ones (the first near 3 kHz for the xy-robot
     # whisker) are not sensed by the magnet's tilt and, in a bent state, their
@@ -330,9 +330,12 @@ def linear_modes(model: RodModel, cutoff_hz: float = CUTOFF_HZ) -> LinearModes:
     edges /= np.linalg.norm(edges, axis=1)[:, None]
     moving = np.array([i for i in range(n) if model.free[i]])
     tangents = edges[moving - 1]
+    # each mode's kinetic-energy fraction along the rest tangents (mass-normalised)
     sh = phi.reshape(-1, 3, phi.shape[1])
-    m_node = mass.reshape(-1, 3)[:, 0]
-    along = np.einsum("i,ik->k", m_node, np.einsum("ic,ick->ik", tangents, sh) ** 2)
+    axial = (tangents[:, :, None] * np.einsum("ic,ick->ik", tangents, sh)[:, None, :]).reshape(
+        phi.shape
+    )
+    along = np.einsum("ik,ij,jk->k", axial, mass, axial)
     keep = (omega < 2 * np.pi * cutoff_hz) & (along < 0.5)
     omega, phi = omega[keep], phi[:, keep]
     m = omega.size

@@ -16,6 +16,7 @@ from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
+import scipy.linalg
 
 from vibrissa._validate import finite, finite_array, in_range, non_negative, positive
 from vibrissa.whisker._kernels import (
@@ -451,8 +452,17 @@ def _initial_acceleration(
     F = np.zeros((n, 3))
     S = np.zeros((3 * n, 2 * BW + 1))
     add_internal_whisking(x, v, rod, damping, F, S, 0.0, 0.0, False, float(theta), float(theta_dot))
-    a = F / rod.mass[:, None]
-    a[~rod.free] = 0.0
+    if not np.any(rod.mass_off):
+        a = F / rod.mass[:, None]
+        a[~rod.free] = 0.0
+        return a
+    # the consistent mass: solve the free nodes' tridiagonal system M a = F
+    free = np.flatnonzero(rod.free)
+    ab = np.zeros((2, free.size))
+    ab[0, 1:] = rod.mass_off[free[:-1]]
+    ab[1] = rod.mass[free]
+    a = np.zeros((n, 3))
+    a[free] = scipy.linalg.solveh_banded(ab, F[free], check_finite=False)
     return a
 
 
