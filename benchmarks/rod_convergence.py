@@ -17,12 +17,13 @@ spring and inertia included):
 The options:
 
 ``mass``
-    ``lumped`` (today's default: each segment's truncated-cone mass split half and
-    half onto its two nodes), ``centroid`` (split so that the two point masses keep the
+    ``lumped`` (the rod's mass until issue 32: each segment's truncated-cone mass split
+    half and half onto its two nodes), ``centroid`` (split so that the two point masses keep the
     segment's centre of mass: the row sums of the consistent matrix) and
     ``consistent`` (the kinetic energy of the segment with its velocity interpolated
     linearly between the nodes, integrated exactly over the cone: a tridiagonal mass
-    matrix; the linear analysis only, the dynamics kernels have a diagonal mass).
+    matrix, ``RodModel(mass="consistent")``, the default since issue 32; here integrated
+    by Gauss quadrature, an independent check of the model's closed form).
 ``stiffness``
     ``node`` (today's: ``E I`` at the node over its dual length) or ``cell`` (``E I``
     averaged over the node's dual cell).
@@ -30,14 +31,20 @@ The options:
     ``uniform`` or ``radius`` (element lengths proportional to the square root of the
     local radius, finer toward the thin tip).
 
-The peak follicle moment of the standard contact needs the dynamics, which run only with
-a diagonal mass (the rod kernels'): for ``lumped`` and ``centroid`` with ``node`` stiffness
-on ``uniform`` elements, each element count's standard contact
+The peak follicle moment of the standard contact needs the dynamics, which the rod
+kernels run for ``node`` stiffness on ``uniform`` elements with each mass: for those,
+each element count's standard contact
 (:func:`~vibrissa.whisker.simulate.simulate` as ``vibrissa bench physics`` runs it) is
 compared with the converged rod's (``bench_peers.reference_peak_moment_nm``: 150
 elements, 31.25 us steps, every step nonlinear), and the fewest elements within both
 tolerances (first mode 0.1 %, peak moment 1 %) are reported per option. ``centroid`` is
 run by putting its node masses into the model (``RodModel.mass``).
+
+Last, ``load_points`` measures what the element count costs in statics away from the
+tip: the deflection at a small point load at several arc lengths of the model's rod
+(clamped follicle, ``RodModel.static_force``) against Euler-Bernoulli beam theory with
+the exact taper (``int_0^a (a - s)^2 / EI(s) ds``). Contacts between nodes near the
+thick base are the coarse mesh's weak spot.
 """
 
 from __future__ import annotations
@@ -210,16 +217,22 @@ def measure(g: WhiskerGeometry, option: dict[str, str], n_elements: int) -> dict
     }
 
 
-#: The options the rod kernels can integrate (a diagonal mass on uniform elements).
+#: The options the rod kernels can integrate (node stiffness on uniform elements).
 DYNAMIC_OPTIONS: tuple[dict[str, str], ...] = (
     {"mass": "lumped", "stiffness": "node", "grading": "uniform"},
     {"mass": "centroid", "stiffness": "node", "grading": "uniform"},
+    {"mass": "consistent", "stiffness": "node", "grading": "uniform"},
 )
+#: Arc lengths (mm) of the static load-point check, and the element counts it covers.
+LOAD_POINTS_MM = (40.0, 60.0, 80.0, 100.0, 120.0, 140.0, 160.0)
+LOAD_POINT_ELEMENTS = (8, 12, 16, 20, 28, 40)
 
 
 def dynamic_model(g: WhiskerGeometry, n_elements: int, mass: str) -> RodModel:
-    """The rod model with ``mass``'s node masses (``lumped`` is the model's own)."""
-    model = RodModel(g, n_elements)
+    """The rod model with ``mass``'s node masses (``lumped`` and ``consistent``: the model's)."""
+    if mass in ("lumped", "consistent"):
+        return RodModel(g, n_elements, mass=mass)
+    model = RodModel(g, n_elements, mass="lumped")
     if mass != "lumped":
         _, M, _ = plane_matrices(g, n_elements, mass, "node", "uniform")
         if np.count_nonzero(M - np.diag(np.diag(M))):
@@ -248,6 +261,23 @@ def add_peak_moments(g: WhiskerGeometry, rows: list[dict[str, Any]]) -> float:
             else None
         )
     return ref
+
+
+def load_point_errors(g: WhiskerGeometry, n_elements: int) -> list[float]:
+    """Deflection error (%) at a small point load at each of :data:`LOAD_POINTS_MM`."""
+    model = RodModel(g, n_elements, rigid_follicle=True)
+    E = g.youngs_modulus_gpa * 1e9
+    out = []
+    for a_mm in LOAD_POINTS_MM:
+        a = a_mm * 1e-3
+        xg, wg = np.polynomial.legendre.leggauss(12)  # the integrand is smooth: exact enough
+        s = (xg + 1.0) / 2.0 * a
+        compliance = float(
+            np.sum(wg * a / 2.0 * (a - s) ** 2 / (E * math.pi * g.radius_m(s) ** 4 / 4))
+        )
+        got = model.static_force(TIP_FORCE_N, a_mm).deflection_mm * 1e-3
+        out.append(float(100.0 * (got / (TIP_FORCE_N * compliance) - 1.0)))
+    return out
 
 
 def run(name: str) -> dict[str, Any]:
@@ -283,12 +313,20 @@ def run(name: str) -> dict[str, Any]:
         "reference_frequencies_hz": [float(v) for v in ref],
         "first_mode_tolerance_pct": FIRST_MODE_TOLERANCE_PCT,
         "default_n_elements": DEFAULT_N_ELEMENTS,
+        "default_mass": RodModel(g).mass_kind,
         "tip_force_n": TIP_FORCE_N,
         "moment_tolerance_pct": MOMENT_TOLERANCE_PCT,
         "reference_peak_follicle_moment_nm": peak_ref,
         "peak_reference": dict(PEAK_REFERENCE),
         "rows": rows,
         "fewest_elements_within_tolerance": fewest,
+        "load_points": {
+            "at_mm": list(LOAD_POINTS_MM),
+            "rows": [
+                {"n_elements": n, "deflection_error_pct": load_point_errors(g, n)}
+                for n in LOAD_POINT_ELEMENTS
+            ],
+        },
     }
 
 
@@ -320,6 +358,16 @@ def table(result: dict[str, Any]) -> str:
             f"{r['follicle_rotation_error_pct']:>+10.3f} "
             + (f"{p:>+9.2f} " if p is not None else f"{'-':>9} ")
             + f"{best['fewest_elements_both']!s:>9}"
+        )
+    lp = result["load_points"]
+    out.append("")
+    out.append(
+        "deflection error (%) at a point load at (mm): " + " ".join(f"{a:>7g}" for a in lp["at_mm"])
+    )
+    for r in lp["rows"]:
+        out.append(
+            f"{r['n_elements']:>4} elements{'':<36}"
+            + " ".join(f"{e:>+7.2f}" for e in r["deflection_error_pct"])
         )
     return "\n".join(out)
 

@@ -66,10 +66,13 @@ def machine_kind() -> dict[str, Any]:
     except ImportError:  # pragma: no cover - NumPy 1.x
         from numpy.core._multiarray_umath import __cpu_dispatch__, __cpu_features__
 
+    # the BLAS only: an OpenMP runtime that some other import loaded (scikit-learn's, under
+    # pytest) is no property of the machine and made the same machine look like another
     blas = sorted(
         {
             f"{i.get('internal_api')} {i.get('architecture')}"
             for i in threadpoolctl.threadpool_info()
+            if i.get("user_api") == "blas"
         }
     )
     simd = [f for f in __cpu_dispatch__ if __cpu_features__.get(f)]

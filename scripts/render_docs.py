@@ -818,9 +818,27 @@ def extract_rod_convergence(rc: Mapping[str, Any]) -> dict[str, Any]:
             + ("not run" if p is None else f"{p:+.2f} %")
             + f" | {best['fewest_elements_both']} |"
         )
-    default = row("lumped", "node", "uniform", rc["default_n_elements"])
+    default_mass = rc.get("default_mass", "lumped")
+    default = row(default_mass, "node", "uniform", rc["default_n_elements"])
+    load_points = rc.get("load_points")
+    lp_table = ""
+    if load_points:
+        lp_table = "\n".join(
+            [
+                "| elements | " + " | ".join(f"{a:g} mm" for a in load_points["at_mm"]) + " |",
+                "|---|" + "---|" * len(load_points["at_mm"]),
+            ]
+            + [
+                f"| {r['n_elements']} | "
+                + " | ".join(f"{e:+.2f} %" for e in r["deflection_error_pct"])
+                + " |"
+                for r in load_points["rows"]
+            ]
+        )
     return {
         "table": "\n".join(lines),
+        "load_points_table": lp_table,
+        "default_mass": default_mass,
         "default_n_elements": rc["default_n_elements"],
         "default_first_mode_error_pct": default["mode_error_pct"][0],
         "default_peak_moment_error_pct": default.get("peak_moment_error_pct"),

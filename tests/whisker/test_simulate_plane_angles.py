@@ -30,11 +30,19 @@ def _turned(p: np.ndarray, phi: float) -> np.ndarray:
     return PIVOT + np.column_stack([c * r[:, 0] + s * r[:, 1], -s * r[:, 0] + c * r[:, 1]])
 
 
-def _push(surface: Surface, angle_deg: float, side: int, phi_deg: float, friction: float = 0.3):
-    """The plane moves 12 mm across the tip (along the unturned frame's x) in 0.4 s."""
+def _push(
+    surface: Surface,
+    angle_deg: float,
+    side: int,
+    phi_deg: float,
+    friction: float = 0.3,
+    start_mm: float = 3.0,
+):
+    """The plane moves 12 mm across the tip (along the unturned frame's x) in 0.4 s,
+    from ``start_mm`` off the whisker's axis."""
     phi = math.radians(phi_deg)
     t = np.linspace(0.0, 0.4, 5)
-    pos = np.column_stack([side * -(3.0 - 30.0 * t), np.full(5, 180.0)])
+    pos = np.column_stack([side * -(start_mm - 30.0 * t), np.full(5, 180.0)])
     a = angle_deg - phi_deg if side == -1 else angle_deg + phi_deg
     contact = SurfaceContact(surface, angle_deg=a, side=side, friction=friction)
     housing = BaseMotion(np.array([0.0, 1.0]), np.array([phi, phi]), np.zeros(2))
@@ -64,10 +72,15 @@ def test_negative_angle_is_the_rotated_positive_one(
 
 
 def test_textured_negative_angle_agrees_to_chaos() -> None:
-    """On sandpaper stick-slip amplifies rounding: the runs agree on the mean, not in detail."""
+    """On sandpaper stick-slip amplifies rounding: the runs agree on the mean, not in detail.
+
+    The sandpaper starts 5 mm off the axis: from 3 mm (the flat planes' start) its grains
+    already held the tip at the first step, which met a 13 N penalty force and flung the
+    tip at some 50 m/s (the lumped-mass rod survived that start, the consistent one did
+    not converge)."""
     surf = make_surface("p180", 3)
-    ref = _push(surf, 40.0, -1, 0.0)
-    turned = _push(surf, 40.0, -1, 70.0)
+    ref = _push(surf, 40.0, -1, 0.0, start_mm=5.0)
+    turned = _push(surf, 40.0, -1, 70.0, start_mm=5.0)
     late = slice(-400, None)
     assert turned.tan_xy[late, 0].mean() == pytest.approx(ref.tan_xy[late, 0].mean(), rel=0.05)
     assert turned.contact_force_n[late].mean() == pytest.approx(

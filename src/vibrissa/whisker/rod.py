@@ -154,7 +154,7 @@ class RodModel:
         geometry: WhiskerGeometry | None = None,
         n_elements: int = DEFAULT_N_ELEMENTS,
         rigid_follicle: bool = False,
-        mass: str = "lumped",
+        mass: str = "consistent",
     ) -> None:
         self.geometry = geometry if geometry is not None else WhiskerGeometry(name="xy-robot")
         if isinstance(n_elements, bool) or not isinstance(n_elements, int | np.integer):
@@ -582,8 +582,9 @@ class RodModel:
                     if info[1] >= self.geometry.length_m * (1 - 1e-6):
                         # the tip is at the pole and equilibrium is lost: the whisker
                         # slips off the pole's end and springs back (it lands beyond
-                        # the pole, which the remaining increments then never touch)
-                        xs = x.copy()
+                        # the pole, which the remaining increments then never touch); with
+                        # no load its equilibrium is the rest shape, where Newton starts
+                        xs = self.x_rest.copy()
                         it, info = self._static(xs, np.zeros((self.n_nodes, 3)))
                         if it < 0:
                             raise SimulationError("whisker failed to spring back after slip-off")

@@ -16,7 +16,6 @@ from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
-import scipy.linalg
 
 from vibrissa._validate import finite, finite_array, in_range, non_negative, positive
 from vibrissa.whisker._kernels import (
@@ -447,22 +446,28 @@ def _initial_acceleration(
     """Node accelerations (m/s^2) at positions ``x`` (m) and velocities ``v`` (m/s).
 
     The follicle housing is at angle ``theta`` (rad), turning at ``theta_dot`` (rad/s).
+    The forces are divided by the row sums of the mass matrix (the node masses
+    themselves for a lumped mass). For the consistent mass this is not ``M^-1 F``: the
+    inverse of the tridiagonal matrix spreads a point force (a released tip load, a
+    contact) over the whole rod in alternating signs, and the generalised-alpha
+    scheme's first step then overshoots on those stiff components: released from a
+    30 mm tip deflection the rod's energy rose by 0.40 % in the first 0.25 ms step
+    (0.057 % with the lumped mass), while with the row sums it falls by 0.006 %.
+    The row sums keep each node's share of the force and the rod's total momentum
+    rate; only the start of the first step differs.
     """
     n = x.shape[0]
     F = np.zeros((n, 3))
     S = np.zeros((3 * n, 2 * BW + 1))
     add_internal_whisking(x, v, rod, damping, F, S, 0.0, 0.0, False, float(theta), float(theta_dot))
-    if not np.any(rod.mass_off):
+    if np.any(rod.mass_off):
+        row_sums = rod.mass.copy()
+        row_sums[:-1] += rod.mass_off
+        row_sums[1:] += rod.mass_off
+        a = F / row_sums[:, None]
+    else:
         a = F / rod.mass[:, None]
-        a[~rod.free] = 0.0
-        return a
-    # the consistent mass: solve the free nodes' tridiagonal system M a = F
-    free = np.flatnonzero(rod.free)
-    ab = np.zeros((2, free.size))
-    ab[0, 1:] = rod.mass_off[free[:-1]]
-    ab[1] = rod.mass[free]
-    a = np.zeros((n, 3))
-    a[free] = scipy.linalg.solveh_banded(ab, F[free], check_finite=False)
+    a[~rod.free] = 0.0
     return a
 
 
