@@ -15,10 +15,14 @@ statically by a tip force to 30 mm, released, and advanced by the kernels' schem
 for three ways of starting and measuring:
 
 - ``consistent``: initial acceleration ``M^-1 (-K x0)``, energy ``v.M v/2 + x.K x/2``;
-- ``lumped start``: initial acceleration from the lumped masses (as
-  ``simulate`` computes it today, ``F / mass``), energy as above;
+- ``lumped start``: initial acceleration from the lumped masses (``F / mass``, as
+  ``simulate`` computed it before the consistent mass), energy as above;
 - ``lumped energy``: consistent start, kinetic energy measured with the lumped masses
-  (as ``RodModel.kinetic_energy`` does today).
+  (as ``RodModel.kinetic_energy`` did before the consistent mass).
+
+This is the linear, undamped rod. On the nonlinear rod with its damping the exact
+consistent start does overshoot (``benchmarks/rod_mass_dynamics.py``), which is why
+``simulate`` starts from the forces over the mass matrix's row sums.
 
 Each row gives the energy after the first step and the largest over 400 steps, relative
 to the initial (potential) energy.
