@@ -165,6 +165,8 @@ def test_push_bad_input(tapered):
         tapered.push(100, 1, friction=-0.1)
     with pytest.raises(ValueError, match="n_elements"):
         RodModel(TAPERED, n_elements=2)
+    with pytest.raises(ValueError, match="mass must be one of"):
+        RodModel(TAPERED, mass="heavy")
 
 
 @pytest.mark.parametrize(

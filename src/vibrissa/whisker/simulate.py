@@ -452,7 +452,8 @@ def _initial_acceleration(
     contact) over the whole rod in alternating signs, and the generalised-alpha
     scheme's first step then overshoots on those stiff components: released from a
     30 mm tip deflection the rod's energy rose by 0.40 % in the first 0.25 ms step
-    (0.057 % with the lumped mass), while with the row sums it falls by 0.006 %.
+    (0.057 % with the lumped mass), while with the row sums it falls by 0.006 %
+    (``benchmarks/rod_mass_dynamics.py``).
     The row sums keep each node's share of the force and the rod's total momentum
     rate; only the start of the first step differs.
     """
