@@ -137,3 +137,31 @@ def test_bad_periods_are_refused_by_name(model, kwargs, match):
 def test_bad_settings_are_refused_by_name(model, kwargs, match):
     with pytest.raises(ValueError, match=match):
         ClosedLoopStepper(model, None, None, **kwargs)
+
+
+@pytest.mark.parametrize("setup", [_pole, lambda: (None, None)], ids=["pole", "air"])
+def test_the_sampled_period_is_the_interpolated_one(model, setup):
+    # advance_sampled (the housing's motion given at the steps) against advance (given at
+    # times it interpolates at the stepper's own clock, which overshoots the period's
+    # last sample by an ulp in most periods): the same numbers, to the rounding of that
+    # interpolation, well within the Newton tolerance (before the fix, advance read a
+    # zero rate at those overshoots); not on the textured plane, whose grains amplify a
+    # difference at the tolerance into a different stick-slip history
+    t, angle, rate = _whisk(120)
+    a = ClosedLoopStepper(model, *setup(), DT)
+    b = ClosedLoopStepper(model, *setup(), DT)
+    for k in range(120):
+        sl = slice(k * SPP, (k + 1) * SPP + 1)
+        pa = a.advance(SPP, t[sl], angle[sl], rate[sl])
+        pb = b.advance_sampled(angle[sl], rate[sl])
+        np.testing.assert_allclose(pa.tan_xy, pb.tan_xy, rtol=1e-6, atol=1e-12)
+        np.testing.assert_allclose(pa.contact_force_n, pb.contact_force_n, rtol=1e-6, atol=1e-9)
+    assert a.time_s == b.time_s
+
+
+def test_a_sampled_period_of_mismatched_arrays_is_refused(model):
+    stepper = ClosedLoopStepper(model, None, None, DT)
+    with pytest.raises(ValueError, match="one length"):
+        stepper.advance_sampled(np.zeros(5), np.zeros(4))
+    with pytest.raises(ValueError, match="a still object"):
+        ClosedLoopStepper(model, *_moving_pole(), DT).kernel_inputs(0.0, 0.0)

@@ -148,3 +148,15 @@ def test_bad_base_motion(kwargs, match):
 def test_base_motion_must_be_a_base_motion(model):
     with pytest.raises(TypeError, match="BaseMotion"):
         simulate(model, None, None, 0.01, base_motion=(0.0, 0.0))  # type: ignore[arg-type]
+
+
+def test_a_time_a_rounding_error_past_the_last_sample_reads_the_end_rate():
+    # a closed loop's clock is a running sum of steps: 0.00025 * 4 summed 500 times
+    # overshoots the samples' own times by an ulp in most periods; the housing is still
+    # turning there (before the fix the rate read zero at the end of 491 of 500 periods)
+    t = np.arange(5) * 2.5e-4
+    motion = BaseMotion(t, 0.1 * t, np.full(5, 0.1))
+    ahead = t[-1] + math.ulp(t[-1]) * 4
+    angle, rate = motion.sample(np.array([t[0] - 1e-15, ahead, t[-1] + 1e-6]))
+    assert rate[0] == 0.1 and rate[1] == 0.1
+    assert rate[2] == 0.0 and angle[2] == motion.angle_rad[-1]  # truly beyond: held, still

@@ -49,8 +49,9 @@ import numpy as np
 from scipy.signal import butter, sosfilt_zi
 
 from vibrissa._validate import finite, finite_array, non_negative, positive
+from vibrissa.robots._kernels import rcp_loop, same_kernel_type
 from vibrissa.whisker.hall import calibrated_gain
-from vibrissa.whisker.rod import RodModel
+from vibrissa.whisker.rod import RodModel, SimulationError
 from vibrissa.whisker.simulate import (
     BaseMotion,
     ClosedLoopStepper,
@@ -397,12 +398,7 @@ def motor_follow(
     rate) before the first step. Returns arrays of ``len(command_deg) + 1`` values,
     the first being ``state``.
     """
-    w = 2 * math.pi * positive("motor bandwidth_hz", bandwidth_hz)
-    dt = positive("dt_s", dt_s)
-    # with e = angle - command (command held): e(t) = (e0 + (r0 + w e0) t) exp(-w t)
-    E = math.exp(-w * dt)
-    p11, p12 = (1.0 + w * dt) * E, dt * E
-    p21, p22 = -w * w * dt * E, (1.0 - w * dt) * E
+    p11, p12, p21, p22 = _servo_matrix(dt_s, bandwidth_hz)
     n = len(command_deg)
     ang = np.empty(n + 1)
     rate = np.empty(n + 1)
@@ -413,6 +409,15 @@ def motor_follow(
         a, r = u + p11 * (a - u) + p12 * r, p21 * (a - u) + p22 * r
         ang[k + 1], rate[k + 1] = a, r
     return ang, rate
+
+
+def _servo_matrix(dt_s: float, bandwidth_hz: float) -> tuple[float, float, float, float]:
+    """The servo's exact step over ``dt_s``: ``(angle, rate) <- P (angle - u, rate) + (u, 0)``."""
+    w = 2 * math.pi * positive("motor bandwidth_hz", bandwidth_hz)
+    dt = positive("dt_s", dt_s)
+    # with e = angle - command (command held): e(t) = (e0 + (r0 + w e0) t) exp(-w t)
+    E = math.exp(-w * dt)
+    return (1.0 + w * dt) * E, dt * E, -w * w * dt * E, (1.0 - w * dt) * E
 
 
 def pole_position_mm(
@@ -495,6 +500,32 @@ def _check_setups(whiskers: list[WhiskerSetup], n_sides: int) -> None:
     for w in whiskers:
         if not isinstance(w.side, int) or not 0 <= w.side < n_sides:
             raise ValueError(f"whisker side must lie in [0, {n_sides - 1}], got {w.side!r}")
+
+
+def _compiled_inputs(
+    steppers: list[ClosedLoopStepper], whiskers: list[WhiskerSetup], pats: list[WhiskPattern]
+) -> tuple[Any, ...] | None:
+    """The first arguments of :func:`~vibrissa.robots._kernels.rcp_loop`, or None.
+
+    None when the compiled loop cannot run these whiskers: an object that moves (the
+    loop takes one object row for all time), or whiskers whose integrator inputs are of
+    different kinds (a compiled tuple must hold one type).
+    """
+    try:
+        # each whisker at rest in its housing at full retraction, as the loop starts it
+        inputs = [
+            st.kernel_inputs(float(np.radians(pats[w.side].retracted_deg)), 0.0)
+            for st, w in zip(steppers, whiskers, strict=True)
+        ]
+    except ValueError:  # an object that moves
+        return None
+    bundles = tuple(tuple(getattr(k, f) for k in inputs) for f in ("state", "anchors", "rod"))
+    rest = tuple(tuple(getattr(k, f) for k in inputs) for f in ("damping", "contact"))
+    if not all(same_kernel_type(b) for b in (*bundles, *rest)):
+        return None
+    objects = np.array([k.object_row for k in inputs])
+    side_of = np.array([w.side for w in whiskers], dtype=np.int64)
+    return (*bundles, *rest, inputs[0].settings, objects, side_of)
 
 
 def run_whisking(
@@ -612,6 +643,43 @@ def run_whisking(
 
     steppers = [ClosedLoopStepper(w.model, w.contact, w.trajectory, dt) for w in whiskers]
     sides = [[i for i, wh in enumerate(whiskers) if wh.side == s] for s in range(n_sides)]
+    compiled = _compiled_inputs(steppers, whiskers, pats)
+    if compiled is not None:
+        failure = np.zeros(3, dtype=np.int64)
+        done = rcp_loop(
+            *compiled,
+            np.array([p.oscillator_deg(time_s) for p in pats]),
+            np.array([p.oscillator_deg(ctime) for p in pats]),
+            np.array([float(p.retracted_deg) for p in pats]),
+            np.array(_servo_matrix(dt, motor_bandwidth_hz)),
+            np.array([[float(a), float(r)] for a, r in motors]),
+            np.ascontiguousarray(filters[0].sos[:, [0, 1, 2, 4, 5]]),
+            np.zeros((n_w, filters[0].sos.shape[0], 2)),
+            np.array(full_tan),
+            np.array(decays),
+            float(ctrl.sigma_z),
+            float(ctrl.cia_gain),
+            float(ctrl.signal_scale),
+            spp,
+            tan_x,
+            tan_y,
+            force,
+            angle,
+            command,
+            pis,
+            zs,
+            defl,
+            failure,
+        )
+        if done < n_ctrl:
+            n, _, steps = (int(v) for v in failure)
+            raise SimulationError(
+                "simulation diverged or failed to converge at t = "
+                f"{(n * spp + steps) * dt:.5f} s (step {steps} of {spp}); try a smaller dt_s"
+            )
+        return WhiskingResult(
+            time_s, tan_x, force, angle, ctime, command, pis, zs, defl, dt, gains, tan_y
+        )
     for n in range(n_ctrl):
         k0, k1 = n * spp, (n + 1) * spp
         for s in range(n_sides):
@@ -621,10 +689,9 @@ def run_whisking(
             ang, rt = motor_follow(cmd, dt, motor_bandwidth_hz, motors[s])
             motors[s] = (float(ang[-1]), float(rt[-1]))
             command[s, n + 1] = float(pats[s].command_deg(ctime[n + 1], zs[s, n], gain))
-            tk = time_s[k0 : k1 + 1]
             ang_rad, rt_rad = np.radians(ang), np.radians(rt)
             for w in sides[s]:
-                res = steppers[w].advance(k1 - k0, tk, ang_rad, rt_rad)
+                res = steppers[w].advance_sampled(ang_rad, rt_rad)
                 tan_x[w, k0 : k1 + 1] = res.tan_xy[:, 0]
                 tan_y[w, k0 : k1 + 1] = res.tan_xy[:, 1]
                 force[w, k0 : k1 + 1] = res.contact_force_n

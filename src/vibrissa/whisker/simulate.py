@@ -50,6 +50,7 @@ __all__ = [
     "BaseMotion",
     "ClosedLoopStepper",
     "PeriodOutput",
+    "StepperKernelInputs",
     "PoleContact",
     "SimulationResult",
     "SurfaceContact",
@@ -59,6 +60,10 @@ __all__ = [
 ]
 
 DEFAULT_DT_S = 2.5e-4
+
+#: Times (s) this close to a :class:`BaseMotion`'s end samples count as at them (far
+#: below any step, far above the rounding of a running sum of steps).
+TIME_TOL_S = 1e-9
 
 _ENVELOPES: dict[tuple[int, float], tuple[Surface, np.ndarray]] = {}
 
@@ -334,7 +339,10 @@ class BaseMotion:
     def sample(self, times_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Angles (rad) and rates (rad/s) interpolated at ``times_s``."""
         t = self.time_s
-        inside = (times_s >= t[0]) & (times_s <= t[-1])
+        # a step time a rounding error beyond an end sample is at it: a closed loop's
+        # clock (a running sum of steps) overshoots its period's end by an ulp about
+        # every other period, and must not read a zero rate there
+        inside = (times_s >= t[0] - TIME_TOL_S) & (times_s <= t[-1] + TIME_TOL_S)
         rate = np.where(inside, np.interp(times_s, t, self.rate_rad_s), 0.0)
         return np.interp(times_s, t, self.angle_rad), rate
 
@@ -1071,6 +1079,22 @@ class PeriodOutput(NamedTuple):
     contact_force_n: np.ndarray
 
 
+class StepperKernelInputs(NamedTuple):
+    """A :class:`ClosedLoopStepper`'s whisker as the compiled integrator reads it.
+
+    ``state`` and ``anchors`` are the stepper's own arrays (advanced in place);
+    ``object_row`` is the still object's state (6 values, zeros without an object).
+    """
+
+    state: NodeState
+    anchors: Anchors
+    rod: RodArrays
+    damping: Damping
+    contact: ContactSpec
+    settings: SolverSettings
+    object_row: np.ndarray
+
+
 class ClosedLoopStepper:
     """One whisker advanced a control period at a time, for closed loops.
 
@@ -1192,9 +1216,71 @@ class ClosedLoopStepper:
                 f"(at least 2), got {tb.shape}, {ab.shape}, {wb.shape}"
             )
         times = self.time_s + np.arange(n_steps + 1) * self.dt_s
-        inside = (times >= tb[0]) & (times <= tb[-1])
-        rate = np.where(inside, np.interp(times, tb, wb), 0.0)
-        angle = np.interp(times, tb, ab)
+        angle, rate = BaseMotion(tb, ab, wb).sample(times)
+        return self._run(times, angle, rate)
+
+    def advance_sampled(self, angle_rad: np.ndarray, rate_rad_s: np.ndarray) -> PeriodOutput:
+        """Advance ``len(angle_rad) - 1`` steps, the housing's motion given at every step.
+
+        The closed loops' hot path: ``angle_rad[k]`` and ``rate_rad_s[k]`` are the
+        housing's angle (rad) and rate (rad/s) at step ``k`` of the period (``k = 0``: its
+        start, the end of the last one), so nothing is interpolated. The numbers are
+        those of :meth:`advance` given the same values at the step times.
+
+        Raises
+        ------
+        ValueError
+            If the two arrays are not 1-D of one length of at least 2.
+        SimulationError
+            If a step fails to converge or the state becomes non-finite.
+        """
+        angle = np.asarray(angle_rad, dtype=float)
+        rate = np.asarray(rate_rad_s, dtype=float)
+        if angle.ndim != 1 or angle.size < 2 or rate.shape != angle.shape:
+            raise ValueError(
+                "angle_rad and rate_rad_s must be 1-D of one length (at least 2), got "
+                f"{angle.shape}, {rate.shape}"
+            )
+        times = self.time_s + np.arange(angle.size) * self.dt_s
+        return self._run(times, angle, rate)
+
+    def kernel_inputs(self, angle_rad: float, rate_rad_s: float) -> StepperKernelInputs:
+        """What a compiled driver of several whiskers passes to the integrator.
+
+        For loops that advance many whiskers a period at a time inside one compiled
+        function (:mod:`vibrissa.robots._kernels`). The state is the stepper's own
+        (created at rest in a housing at ``angle_rad`` turning at ``rate_rad_s`` if no
+        period has run yet) and is advanced in place by whoever integrates it; that
+        caller then moves the stepper's clock with :meth:`advance_clock`.
+
+        Raises
+        ------
+        ValueError
+            If the object moves: a driver is given one object row for all time.
+        """
+        if self._trajectory is not None and self._still_object is None:
+            raise ValueError("kernel_inputs needs a still object (or none)")
+        if self._node_state is None:
+            self._node_state = NodeState(
+                *_rest_state(self.model, self._rod, self._damping, angle_rad, rate_rad_s)
+            )
+        row = self._still_object if self._still_object is not None else np.zeros(6)
+        return StepperKernelInputs(
+            self._node_state,
+            self._anchors,
+            self._rod,
+            self._damping,
+            self._spec,
+            self._settings,
+            np.ascontiguousarray(row, dtype=float),
+        )
+
+    def advance_clock(self, n_steps: int) -> None:
+        """Move the clock by ``n_steps`` steps integrated outside :meth:`advance`."""
+        self.time_s = float(self.time_s + n_steps * self.dt_s)
+
+    def _run(self, times: np.ndarray, angle: np.ndarray, rate: np.ndarray) -> PeriodOutput:
+        n_steps = times.size - 1
         traj = np.empty((n_steps + 1, 8))
         traj[:, :6] = (
             self._still_object
@@ -1221,10 +1307,12 @@ class ClosedLoopStepper:
             self._status,
         )
         m = done + 1
+        # one sum is non-finite if any of its terms is (column 3, the contact's arc
+        # length, is NaN out of contact and not checked)
         if (
             int(self._status[0]) < 0
             or done < n_steps
-            or not (np.isfinite(out[:m, :3]).all() and np.isfinite(out[:m, 4:]).all())
+            or not math.isfinite(float(out[:m, :3].sum() + out[:m, 4:].sum()))
         ):
             raise SimulationError(
                 f"simulation diverged or failed to converge at t = "
