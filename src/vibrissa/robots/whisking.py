@@ -49,7 +49,6 @@ import numpy as np
 from scipy.signal import butter, sosfilt_zi
 
 from vibrissa._validate import finite, finite_array, non_negative, positive
-from vibrissa.robots._kernels import rcp_loop, same_kernel_type
 from vibrissa.whisker.hall import calibrated_gain
 from vibrissa.whisker.rod import RodModel, SimulationError
 from vibrissa.whisker.simulate import (
@@ -59,6 +58,8 @@ from vibrissa.whisker.simulate import (
     PoleContact,
     SurfaceContact,
     Trajectory,
+    rcp_loop,
+    same_kernel_type,
     simulate,
 )
 
@@ -505,7 +506,7 @@ def _check_setups(whiskers: list[WhiskerSetup], n_sides: int) -> None:
 def _compiled_inputs(
     steppers: list[ClosedLoopStepper], whiskers: list[WhiskerSetup], pats: list[WhiskPattern]
 ) -> tuple[Any, ...] | None:
-    """The first arguments of :func:`~vibrissa.robots._kernels.rcp_loop`, or None.
+    """The first arguments of :func:`~vibrissa.whisker.simulate.rcp_loop`, or None.
 
     None when the compiled loop cannot run these whiskers: an object that moves (the
     loop takes one object row for all time), or whiskers whose integrator inputs are of

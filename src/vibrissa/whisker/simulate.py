@@ -35,7 +35,9 @@ from vibrissa.whisker._kernels import (
     first_possible_contact,
     interp_into,
     modal_advance,
+    rcp_loop,
     run_dynamics,
+    same_kernel_type,
 )
 from vibrissa.whisker.hall import HallSensor, calibrated_gain
 from vibrissa.whisker.rod import (
@@ -51,6 +53,8 @@ __all__ = [
     "ClosedLoopStepper",
     "PeriodOutput",
     "StepperKernelInputs",
+    "rcp_loop",
+    "same_kernel_type",
     "PoleContact",
     "SimulationResult",
     "SurfaceContact",
@@ -1248,7 +1252,7 @@ class ClosedLoopStepper:
         """What a compiled driver of several whiskers passes to the integrator.
 
         For loops that advance many whiskers a period at a time inside one compiled
-        function (:mod:`vibrissa.robots._kernels`). The state is the stepper's own
+        function (:func:`rcp_loop`, the whisking robots' RCP loop). The state is the stepper's own
         (created at rest in a housing at ``angle_rad`` turning at ``rate_rad_s`` if no
         period has run yet) and is advanced in place by whoever integrates it; that
         caller then moves the stepper's clock with :meth:`advance_clock`.

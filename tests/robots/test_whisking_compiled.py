@@ -1,4 +1,4 @@
-"""The compiled RCP loop (``vibrissa.robots._kernels.rcp_loop``).
+"""The compiled RCP loop (``vibrissa.whisker.simulate.rcp_loop``) under ``run_whisking``.
 
 ``run_whisking`` runs a closed loop in one compiled call when every object stands still;
 the loop in Python stays for moving objects. Both must give the same numbers bit for
@@ -13,7 +13,6 @@ import numpy as np
 import pytest
 
 import vibrissa.robots.whisking as whisking
-from vibrissa.robots._kernels import rcp_loop
 from vibrissa.robots.biotact import G1_CONTACT_SIGNAL_SCALE, G1Head
 from vibrissa.robots.whisking import (
     RCPControl,
@@ -25,7 +24,7 @@ from vibrissa.robots.whisking import (
 )
 from vibrissa.whisker.geometry import preset
 from vibrissa.whisker.rod import RodModel, SimulationError
-from vibrissa.whisker.simulate import ClosedLoopStepper, PoleContact, Trajectory
+from vibrissa.whisker.simulate import ClosedLoopStepper, PoleContact, Trajectory, rcp_loop
 from vibrissa.whisker.surfaces import make_surface
 
 FIELDS = ("tan_x", "tan_y", "contact_force_n", "angle_deg", "command_deg")
