@@ -7,11 +7,15 @@ whisk and sigma_z 2 with tau_z T_w/10 the biphasic whisk (scripts/identify_rcp.p
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from vibrissa.robots.biotact import G1_CONTACT_SIGNAL_SCALE
 from vibrissa.robots.whisking import (
     CONTACT_DIP_FRACTION,
     CONTACT_SIGNAL_SCALE,
@@ -25,6 +29,8 @@ from vibrissa.robots.whisking import (
 from vibrissa.whisker.geometry import preset
 from vibrissa.whisker.hall import HallSettings
 from vibrissa.whisker.rod import RodModel
+
+ROOT = Path(__file__).resolve().parents[2]
 
 #: The SCRATCHbot protocol's closed-loop comparison: its whisker, pole and whisk.
 RADIUS_MM, CONTACT_DEG, AMPLITUDE_DEG, FREQUENCY_HZ, WHISKS = 100.0, 6.0, 12.0, 2.0, 4
@@ -55,8 +61,11 @@ def runs() -> dict[str, tuple[np.ndarray, float]]:
     return out
 
 
-def test_the_identified_scale_is_the_default():
-    assert RCPControl().signal_scale == CONTACT_SIGNAL_SCALE == 3.0
+def test_the_identified_scales_are_the_defaults():
+    # the committed identification (scripts/identify_rcp.py) chose them
+    record = json.loads((ROOT / "docs" / "runs" / "identify_rcp.json").read_text())
+    assert RCPControl().signal_scale == CONTACT_SIGNAL_SCALE == record["chosen"]["scale"]
+    assert G1_CONTACT_SIGNAL_SCALE == record["g1_chosen"]["scale"]
 
 
 def test_panel_a_one_contact_per_whisk_on_the_physical_whisker(runs):

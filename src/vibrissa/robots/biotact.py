@@ -45,13 +45,15 @@ __all__ = ["G1_CONTACT_SIGNAL_SCALE", "G1Head"]
 #: RCP's contact-signal scale on the G1 (``RCPControl.signal_scale``, see
 #: :data:`vibrissa.robots.whisking.CONTACT_SIGNAL_SCALE`). Identified by
 #: scripts/identify_rcp.py (docs/runs/identify_rcp.json, ``g1_chosen``): SCRATCHbot's
-#: scale (3.0, from figure 3.9's outcomes) makes the G1's loop run away on these longer
+#: scale (from figure 3.9's outcomes) makes the G1's loop run away on these longer
 #: whiskers (z pinned at 1 by the whiskers' own ringing, RCP7 and RCP9 rows that never
 #: reach the surface at 15 mm), against 6.4, where RCP whisks touch and are classified,
 #: and 3.4.2 (no biphasic whisk at sigma_z <= 0.9, tau_z T_w/4). The G1 takes the scale
 #: nearest SCRATCHbot's at which every row touches in every whisk and no whisk is
-#: biphasic under RCP7 and RCP9 (grid 0.5-3: 0.5, 1, 1.5 and 2 hold; 2.25 and above fail).
-G1_CONTACT_SIGNAL_SCALE = 2.0
+#: biphasic under RCP7 and RCP9 (that record's ``g1_check`` lists the grid scales that
+#: hold). Identified again after the closed loop stopped reading a zero housing rate at
+#: the end of most control periods (issue 32): 2.25, was 2.0.
+G1_CONTACT_SIGNAL_SCALE = 2.25
 
 
 @dataclass(frozen=True)

@@ -95,8 +95,9 @@ HALF_RANGE_FRACTION = 0.45
 #: outcomes by scripts/identify_rcp.py (docs/runs/identify_rcp.json): on the simulated
 #: SCRATCHbot whisker whisking into a pole in closed loop, sigma_z 0.7 with tau_z T_w/4
 #: must give one contact per whisk and sigma_z 2 with tau_z T_w/10 the biphasic whisk
-#: (:func:`whisk_contacts`).
-CONTACT_SIGNAL_SCALE = 3.0
+#: (:func:`whisk_contacts`). Identified again after the closed loop stopped reading a
+#: zero housing rate at the end of most control periods (issue 32): 2.75, was 3.0.
+CONTACT_SIGNAL_SCALE = 2.75
 
 #: :func:`whisk_contacts`' ``dip_deg`` as a fraction of the whisk amplitude: a withdrawal
 #: of the housing by 5 % of the amplitude (0.6 deg of SCRATCHbot's 12 deg) separates two
