@@ -51,10 +51,10 @@ def test_every_kernel_is_cached_and_defined_in_the_kernel_module():
             deco = node.decorator_list[0]
             assert isinstance(deco, ast.Call) and deco.func.id == "njit", node.name
             keywords = [(k.arg, k.value.value) for k in deco.keywords]
-            # the two entry points run on threads too (CrunchBot's whiskers side by side)
+            # the entry points run on threads too (CrunchBot's whiskers side by side)
             allowed = (
                 [("cache", True), ("nogil", True)]
-                if node.name in ("run_dynamics", "modal_advance")
+                if node.name in ("run_dynamics", "modal_advance", "rcp_loop")
                 else [("cache", True)]
             )
             assert keywords == allowed, node.name
