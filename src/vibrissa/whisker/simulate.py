@@ -473,13 +473,10 @@ def _initial_acceleration(
     F = np.zeros((n, 3))
     S = np.zeros((3 * n, 2 * BW + 1))
     add_internal_whisking(x, v, rod, damping, F, S, 0.0, 0.0, False, float(theta), float(theta_dot))
-    if np.any(rod.mass_off):
-        row_sums = rod.mass.copy()
-        row_sums[:-1] += rod.mass_off
-        row_sums[1:] += rod.mass_off
-        a = F / row_sums[:, None]
-    else:
-        a = F / rod.mass[:, None]
+    row_sums = rod.mass.copy()  # a lumped mass's couplings are zeros: its own masses
+    row_sums[:-1] += rod.mass_off
+    row_sums[1:] += rod.mass_off
+    a = F / row_sums[:, None]
     a[~rod.free] = 0.0
     return a
 
