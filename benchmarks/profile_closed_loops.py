@@ -43,6 +43,9 @@ from typing import Any
 from vibrissa import __version__
 from vibrissa._atomic import atomic_write_text
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _machine import machine
+
 DEFAULT_OUT = Path(__file__).resolve().parent / "results" / "closed_loops_profile.json"
 LOOPS = ("scratchbot", "biotact-g1", "floor-texture", "crunchbot")
 
@@ -141,6 +144,7 @@ def main(argv: list[str] | None = None) -> int:
         "loops": out,
         "crunchbot_seconds": args.crunchbot_seconds,
         "load_average_at_end": round(os.getloadavg()[0], 2),
+        "machine": machine(),
         "meta": {
             "command": " ".join(["python benchmarks/profile_closed_loops.py", *sys.argv[1:]]),
             "vibrissa_version": __version__,

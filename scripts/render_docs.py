@@ -630,6 +630,8 @@ def extract_benchmarks(folder: str | os.PathLike[str]) -> dict[str, Any]:
         "rod_convergence",
         "thesis",
         "consistent_mass_energy",
+        "closed_loops_profile_stepper",
+        "closed_loops_profile",
     ):
         f = root / f"{name}.json"
         log = subprocess.run(
@@ -731,15 +733,17 @@ def extract_consistent_mass_energy(run: Mapping[str, Any]) -> dict[str, Any]:
 
 
 def extract_closed_loops(root: Path) -> dict[str, Any]:
-    """The whisking loops' profiles before and after the closed-loop stepper (issue 32).
+    """The whisking loops' profiles before the stepper, with it, and compiled (issue 32).
 
-    ``closed_loops_profile_before_stepper.json`` and ``closed_loops_profile.json`` of
-    ``benchmarks/profile_closed_loops.py``: per loop, the profiled wall time and the
-    seconds in the solver and in the per-call set-up, before and after.
+    ``closed_loops_profile_before_stepper.json``, ``closed_loops_profile_stepper.json``
+    and ``closed_loops_profile.json`` of ``benchmarks/profile_closed_loops.py``: per loop,
+    the profiled wall time, the seconds in the solver and in the per-call set-up, when
+    it was profiled and on which CPU (where the file records it).
     """
     out: dict[str, Any] = {}
     for when, name in (
         ("before", "closed_loops_profile_before_stepper"),
+        ("stepper", "closed_loops_profile_stepper"),
         ("after", "closed_loops_profile"),
     ):
         d = json.loads((root / f"{name}.json").read_text(encoding="utf-8"))
@@ -749,6 +753,8 @@ def extract_closed_loops(root: Path) -> dict[str, Any]:
                 "wall_seconds": v["wall_seconds"],
                 "solver_seconds": cat.get("solver", 0.0),
                 "step_setup_seconds": cat.get("step_setup", 0.0),
+                "created_utc": d["meta"]["created_utc"],
+                "cpu": d.get("machine", {}).get("cpu", "not recorded"),
             }
     return out
 
