@@ -213,12 +213,15 @@ def test_thesis_timing_keeps_every_reproduction_and_the_budget():
     assert out["within_budget"] is False and out["cores"] == 2
 
 
-def test_closed_loop_profiles_give_before_and_after_per_loop():
+def test_closed_loop_profiles_give_each_stage_per_loop():
     out = render_docs.extract_closed_loops(ROOT / "benchmarks" / "results")
     g1 = out["biotact_g1"]
-    assert set(g1) == {"before", "after"}
+    assert set(g1) == {"before", "stepper", "after"}
     for when in g1.values():
         assert when["wall_seconds"] > 0 and when["solver_seconds"] > 0
+        assert when["created_utc"] and when["cpu"]
+    # the stepper's and the compiled loop's profiles were made on one machine
+    assert g1["stepper"]["cpu"] == g1["after"]["cpu"] != "not recorded"
 
 
 def test_consistent_mass_energy_rows_by_case_and_elements():

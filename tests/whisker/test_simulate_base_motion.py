@@ -151,9 +151,14 @@ def test_base_motion_must_be_a_base_motion(model):
 
 
 def test_a_time_a_rounding_error_past_the_last_sample_reads_the_end_rate():
-    # a closed loop's clock is a running sum of steps: 0.00025 * 4 summed 500 times
-    # overshoots the samples' own times by an ulp in most periods; the housing is still
-    # turning there (before the fix the rate read zero at the end of 491 of 500 periods)
+    # a closed loop's clock is a running sum of steps, which overshoots its periods'
+    # sample times (k * dt) by a rounding error in most periods at 1 kHz and 0.25 ms
+    # steps; the housing is still turning there (before the fix the rate read zero)
+    dt, spp, clock, over = 2.5e-4, 4, 0.0, 0
+    for k in range(500):
+        clock = float((clock + np.arange(spp + 1) * dt)[-1])
+        over += clock > (k + 1) * spp * dt
+    assert over > 250
     t = np.arange(5) * 2.5e-4
     motion = BaseMotion(t, 0.1 * t, np.full(5, 0.1))
     ahead = t[-1] + math.ulp(t[-1]) * 4
