@@ -61,8 +61,15 @@ def main(argv: list[str] | None = None) -> int:
 
     kind = {"wall": SurfaceContact, "pole": PoleContact, "none": type(None)}[args.kind]
 
-    with args.calls.open("rb") as fh:
-        saved = pickle.load(fh)
+    try:
+        with args.calls.open("rb") as fh:
+            saved = pickle.load(fh)
+        if not isinstance(saved, list) or not all(
+            isinstance(c, tuple) and len(c) == 2 and len(c[1]) == 6 for c in saved
+        ):
+            raise ValueError("not a list of recorded calls")
+    except (OSError, EOFError, ValueError, TypeError, pickle.UnpicklingError) as exc:
+        ap.error(f"calls: not a pickle of profile_crunchbot_calls.py --save-calls ({exc})")
     calls = sorted(
         (c for c in saved if isinstance(c[1][1], kind) and not c[0]["failed"]),
         key=lambda c: -c[0]["wall_s"],

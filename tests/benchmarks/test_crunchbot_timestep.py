@@ -37,7 +37,9 @@ def test_each_step_is_compared_with_the_finest(bench_script, tmp_path) -> None:
     assert np.isfinite([r["tan_rel_rms_median"] for r in rows]).all()
 
 
-@pytest.mark.parametrize("argv", [["missing.pkl"], ["CALLS", "--top", "0"]])
+@pytest.mark.parametrize(
+    "argv", [["missing.pkl"], ["CALLS", "--top", "0"], ["CORRUPT"], ["CALLS", "--kind", "x"]]
+)
 def test_bad_arguments_exit_2(bench_script, tmp_path, argv, capsys) -> None:
     ct = bench_script("crunchbot_timestep")
     calls = tmp_path / "calls.pkl"
