@@ -1251,8 +1251,9 @@ class ClosedLoopStepper:
         For loops that advance many whiskers a period at a time inside one compiled
         function (:func:`rcp_loop`, the whisking robots' RCP loop). The state is the stepper's own
         (created at rest in a housing at ``angle_rad`` turning at ``rate_rad_s`` if no
-        period has run yet) and is advanced in place by whoever integrates it; that
-        caller then moves the stepper's clock with :meth:`advance_clock`.
+        period has run yet) and is advanced in place by whoever integrates it; a caller
+        that goes on using the stepper moves its clock with :meth:`advance_clock`
+        (``run_whisking`` does not: its steppers end with the loop).
 
         Raises
         ------
