@@ -165,3 +165,17 @@ def test_a_sampled_period_of_mismatched_arrays_is_refused(model):
         stepper.advance_sampled(np.zeros(5), np.zeros(4))
     with pytest.raises(ValueError, match="a still object"):
         ClosedLoopStepper(model, *_moving_pole(), DT).kernel_inputs(0.0, 0.0)
+
+
+def test_kernel_inputs_are_the_steppers_own_state(model):
+    # a driver that integrates the stepper's whisker outside advance works on the same
+    # arrays, at rest in the housing's angle, and moves the clock afterwards
+    stepper = ClosedLoopStepper(model, *_pole(), DT)
+    k = stepper.kernel_inputs(0.1, 0.0)
+    assert stepper.state is not None
+    np.testing.assert_array_equal(k.state.x, stepper.state.positions_m)
+    assert k.object_row.shape == (6,) and k.object_row[0] == pytest.approx(0.06)
+    k.state.x[-1, 0] += 1e-3
+    assert stepper.state.positions_m[-1, 0] == k.state.x[-1, 0]
+    stepper.advance_clock(8)
+    assert stepper.time_s == pytest.approx(8 * DT)
