@@ -52,8 +52,10 @@ def main(argv: list[str] | None = None) -> int:
     )
     ap.add_argument("--out", type=Path, default=DEFAULT_OUT)
     args = ap.parse_args(argv)
-    if not args.calls.is_file():
+    if not args.calls.exists():
         ap.error(f"calls: no such file: {args.calls}")
+    if not args.calls.is_file():
+        ap.error(f"calls: not a regular file (a directory, FIFO or device): {args.calls}")
     if args.top < 1:
         ap.error("--top: expected a positive integer")
     from vibrissa.whisker.rod import SimulationError

@@ -38,7 +38,8 @@ def test_each_step_is_compared_with_the_finest(bench_script, tmp_path) -> None:
 
 
 @pytest.mark.parametrize(
-    "argv", [["missing.pkl"], ["CALLS", "--top", "0"], ["CORRUPT"], ["CALLS", "--kind", "x"]]
+    "argv",
+    [["missing.pkl"], ["CALLS", "--top", "0"], ["CORRUPT"], ["CALLS", "--kind", "x"], ["DIR"]],
 )
 def test_bad_arguments_exit_2(bench_script, tmp_path, argv, capsys) -> None:
     ct = bench_script("crunchbot_timestep")
