@@ -38,16 +38,28 @@ def test_each_step_is_compared_with_the_finest(bench_script, tmp_path) -> None:
 
 
 @pytest.mark.parametrize(
-    "argv",
-    [["missing.pkl"], ["CALLS", "--top", "0"], ["CORRUPT"], ["CALLS", "--kind", "x"], ["DIR"]],
+    ("argv", "says"),
+    [
+        (["missing.pkl"], "no such file"),
+        (["CALLS", "--top", "0"], "--top"),
+        (["CORRUPT"], "not a pickle"),
+        (["CALLS", "--kind", "x"], "--kind"),
+        (["DIR"], "not a regular file"),
+    ],
 )
-def test_bad_arguments_exit_2(bench_script, tmp_path, argv, capsys) -> None:
+def test_bad_arguments_exit_2(bench_script, tmp_path, argv, says, capsys) -> None:
     ct = bench_script("crunchbot_timestep")
     calls = tmp_path / "calls.pkl"
     _calls(calls)
-    argv = [
-        str(calls) if a == "CALLS" else str(tmp_path / a) if a.endswith(".pkl") else a for a in argv
-    ]
+    corrupt = tmp_path / "corrupt.pkl"
+    corrupt.write_bytes(calls.read_bytes()[:40])  # a truncated pickle
+    named = {
+        "CALLS": str(calls),
+        "CORRUPT": str(corrupt),
+        "DIR": str(tmp_path),
+        "missing.pkl": str(tmp_path / "missing.pkl"),
+    }
     with pytest.raises(SystemExit) as exc:
-        ct.main(argv)
+        ct.main([named.get(a, a) for a in argv])
     assert exc.value.code == 2
+    assert says in capsys.readouterr().err
