@@ -22,6 +22,9 @@ from vibrissa.whisker.simulate import (
 from vibrissa.whisker.surfaces import Surface
 
 KERNELS_FILE = Path(_kernels.__file__)
+#: Small helpers of the rod's and the contacts' loops that numba inlines into their
+#: callers (no call, no reference counting of the arrays they take).
+INLINED = {"_proj_into", "_matvec", "_pvec", "_bend_self_into", "band_add_block"}
 
 
 @pytest.fixture(scope="module")
@@ -55,6 +58,8 @@ def test_every_kernel_is_cached_and_defined_in_the_kernel_module():
             allowed = (
                 [("cache", True), ("nogil", True)]
                 if node.name in ("run_dynamics", "modal_advance", "rcp_loop")
+                else [("cache", True), ("inline", "always")]
+                if node.name in INLINED
                 else [("cache", True)]
             )
             assert keywords == allowed, node.name
@@ -166,6 +171,57 @@ def _flat_plane(first_node: int = 1) -> ContactSpec:
         1e-3,
         first_node,
     )
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    relief_mm=st.floats(0.0, 3.0),
+    height_mm=st.floats(-1.0, 6.0),
+    first_node=st.integers(1, 8),
+    jac=st.booleans(),
+)
+def test_a_plane_evaluated_only_under_nodes_within_its_relief_is_the_full_evaluation(
+    model, seed, relief_mm, height_mm, first_node, jac
+):
+    # add_plane and _plane_entry_fraction skip the surface under nodes farther from the
+    # plane than its highest point (ContactSpec.h_max): forces, iteration matrix, contact
+    # output, anchors and the update's safe fraction must be the bytes of the evaluation
+    # under every node (h_max = inf)
+    rng = np.random.default_rng(seed)
+    rod = model.rod_arrays()
+    n = model.n_nodes
+    heights = rng.uniform(0.0, relief_mm * 1e-3, (16, 16)) - 0.5 * relief_mm * 1e-3
+    theta = np.deg2rad(rng.uniform(0.0, 60.0))
+    nrm = np.array([np.cos(theta), 0.0, -np.sin(theta)])  # toward the whisker
+    tu = np.array([np.sin(theta), 0.0, np.cos(theta)])
+    frame = np.array([nrm, tu, [0.0, 1.0, 0.0]])
+    params = np.array([0.0, 2e4, 0.5, 0.6, 2e-6])
+    spec = ContactSpec(_kernels.PLANE, params, frame, heights, 2e-4, 2e-4, first_node, np.inf)
+    culled = spec._replace(h_max=float(heights.max()))
+    # a bent whisker whose tip region lies about height_mm off the plane's mean level
+    x = model.x_rest.copy()
+    x[:, 0] += 1e-3 * rng.normal(0.0, 0.3, n).cumsum()
+    tip = x[-1]
+    origin = tip - nrm * (height_mm * 1e-3 + rod.radius[-1]) + rng.normal(0.0, 2e-4, 3)
+    plane = np.concatenate([origin, rng.normal(0.0, 1e-2, 3)])
+    v = rng.normal(0.0, 0.05, (n, 3))
+    dx = rng.normal(0.0, 1e-3, 3 * n)
+    anchors0 = np.zeros((n, 6))
+    anchors0[:, 0:2] = rng.normal(0.0, 1e-4, (n, 2))
+    anchors0[:, 2] = rng.integers(0, 2, n)
+    anchors0[:, 5] = 7.0  # overwritten for every node tested
+    outs = []
+    for c in (spec, culled):
+        F = np.zeros((n, 3))
+        S = np.zeros((3 * n, 2 * _kernels.BW + 1))
+        info = np.zeros(12)
+        anchors = anchors0.copy()
+        _kernels.add_plane(x, v, rod, c, plane, anchors, F, S, 0.3, 0.7, jac, info)
+        frac = _kernels._plane_entry_fraction(x, dx, c, plane, rod.radius, 1.0 / 3.0)
+        outs.append((F, S, info, anchors, np.array([frac])))
+    for full, fast in zip(*outs, strict=True):
+        np.testing.assert_array_equal(fast, full)
 
 
 def test_an_update_carrying_a_node_into_a_plane_stops_it_at_the_surface():

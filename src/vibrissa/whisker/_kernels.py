@@ -174,6 +174,12 @@ class ContactSpec(NamedTuple):
         Plane only: grid spacing of ``heights`` along ``u`` and ``w`` (m).
     first_node : int
         Plane only: the first node tested for contact.
+    h_max : float
+        Plane only: the height field's largest value, ``heights.max()`` (m). The
+        surface is a convex combination of the grid values (:func:`_height`), so no
+        point of it is higher: nodes farther than this from the plane are out of
+        contact without evaluating the surface under them. ``inf`` (the default)
+        evaluates it under every node.
     """
 
     kind: int
@@ -183,6 +189,7 @@ class ContactSpec(NamedTuple):
     du: float
     dw: float
     first_node: int
+    h_max: float = np.inf
 
 
 class Anchors(NamedTuple):
@@ -280,7 +287,7 @@ class _StepWork(NamedTuple):
 # banded linear algebra (no pivoting: the iteration matrices are dominated by
 # positive-definite stiffness and mass terms)
 # ----------------------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def band_add_block(S, a, b, blk, coef):
     """Add ``coef * blk`` (3x3) to the (node a, node b) block of band matrix ``S``."""
     for r in range(3):
@@ -381,20 +388,20 @@ def _unit(e):
     return e / n, n
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _proj_into(t, P):
     for i in range(3):
         for j in range(3):
             P[i, j] = (1.0 if i == j else 0.0) - t[i] * t[j]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _matvec(P, v, out, scale):
     for i in range(3):
         out[i] = scale * (P[i, 0] * v[0] + P[i, 1] * v[1] + P[i, 2] * v[2])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _pvec(t, v, out, scale):
     """Out = scale * (I - t t^T) v, without forming the projector."""
     tv = t[0] * v[0] + t[1] * v[1] + t[2] * v[2]
@@ -402,7 +409,7 @@ def _pvec(t, v, out, scale):
         out[i] = scale * (v[i] - t[i] * tv)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _bend_self_into(P, t, d, length, sign, H):
     """Second-derivative block of ``k|d|^2`` w.r.t. one edge, divided by 2k, into ``H``.
 
@@ -1040,6 +1047,52 @@ def _height(H, du, dw, U, W):
     return h, hu / du, hw / dw
 
 
+#: Margin (m) added to a height field's largest value (``ContactSpec.h_max``) where it
+#: bounds a gap from below: it covers the rounding of :func:`_height`'s weighted sum
+#: (heights are ~1e-3 m, so 1e-9 m is millions of ulps), so that a node's lower bound
+#: is never above the gap :func:`add_plane` computes for it.
+H_MAX_MARGIN_M = 1e-9
+
+
+@njit(cache=True)
+def _plane_lower_gap(x, i, origin, nrm, radius, h_max):
+    """A lower bound of node ``i``'s gap to a rough plane: its height less ``h_max``."""
+    top = h_max + H_MAX_MARGIN_M
+    Z = (
+        (x[i, 0] - origin[0]) * nrm[0]
+        + (x[i, 1] - origin[1]) * nrm[1]
+        + (x[i, 2] - origin[2]) * nrm[2]
+    )
+    return Z - radius[i] - top
+
+
+@njit(cache=True)
+def _plane_nearest_gap(x, origin, contact, radius):
+    """The gap (m) of the node whose lower bound is smallest, as :func:`add_plane` has it.
+
+    The smallest gap of all nodes is at most this value, so a node whose lower bound
+    (:func:`_plane_lower_gap`) exceeds it cannot hold the smallest gap.
+    """
+    nrm = contact.frame[0]
+    tu = contact.frame[1]
+    tw = contact.frame[2]
+    best = np.inf
+    ib = -1
+    for i in range(contact.first_node, x.shape[0]):
+        lower = _plane_lower_gap(x, i, origin, nrm, radius, contact.h_max)
+        if lower < best:
+            best = lower
+            ib = i
+    if ib < 0:
+        return np.inf
+    r = x[ib] - origin
+    U = r[0] * tu[0] + r[1] * tu[1] + r[2] * tu[2]
+    W = r[0] * tw[0] + r[1] * tw[1] + r[2] * tw[2]
+    Z = r[0] * nrm[0] + r[1] * nrm[1] + r[2] * nrm[2]
+    h, _, _ = _height(contact.heights, contact.du, contact.dw, U, W)
+    return Z - h - radius[ib]
+
+
 @njit(cache=True)
 def add_plane(x, v, rod, contact, plane, anchors, F, S, cD, cK, jac, info):
     """Contact of every node from ``contact.first_node`` on with a (rough) plane.
@@ -1077,7 +1130,17 @@ def add_plane(x, v, rod, contact, plane, anchors, F, S, cD, cK, jac, info):
     info[3] = 1e300
     info[4] = 0.0
     info[5] = 0.0
+    # A node's gap is at least its height over the plane less its radius and the
+    # surface's highest point (``lower``). Only nodes whose lower bound is inside the
+    # penalty's reach, or not above the gap of the node nearest the plane (the
+    # smallest gap, ``info[3]``, can only come from those), need the surface under
+    # them; the rest are out of contact and change nothing but their anchor flag.
+    near = _plane_nearest_gap(x, origin, contact, radius)
     for i in range(first_node, n):
+        lower = _plane_lower_gap(x, i, origin, nrm, radius, contact.h_max)
+        if lower >= PEN_SMOOTH_M and lower > near:
+            anchors[i, 5] = 0.0
+            continue
         r = x[i] - origin
         U = r[0] * tu[0] + r[1] * tu[1] + r[2] * tu[2]
         W = r[0] * tw[0] + r[1] * tw[1] + r[2] * tw[2]
@@ -1312,9 +1375,17 @@ def _plane_entry_fraction(xa, dx, contact, tr, radius, af):
     tu = contact.frame[1]
     tw = contact.frame[2]
     H = contact.heights
+    top = contact.h_max + H_MAX_MARGIN_M
     n = xa.shape[0]
     alpha = 1.0
     for i in range(contact.first_node, n):
+        # a node that ends the update farther from the plane than the surface's
+        # highest point cannot end it inside the surface
+        r0 = xa[i, 0] + (1.0 - af) * dx[3 * i] - origin[0]
+        r1 = xa[i, 1] + (1.0 - af) * dx[3 * i + 1] - origin[1]
+        r2 = xa[i, 2] + (1.0 - af) * dx[3 * i + 2] - origin[2]
+        if r0 * nrm[0] + r1 * nrm[1] + r2 * nrm[2] - radius[i] - top >= 0.0:
+            continue
         g0 = 0.0
         g1 = 0.0
         for side in range(2):

@@ -557,6 +557,7 @@ def _contact_kernel_spec(
     if isinstance(contact, SurfaceContact):
         mu = contact.surface.friction if contact.friction is None else contact.friction
         du = float(contact.surface.spacing_m)
+        heights = contact.surface_for(model)
         return ContactSpec(
             kind=PLANE,
             params=np.array(
@@ -569,10 +570,11 @@ def _contact_kernel_spec(
                 ]
             ),
             frame=contact.frame(),
-            heights=contact.surface_for(model),
+            heights=heights,
             du=du,
             dw=du,
             first_node=2,
+            h_max=float(heights.max()),
         )
     raise TypeError(f"unsupported contact type {type(contact).__name__}")
 
@@ -646,7 +648,7 @@ def _hybrid(
     dt = settings.dt
     lam = lm.eigenvalues
     decay = lm.reduced(np.exp(lam * dt))
-    h_max = float(spec.heights.max()) if spec.kind == PLANE else 0.0
+    h_max = spec.h_max if spec.kind == PLANE else 0.0
     status_arr = np.zeros(1, dtype=np.int64)
     k = 0
     free_steps = FREE_STEPS_FIRST
