@@ -716,7 +716,65 @@ def extract_benchmarks(folder: str | os.PathLike[str]) -> dict[str, Any]:
     thesis = root / "thesis.json"
     if thesis.is_file():
         out["thesis"] = extract_thesis(json.loads(thesis.read_text(encoding="utf-8")))
+    for key, name in (
+        ("kernel_profile", "kernel_profile"),
+        ("kernel_profile_before", "kernel_profile_before_plane_culling"),
+    ):
+        kernels = root / f"{name}.json"
+        if kernels.is_file():
+            out[key] = extract_kernel_profile(json.loads(kernels.read_text(encoding="utf-8")))
     return out
+
+
+#: Shared objects whose samples are memory management: ``malloc``/``free`` (libc) and
+#: numba's reference counting (``NRT_incref``/``NRT_decref`` are compiled with the kernels).
+_ALLOCATION = ("so:libc.so.6", "so:_nrt_python", "NRT_incref", "NRT_decref")
+
+
+def extract_kernel_profile(d: Mapping[str, Any], top: int = 10) -> dict[str, Any]:
+    """``benchmarks/profile_kernels.py``'s shares: a table of the busiest functions.
+
+    One row per compiled function among the ``top`` busiest of any case (percent of the
+    case's samples), then memory management (``malloc``/``free`` and numba's reference
+    counting) and everything else, one column per case; with the CPU and the date.
+    """
+    cases = d["cases"]
+    names: list[str] = []
+    for c in cases.values():
+        for k in c["share"]:
+            if not k.startswith("so:") and k not in _ALLOCATION and k not in names:
+                names.append(k)
+    names.sort(key=lambda k: -max(c["share"].get(k, 0.0) for c in cases.values()))
+    names = names[:top]
+    head = " | ".join(f"{k} (%)" for k in cases)
+    rows = [f"| function | {head} |", "|---" * (len(cases) + 1) + "|"]
+
+    def pct(values: list[float | None]) -> str:
+        return " | ".join("-" if v is None else f"{100 * v:.1f}" for v in values)
+
+    for k in names:
+        rows.append(f"| `{k}` | " + pct([c["share"].get(k) for c in cases.values()]) + " |")
+    alloc = [
+        sum(v for k, v in c["share"].items() if k.startswith(_ALLOCATION)) for c in cases.values()
+    ]
+    rest = [
+        1.0 - sum(c["share"].get(k, 0.0) for k in names) - a
+        for c, a in zip(cases.values(), alloc, strict=True)
+    ]
+    rows.append(
+        "| memory management (`malloc`/`free`, numba's reference counting) | " + pct(alloc) + " |"
+    )
+    rows.append("| everything else | " + pct(rest) + " |")
+    return {
+        "table": "\n".join(rows),
+        "cpu": d["machine"]["cpu"],
+        "created_utc": d["meta"]["created_utc"],
+        "samples": {k.replace("-", "_"): c["samples"] for k, c in cases.items()},
+        "share_pct": {
+            k.replace("-", "_"): {f: 100 * v for f, v in c["share"].items()}
+            for k, c in cases.items()
+        },
+    }
 
 
 def extract_consistent_mass_energy(run: Mapping[str, Any]) -> dict[str, Any]:
