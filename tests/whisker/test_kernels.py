@@ -65,6 +65,22 @@ def test_every_kernel_is_cached_and_defined_in_the_kernel_module():
             assert keywords == allowed, node.name
 
 
+def test_no_kernel_copies_an_array_into_a_slice():
+    # ``dst[:, :] = src`` carries a broadcasting check whose error message makes numba
+    # compile string formatting: ~5 s of every cold compile (kernels use _copy1/_copy2)
+    def has_slice(index: ast.expr) -> bool:
+        parts = index.elts if isinstance(index, ast.Tuple) else [index]
+        return any(isinstance(p, ast.Slice) for p in parts)
+
+    offenders = []
+    for node in ast.walk(ast.parse(KERNELS_FILE.read_text())):
+        if isinstance(node, ast.Assign) and not isinstance(node.value, ast.Constant):
+            for target in node.targets:
+                if isinstance(target, ast.Subscript) and has_slice(target.slice):
+                    offenders.append(f"line {node.lineno}: {ast.unparse(node)}")
+    assert not offenders, offenders
+
+
 def test_rod_arrays_are_the_models_own_arrays(model):
     rod = model.rod_arrays()
     assert isinstance(rod, RodArrays)

@@ -284,6 +284,26 @@ class _StepWork(NamedTuple):
 
 
 # ----------------------------------------------------------------------------------
+# copies: an explicit loop, not ``dst[:, :] = src``, whose broadcasting check carries
+# an error message that numba compiles string formatting for (about 5 s of every cold
+# compile; the shapes here always agree)
+# ----------------------------------------------------------------------------------
+@njit(cache=True)
+def _copy1(dst, src):
+    """``dst[:] = src`` for two 1-D arrays of the same length."""
+    for i in range(dst.shape[0]):
+        dst[i] = src[i]
+
+
+@njit(cache=True)
+def _copy2(dst, src):
+    """``dst[:, :] = src`` for two 2-D arrays of the same shape."""
+    for i in range(dst.shape[0]):
+        for j in range(dst.shape[1]):
+            dst[i, j] = src[i, j]
+
+
+# ----------------------------------------------------------------------------------
 # banded linear algebra (no pivoting: the iteration matrices are dominated by
 # positive-definite stiffness and mass terms)
 # ----------------------------------------------------------------------------------
@@ -1700,12 +1720,12 @@ def _try_stride(
         elif est > settings.stride_tol:
             code = STRIDE_ERROR
     if code != STRIDE_OK:
-        x[:, :] = xn
-        v[:, :] = vn
-        a[:, :] = an
-        anchors.pole[:] = pa_save
+        _copy2(x, xn)
+        _copy2(v, vn)
+        _copy2(a, an)
+        _copy1(anchors.pole, pa_save)
         if contact.kind == PLANE:
-            anchors.plane[:, :] = pl_save
+            _copy2(anchors.plane, pl_save)
         work.newton[0] = 1.0
         return code
     commit_anchors(contact.kind, info, anchors)
@@ -1743,9 +1763,9 @@ def _try_stride(
             else:
                 out[row, c] = (1.0 - sj) * out[k, c] + sj * end[c]
         out[row, 7] = work.newton[3] if j == K else 0.0
-    xn[:, :] = x
-    vn[:, :] = v
-    an[:, :] = a
+    _copy2(xn, x)
+    _copy2(vn, v)
+    _copy2(an, a)
     return STRIDE_OK
 
 
@@ -1835,8 +1855,8 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
     out[0, 2:] = 0.0
     si = 0
     if state_every > 0:
-        records[0, 0] = x
-        records[0, 1] = v
+        _copy2(records[0, 0], x)
+        _copy2(records[0, 1], v)
         si = 1
     prev_contact = 0.0
     prev_slip = 0.0
@@ -1898,14 +1918,14 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
             fa = (done + 1.0 - af) / sub  # fraction of the step at the alpha point
             for c in range(traj.shape[1]):
                 tr[c] = (1.0 - fa) * traj[k, c] + fa * traj[k + 1, c]
-            pa_save[:] = pole_anchor
+            _copy1(pa_save, pole_anchor)
             if kind == PLANE:  # only surfaces keep per-node anchors
-                pl_save[:, :] = plane_anchors
+                _copy2(pl_save, plane_anchors)
             ok = _ga_step(state, work, rod, damping, contact, tr, anchors, h, settings)
             if not ok:
-                pole_anchor[:] = pa_save
+                _copy1(pole_anchor, pa_save)
                 if kind == PLANE:
-                    plane_anchors[:, :] = pl_save
+                    _copy2(plane_anchors, pl_save)
                 if sub >= max_sub:
                     status[0] = -1
                     return k
@@ -1922,9 +1942,9 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
                 steady += 1
             prev_contact = contact_now
             prev_slip = info[2]
-            xn[:, :] = x
-            vn[:, :] = v
-            an[:, :] = a
+            _copy2(xn, x)
+            _copy2(vn, v)
+            _copy2(an, a)
             done += 1
         _write_tan(out, k + 1, x[1, 0] - x[0, 0], x[1, 1] - x[0, 1], x[1, 2] - x[0, 2], traj, k + 1)
         out[k + 1, 2] = info[0]
@@ -1938,8 +1958,8 @@ def run_dynamics(state, anchors, rod, damping, contact, traj, settings, out, rec
             out[k + 1, 6] = info[5]
         out[k + 1, 7] = iters
         if state_every > 0 and (k + 1) % state_every == 0 and si < records.shape[0]:
-            records[si, 0] = x
-            records[si, 1] = v
+            _copy2(records[si, 0], x)
+            _copy2(records[si, 1], v)
             si += 1
         if stop_tan > 0.0 and abs(out[k + 1, 0]) >= stop_tan:
             status[0] = 1
@@ -2519,7 +2539,8 @@ def rcp_loop(
                 if side_of[w] != s:
                     continue
                 for k in range(spp + 1):
-                    traj[k, :6] = objects[w]
+                    for c in range(6):
+                        traj[k, c] = objects[w, c]
                     traj[k, TR_BASE] = ang[k] * DEG
                     traj[k, TR_BASE + 1] = rate[k] * DEG
                 out[:] = 0.0
