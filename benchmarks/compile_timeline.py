@@ -136,8 +136,10 @@ def main(argv: list[str] | None = None) -> int:
     names = list(experiments())
     if args.experiment not in names:
         ap.error(f"--experiment: unknown {args.experiment!r}; choose one of {', '.join(names)}")
-    if args.out.exists() and args.out.is_dir():
-        ap.error(f"--out: {args.out} is a directory")
+    if args.out.exists() and not args.out.is_file():
+        ap.error(f"--out: {args.out} is not a regular file (a directory, FIFO or device)")
+    if not args.out.parent.is_dir():
+        ap.error(f"--out: no such directory: {args.out.parent}")
     print(
         f"compile_timeline: {args.experiment} --quick twice (cold, then warm numba cache)"
         f" -> {args.out}",

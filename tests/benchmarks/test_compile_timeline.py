@@ -46,3 +46,22 @@ def test_an_unknown_experiment_exits_2_before_any_run(bench_script, tmp_path, ca
     assert exc.value.code == 2
     assert "no-such-thing" in capsys.readouterr().err
     assert not out.exists()
+
+
+@pytest.mark.parametrize("kind", ["directory", "fifo", "missing-parent"])
+def test_an_out_that_is_not_a_writable_file_exits_2_before_any_run(
+    bench_script, tmp_path, capsys, kind
+) -> None:
+    import os
+
+    out = tmp_path / "out"
+    if kind == "directory":
+        out.mkdir()
+    elif kind == "fifo":
+        os.mkfifo(out)
+    else:
+        out = tmp_path / "no" / "out.json"
+    with pytest.raises(SystemExit) as exc:
+        bench_script("compile_timeline").main(["--out", str(out)])
+    assert exc.value.code == 2
+    assert "--out" in capsys.readouterr().err
